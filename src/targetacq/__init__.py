@@ -1,0 +1,83 @@
+"""targetacq: probabilities of detection, recognition and identification for imaging sensors.
+
+An implementation of the probabilistic conceptual sensor model of Sonesson (2004): geometry →
+cycles on target, clutter → SCR, then Johnson-style transforms → probabilities, fused over
+sensors. SI units throughout (m, rad, K, s). This module only re-exports the public API.
+"""
+
+from targetacq.acquisition import (
+    Acquisition,
+    acquisition_probabilities,
+    effect_probability,
+    probability,
+)
+from targetacq.criteria import CRITERIA, TASKS, Criterion, get_criterion
+from targetacq.fusion import central_level_bounds, fuse
+from targetacq.geometry import critical_dimension, projected_extents, slant_range, solid_angle
+from targetacq.optics import (
+    cycles_on_target,
+    diffraction_angle,
+    diffraction_spot,
+    field_of_view,
+    gaussian_psf,
+    ifov,
+    ifov_from_field_of_view,
+    pixels_per_metre,
+    range_for_cycles,
+    range_for_pixel_density,
+    resolvable_cycle_angle,
+)
+from targetacq.ranges import dri_ranges
+from targetacq.transforms import (
+    TRANSFORMS,
+    c2nveo,
+    c2nveo_inverse,
+    clutter_region,
+    inverse_transform,
+    schmieder_weathersby,
+    schmieder_weathersby_inverse,
+    transform,
+    ttpf,
+    ttpf_inverse,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "CRITERIA",
+    "TASKS",
+    "TRANSFORMS",
+    "Acquisition",
+    "Criterion",
+    "acquisition_probabilities",
+    "c2nveo",
+    "c2nveo_inverse",
+    "central_level_bounds",
+    "clutter_region",
+    "critical_dimension",
+    "cycles_on_target",
+    "diffraction_angle",
+    "diffraction_spot",
+    "dri_ranges",
+    "effect_probability",
+    "field_of_view",
+    "fuse",
+    "gaussian_psf",
+    "get_criterion",
+    "ifov",
+    "ifov_from_field_of_view",
+    "inverse_transform",
+    "pixels_per_metre",
+    "probability",
+    "projected_extents",
+    "range_for_cycles",
+    "range_for_pixel_density",
+    "resolvable_cycle_angle",
+    "schmieder_weathersby",
+    "schmieder_weathersby_inverse",
+    "slant_range",
+    "solid_angle",
+    "transform",
+    "ttpf",
+    "ttpf_inverse",
+]

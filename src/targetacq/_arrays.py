@@ -1,0 +1,106 @@
+"""Array namespace handling and input checks shared by the kernels.
+
+Kernels are written against the Python array API standard: they take the namespace of their
+inputs from :func:`array_api_compat.array_namespace`, so NumPy arrays stay NumPy and e.g.
+``array_api_strict`` or CuPy arrays stay in their library. Python scalars and lists become
+NumPy float64 arrays unless another input fixes the namespace. A 0-d NumPy result is returned
+as a NumPy scalar, so scalar in gives scalar out.
+
+Checks follow one rule: a bad scalar raises ``ValueError`` naming the input and the valid range;
+inside an array, NaN propagates as NaN (a batch never fails half-way for a missing value), but
+values that are out of range (negative lengths, probabilities above one) raise for the whole
+batch before anything is computed.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import array_api_compat
+import numpy as np
+
+Array = Any  # an array of any array-API namespace
+
+
+def _is_array(value: object) -> bool:
+    return array_api_compat.is_array_api_obj(value) and not isinstance(value, (int, float))
+
+
+def namespace(*values: object) -> Any:
+    """The array namespace of the array inputs (NumPy when all are Python scalars or lists)."""
+    arrays = [v for v in values if v is not None and _is_array(v)]
+    if not arrays:
+        return array_api_compat.array_namespace(np.empty(0))
+    return array_api_compat.array_namespace(*arrays)
+
+
+def as_float(value: object, xp: Any) -> Array:
+    """``value`` as a floating array of namespace ``xp`` (float64 for non-float input)."""
+    if _is_array(value):
+        dtype = getattr(value, "dtype", None)
+        if dtype is not None and xp.isdtype(dtype, "real floating"):
+            return value
+        return xp.astype(value, xp.float64)
+    if xp is array_api_compat.array_namespace(np.empty(0)):
+        return np.asarray(value, dtype=np.float64)
+    return xp.asarray(value, dtype=xp.float64)
+
+
+def arrays(*values: object) -> tuple[Any, list[Array]]:
+    """The common namespace and each value as a floating array of it."""
+    xp = namespace(*values)
+    return xp, [as_float(v, xp) for v in values]
+
+
+def result(value: Array) -> Any:
+    """Return 0-d NumPy arrays as NumPy scalars; everything else unchanged."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        return value[()]
+    return value
+
+
+def _describe(value: Array, xp: Any, mask: Array) -> str:
+    bad = value[mask] if value.ndim else value
+    first = float(xp.reshape(bad, (-1,))[0]) if value.ndim else float(value)
+    return f"{first:g}" if value.ndim == 0 else f"{first:g} (and possibly others)"
+
+
+def _check_scalar_nan(name: str, value: Array, xp: Any, valid: str) -> None:
+    if value.ndim == 0 and bool(xp.isnan(value)):
+        raise ValueError(f"{name} must be {valid}, got NaN")
+
+
+def require_positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
+    """Raise ``ValueError`` unless every non-NaN element is > 0 (a scalar NaN also raises)."""
+    valid = f"> 0{' ' + unit if unit else ''}"
+    _check_scalar_nan(name, value, xp, valid)
+    mask = value <= 0
+    if bool(xp.any(mask)):
+        raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
+
+
+def require_nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> None:
+    """Raise ``ValueError`` unless every non-NaN element is >= 0 (a scalar NaN also raises)."""
+    valid = f">= 0{' ' + unit if unit else ''}"
+    _check_scalar_nan(name, value, xp, valid)
+    mask = value < 0
+    if bool(xp.any(mask)):
+        raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
+
+
+def require_unit_interval(name: str, value: Array, xp: Any) -> None:
+    """Raise ``ValueError`` unless every non-NaN element lies in [0, 1]."""
+    _check_scalar_nan(name, value, xp, "in [0, 1]")
+    mask = (value < 0) | (value > 1)
+    if bool(xp.any(mask)):
+        raise ValueError(f"{name} must be in [0, 1], got {_describe(value, xp, mask)}")
+
+
+def require_open_unit_interval(name: str, value: Array, xp: Any) -> None:
+    """Raise ``ValueError`` unless every non-NaN element lies in the open interval (0, 1)."""
+    _check_scalar_nan(name, value, xp, "in the open interval (0, 1)")
+    mask = (value <= 0) | (value >= 1)
+    if bool(xp.any(mask)):
+        raise ValueError(
+            f"{name} must be in the open interval (0, 1), got {_describe(value, xp, mask)}"
+        )

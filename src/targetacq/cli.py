@@ -1,0 +1,310 @@
+"""The ``targetacq`` command.
+
+Every quantity takes a unit (``--pitch 17um``); choices come from the registries. Bad input
+prints one line on stderr and exits with status 2, never a traceback.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+from typing import Annotated, Any
+
+import typer
+
+from targetacq import optics, ranges
+from targetacq.criteria import CRITERIA, Criterion, get_criterion
+from targetacq.tables import load_table
+from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
+from targetacq.units import parse_quantity
+
+__all__ = ["app", "main"]
+
+FORMATS = ("table", "json", "csv")
+_SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    help="Probabilities and ranges of detection, recognition and identification for imaging "
+    "sensors (Sonesson 2004 conceptual sensor model).",
+)
+
+
+@app.callback()
+def _root() -> None:
+    """Probabilities and ranges of detection, recognition and identification."""
+
+
+def _example_camera() -> dict[str, str]:
+    table = load_table("example_camera")
+    return {
+        quantity: f"{value} {unit}".strip()
+        for quantity, value, unit in zip(
+            table.column("quantity"), table.column("value"), table.column("unit"), strict=True
+        )
+    }
+
+
+def _choice(value: str, choices: Any, name: str) -> str:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(choices)}; got {value!r}")
+    return value
+
+
+def _probabilities(text: str) -> list[float]:
+    values = []
+    for part in text.split(","):
+        try:
+            p = float(part)
+        except ValueError as error:
+            raise ValueError(f"--probability: {part!r} is not a number in (0, 1)") from error
+        if not 0 < p < 1:
+            raise ValueError(f"--probability must be in the open interval (0, 1); got {part}")
+        values.append(p)
+    return values
+
+
+def _user_criterion(text: str) -> Criterion:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles), e.g. 1,4,6.4; got {text!r}")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError as error:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles); got {text!r}") from error
+    if not all(math.isfinite(v) and v > 0 for v in values):
+        raise ValueError(f"--n50 values must be finite and > 0 cycles; got {text!r}")
+    return get_criterion(
+        dict(zip(("detection", "recognition", "identification"), values, strict=True))
+    )
+
+
+def _sensor_ifov(
+    pitch: str | None,
+    focal_length: str | None,
+    ifov: str | None,
+    hfov: str | None,
+    pixels: int | None,
+) -> tuple[float, dict[str, float]]:
+    ways = [
+        pitch is not None or focal_length is not None,
+        ifov is not None,
+        hfov is not None or pixels is not None,
+    ]
+    if sum(ways) != 1:
+        raise ValueError(
+            "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
+            "--hfov and --pixels (or --example)"
+        )
+    if ways[0]:
+        if pitch is None or focal_length is None:
+            raise ValueError("--pitch and --focal-length go together")
+        p = parse_quantity(pitch, "length", "--pitch")
+        f = parse_quantity(focal_length, "length", "--focal-length")
+        return float(optics.ifov(p, f)), {"pitch_m": p, "focal_length_m": f}
+    if ways[1]:
+        assert ifov is not None
+        value = parse_quantity(ifov, "angle", "--ifov")
+        if not value > 0:
+            raise ValueError(f"--ifov must be > 0; got {ifov!r}")
+        return value, {}
+    if hfov is None or pixels is None:
+        raise ValueError("--hfov and --pixels go together")
+    fov = parse_quantity(hfov, "angle", "--hfov")
+    value = float(optics.ifov_from_field_of_view(fov, pixels))
+    return value, {"hfov_rad": fov, "pixels": float(pixels)}
+
+
+@app.command()
+def dri(
+    pitch: Annotated[str | None, typer.Option(help="Pixel pitch, e.g. 17um.")] = None,
+    focal_length: Annotated[str | None, typer.Option(help="Focal length, e.g. 75mm.")] = None,
+    ifov: Annotated[str | None, typer.Option(help="Pixel IFOV, e.g. 0.227mrad.")] = None,
+    hfov: Annotated[str | None, typer.Option(help="Horizontal field of view, e.g. 12deg.")] = None,
+    pixels: Annotated[int | None, typer.Option(help="Pixels across --hfov, e.g. 640.")] = None,
+    aperture: Annotated[
+        str | None, typer.Option(help="Lens aperture diameter for diffraction, e.g. 75mm.")
+    ] = None,
+    wavelength: Annotated[
+        str | None, typer.Option(help="Wavelength for diffraction, e.g. 10um.")
+    ] = None,
+    blur: Annotated[
+        str | None, typer.Option(help="Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.")
+    ] = None,
+    critical_dimension: Annotated[
+        str | None, typer.Option(help="Target critical dimension, e.g. 2.3m.")
+    ] = None,
+    criterion: Annotated[
+        str, typer.Option(help=f"Criteria set: {', '.join(CRITERIA)}.")
+    ] = "johnson",
+    n50: Annotated[
+        str | None,
+        typer.Option(help="User-defined N50 cycles for detection,recognition,identification."),
+    ] = None,
+    transform: Annotated[str, typer.Option(help=f"Transform: {', '.join(TRANSFORMS)}.")] = "ttpf",
+    bound: Annotated[
+        str | None, typer.Option(help=f"c2nveo bound: {', '.join(C2NVEO_BOUNDS)}.")
+    ] = None,
+    scr: Annotated[
+        float | None, typer.Option(help="Signal-to-clutter ratio (schmieder-weathersby).")
+    ] = None,
+    clutter: Annotated[
+        str | None,
+        typer.Option(help=f"Clutter region (schmieder-weathersby): {', '.join(CLUTTER_REGIONS)}."),
+    ] = None,
+    probability: Annotated[
+        str, typer.Option(help="Probability, or several separated by commas, e.g. 0.5,0.8.")
+    ] = "0.5",
+    output_format: Annotated[
+        str, typer.Option("--format", help=f"Output: {', '.join(FORMATS)}.")
+    ] = "table",
+    example: Annotated[
+        bool, typer.Option("--example", help="Use the bundled example camera and target.")
+    ] = False,
+) -> None:
+    """Ranges at which each task (detection, recognition, identification) reaches a probability."""
+    _choice(output_format, FORMATS, "--format")
+    _choice(transform, TRANSFORMS, "--transform")
+    if example:
+        camera = _example_camera()
+        if ifov is None and hfov is None and pixels is None:
+            pitch = pitch or camera["pitch"]
+            focal_length = focal_length or camera["focal_length"]
+        if blur is None:
+            aperture = aperture or camera["aperture"]
+            wavelength = wavelength or camera["wavelength"]
+        critical_dimension = critical_dimension or camera["critical_dimension"]
+    if critical_dimension is None:
+        raise ValueError("--critical-dimension is required (e.g. 2.3m), or use --example")
+    d = parse_quantity(critical_dimension, "length", "--critical-dimension")
+    if not d > 0:
+        raise ValueError(f"--critical-dimension must be > 0; got {critical_dimension!r}")
+    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels)
+    optics_kw: dict[str, float] = {}
+    if (aperture is None) != (wavelength is None):
+        raise ValueError("--aperture and --wavelength go together (diffraction limit)")
+    if aperture is not None and wavelength is not None:
+        optics_kw["aperture"] = parse_quantity(aperture, "length", "--aperture")
+        optics_kw["wavelength"] = parse_quantity(wavelength, "length", "--wavelength")
+    if blur is not None:
+        optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
+    if n50 is not None and criterion != "johnson":
+        raise ValueError("give either --criterion or --n50, not both")
+    crit = (
+        _user_criterion(n50)
+        if n50 is not None
+        else get_criterion(_choice(criterion, CRITERIA, "--criterion"))
+    )
+    options: dict[str, Any] = {}
+    if bound is not None:
+        options["bound"] = _choice(bound, C2NVEO_BOUNDS, "--bound")
+    if scr is not None:
+        options["scr"] = scr
+    if clutter is not None:
+        options["region"] = _choice(clutter, CLUTTER_REGIONS, "--clutter")
+    probabilities = _probabilities(probability)
+    cycle = float(optics.resolvable_cycle_angle(ifov_rad, **optics_kw))
+
+    rows = []
+    for p in probabilities:
+        found = ranges.dri_ranges(
+            d, ifov_rad, crit, probability=p, transform=transform, **optics_kw, **options
+        )
+        for task, r in found.items():
+            value = float(r)
+            rows.append(
+                {
+                    "task": task,
+                    "probability": p if crit.gives_probabilities else None,
+                    "threshold": crit.threshold(task),
+                    "threshold_unit": "cycles" if crit.gives_probabilities else "pixels/m",
+                    "range_m": value if math.isfinite(value) else None,
+                    "reached": not math.isnan(value),
+                }
+            )
+        if not crit.gives_probabilities:
+            break
+    report = {
+        "sensor": {
+            "ifov_rad": ifov_rad,
+            "cycle_rad": cycle,
+            **sensor,
+            **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in optics_kw.items()},
+        },
+        "target": {"critical_dimension_m": d},
+        "criterion": crit.name,
+        "criterion_kind": crit.kind,
+        "transform": transform if crit.gives_probabilities else None,
+        "options": options,
+        "ranges": rows,
+    }
+    typer.echo(_render(report, output_format), nl=False)
+
+
+def _render(report: dict[str, Any], output_format: str) -> str:
+    rows = report["ranges"]
+    if output_format == "json":
+        return json.dumps(report, indent=2) + "\n"
+    if output_format == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+        return buffer.getvalue()
+    sensor = report["sensor"]
+    limit = "sampling" if math.isclose(sensor["cycle_rad"], 2 * sensor["ifov_rad"]) else "optics"
+    lines = [
+        f"criterion {report['criterion']}"
+        + (f", transform {report['transform']}" if report["transform"] else "")
+        + "".join(f", {k} {v}" for k, v in report["options"].items()),
+        f"sensor: IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
+        f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
+        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m",
+        "",
+    ]
+    unit = rows[0]["threshold_unit"]
+    header = f"{'task':<16}{'P':>6}  {'N50 [' + unit + ']':>18}  {'range [m]':>12}"
+    lines += [header, "-" * len(header)]
+    for row in rows:
+        p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
+        if not row["reached"]:
+            r = "not reached"
+        elif row["range_m"] is None:
+            r = "any"
+        else:
+            r = f"{row['range_m']:,.0f}"
+        lines.append(f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {r:>12}")
+    return "\n".join(lines) + "\n"
+
+
+def _one_line(message: str) -> str:
+    return " ".join(str(message).split())
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point: run the app; bad input → one line on stderr, exit status 2."""
+    try:
+        code = app(args=argv, prog_name="targetacq", standalone_mode=False)
+    except typer.Abort:
+        sys.stderr.write("targetacq: aborted\n")
+        sys.exit(1)
+    except typer.TyperException as error:  # usage errors: unknown option, missing value, ...
+        message = error.format_message()
+        if type(error).__name__ == "NoArgsIsHelpError":
+            sys.stderr.write(message + "\n")
+        else:
+            sys.stderr.write(f"targetacq: error: {_one_line(message)}\n")
+        sys.exit(2)
+    except (ValueError, KeyError, TypeError) as error:
+        sys.stderr.write(f"targetacq: error: {_one_line(str(error))}\n")
+        sys.exit(2)
+    sys.exit(code if isinstance(code, int) else 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,52 @@
+"""Fusion of several sensors' probabilities for one target.
+
+Sources: Sonesson (2004) ch. 8. Sensor-level fusion of independent sensors (8.2)–(8.4):
+``P_SL = 1 - Π_i (1 - p_i)``: the target is acquired unless every sensor misses it. Central-level
+fusion (8.5) has no formula in the thesis, only the bounds ``P_SL <= P_CL <= 1``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from targetacq import _arrays
+
+__all__ = ["central_level_bounds", "fuse"]
+
+
+def fuse(probabilities: Any, axis: int = -1) -> Any:
+    """Sensor-level fusion of independent sensors, Eq. (8.4) in Sonesson (2004).
+
+    ``P_SL = 1 - Π_i (1 - p_i)`` over ``axis``.
+
+    Parameters
+    ----------
+    probabilities : array_like
+        Probabilities in [0, 1]; the sensors lie along ``axis``.
+    axis : int
+        Axis of the sensors.
+
+    Returns
+    -------
+    array_like
+        Fused probability, ``axis`` removed; symmetric in the sensors and >= each input.
+    """
+    xp, (p,) = _arrays.arrays(probabilities)
+    _arrays.require_unit_interval("probabilities", p, xp)
+    if p.ndim == 0:
+        raise ValueError("probabilities must have at least one axis (the sensors)")
+    return _arrays.result(1.0 - xp.prod(1.0 - p, axis=axis))
+
+
+def central_level_bounds(probabilities: Any, axis: int = -1) -> tuple[Any, Any]:
+    """Bounds on central-level fusion, ``P_SL <= P_CL <= 1``, Eq. (8.5) in Sonesson (2004).
+
+    Returns
+    -------
+    lower, upper : array_like
+        The sensor-level fusion :func:`fuse` and 1 (NaN where the inputs have NaN).
+    """
+    lower = fuse(probabilities, axis=axis)
+    xp, (low,) = _arrays.arrays(lower)
+    upper = xp.where(xp.isnan(low), low, xp.ones_like(low))
+    return lower, _arrays.result(upper)

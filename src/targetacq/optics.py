@@ -1,0 +1,385 @@
+"""Sensor optics and sampling: IFOV, field of view, diffraction, blur, cycles on target.
+
+Sources: Sonesson (2004) ch. 3 (§3.5, Fig. 3.3) and ch. 5 (Eqs. (5.1)–(5.4)), with the errata
+of ``shared/MODEL.md`` §1 (the diffraction condition of §5.5 reversed; the separable Gaussian).
+
+One *cycle* (line pair) is the angle of two adjacent pixel rows, ``2·IFOV`` (Fig. 3.3: a target
+2.5 pixel rows high is 1.25 cycles). Optics can make the resolvable cycle coarser than that:
+
+- diffraction: one cycle is ``1.22 λ / D`` (the Rayleigh separation, Eq. (5.3)), and the
+  sensor resolves ``max(2·IFOV, 1.22 λ/D)`` (MODEL.md erratum to §5.5);
+- a Gaussian blur of angular standard deviation σ (Eq. (5.2)) limits resolution where its
+  modulation transfer function ``exp(-2π²σ²ξ²)`` falls to the modulation that the diffraction
+  rule accepts at its own limit: the diffraction MTF of a circular aperture at the spatial
+  frequency of one Rayleigh cycle, ``ξ = D / (1.22 λ)``, i.e. ``M* = MTF_diff(1/1.22) ≈ 0.0896``.
+  The blur's cycle is then ``π σ sqrt(2 / ln(1/M*)) ≈ 2.86 σ``. Using the diffraction rule's
+  own threshold keeps the two optical limits on one scale.
+- the two optical blurs combine in quadrature (exact for Gaussian spots, the usual
+  engineering approximation for a diffraction spot and an aberration blur, e.g. Holst,
+  *Electro-Optical Imaging System Performance*), and the optics then compete with the
+  sampling limit by the larger of the two, as the thesis's diffraction rule does.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from targetacq import _arrays
+from targetacq._arrays import Array
+
+__all__ = [
+    "BLUR_CYCLE_PER_SIGMA",
+    "DIFFRACTION_THRESHOLD_MODULATION",
+    "RAYLEIGH_FACTOR",
+    "blur_cycle_angle",
+    "cycles_on_target",
+    "diffraction_angle",
+    "diffraction_spot",
+    "field_of_view",
+    "gaussian_psf",
+    "ifov",
+    "ifov_from_field_of_view",
+    "pixels_per_metre",
+    "range_for_cycles",
+    "range_for_pixel_density",
+    "resolvable_cycle_angle",
+]
+
+RAYLEIGH_FACTOR = 1.22
+"""Rayleigh factor of Eq. (5.3), Sonesson (2004): first zero of the Airy pattern, as printed."""
+
+
+def _circular_aperture_mtf(normalised_frequency: float) -> float:
+    # Diffraction MTF of an aberration-free circular aperture, incoherent light, at ξ/ξ_cutoff.
+    nu = normalised_frequency
+    return 2.0 / math.pi * (math.acos(nu) - nu * math.sqrt(1.0 - nu * nu))
+
+
+DIFFRACTION_THRESHOLD_MODULATION = _circular_aperture_mtf(1.0 / RAYLEIGH_FACTOR)
+"""Modulation of a diffraction-limited lens at one Rayleigh cycle (≈ 0.0896), see module doc."""
+
+BLUR_CYCLE_PER_SIGMA = math.pi * math.sqrt(2.0 / -math.log(DIFFRACTION_THRESHOLD_MODULATION))
+"""Resolvable cycle of a Gaussian blur per unit standard deviation (≈ 2.86), see module doc."""
+
+
+def ifov(pitch: Any, focal_length: Any) -> Any:
+    """Instantaneous field of view of one detector pixel.
+
+    ``IFOV = p / f`` (small angle), Sonesson (2004) §5.2 with Eq. (5.1).
+
+    Parameters
+    ----------
+    pitch : array_like
+        Detector pixel pitch [m], > 0.
+    focal_length : array_like
+        Focal length [m], > 0.
+
+    Returns
+    -------
+    array_like
+        IFOV [rad].
+    """
+    xp, (p, f) = _arrays.arrays(pitch, focal_length)
+    _arrays.require_positive("pitch", p, xp, "m")
+    _arrays.require_positive("focal_length", f, xp, "m")
+    return _arrays.result(p / f)
+
+
+def field_of_view(detector_size: Any, focal_length: Any) -> Any:
+    """Full field of view of a pinhole camera, ``FOV = 2 arctan(A / (2f))``, Eq. (5.1).
+
+    Parameters
+    ----------
+    detector_size : array_like
+        Side of the detector array, ``A`` [m], > 0 (pixels × pitch).
+    focal_length : array_like
+        Focal length ``f`` [m], > 0.
+
+    Returns
+    -------
+    array_like
+        Full field of view [rad].
+    """
+    xp, (a, f) = _arrays.arrays(detector_size, focal_length)
+    _arrays.require_positive("detector_size", a, xp, "m")
+    _arrays.require_positive("focal_length", f, xp, "m")
+    return _arrays.result(2.0 * xp.atan(a / (2.0 * f)))
+
+
+def ifov_from_field_of_view(field_of_view: Any, pixels: Any) -> Any:
+    """IFOV of the central pixel of a pinhole camera with a given field of view.
+
+    Inverting Eq. (5.1): the array side is ``A = 2 f tan(FOV/2)``, so one pixel subtends
+    ``p/f = 2 tan(FOV/2) / n`` at the centre of the image.
+
+    Parameters
+    ----------
+    field_of_view : array_like
+        Full field of view along the array side [rad], in (0, π).
+    pixels : array_like
+        Number of pixels along that side, > 0.
+
+    Returns
+    -------
+    array_like
+        IFOV [rad].
+    """
+    xp, (fov, n) = _arrays.arrays(field_of_view, pixels)
+    _arrays.require_positive("field_of_view", fov, xp, "rad")
+    _arrays.require_positive("pixels", n, xp)
+    if bool(xp.any(fov >= xp.pi)):
+        raise ValueError("field_of_view must be < π rad (180°) for a pinhole camera")
+    return _arrays.result(2.0 * xp.tan(fov / 2.0) / n)
+
+
+def diffraction_angle(wavelength: Any, aperture: Any) -> Any:
+    """Smallest resolvable angle of a circular aperture, ``sin Δθ = 1.22 λ / D``, Eq. (5.3).
+
+    Parameters
+    ----------
+    wavelength : array_like
+        Wavelength λ [m], > 0.
+    aperture : array_like
+        Aperture (lens) diameter D [m], > 0, with ``1.22 λ / D <= 1``.
+
+    Returns
+    -------
+    array_like
+        Δθ [rad]. Check value: D = 122 mm, λ = 10 µm → 1.0e-4 rad (0.1 m at 1 km).
+    """
+    xp, (lam, d) = _arrays.arrays(wavelength, aperture)
+    return _arrays.result(_diffraction_angle(lam, d, xp))
+
+
+def _diffraction_angle(lam: Array, d: Array, xp: Any) -> Array:
+    _arrays.require_positive("wavelength", lam, xp, "m")
+    _arrays.require_positive("aperture", d, xp, "m")
+    ratio = RAYLEIGH_FACTOR * lam / d
+    if bool(xp.any(ratio > 1.0)):
+        raise ValueError("aperture must be at least 1.22 × wavelength for Eq. (5.3)")
+    return xp.asin(ratio)
+
+
+def diffraction_spot(wavelength: Any, aperture: Any, focal_length: Any) -> Any:
+    """Minimum resolvable separation on the focal plane, ``Δx = f·1.22 λ / D``, Eq. (5.4).
+
+    Parameters
+    ----------
+    wavelength, aperture, focal_length : array_like
+        λ, D and f [m], all > 0.
+
+    Returns
+    -------
+    array_like
+        Δx_min [m].
+    """
+    xp, (lam, d, f) = _arrays.arrays(wavelength, aperture, focal_length)
+    _arrays.require_positive("wavelength", lam, xp, "m")
+    _arrays.require_positive("aperture", d, xp, "m")
+    _arrays.require_positive("focal_length", f, xp, "m")
+    return _arrays.result(f * RAYLEIGH_FACTOR * lam / d)
+
+
+def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
+    """Gaussian point-spread function of the optics, peak-normalised to 1.
+
+    ``h(x, y) = exp(-x²/(2σx²) - y²/(2σy²))``: Eq. (5.2) in Sonesson (2004) with the erratum
+    of MODEL.md §1 (the printed ``exp(-(x²+y²)/(2(σx²+σy²)))`` is not a separable Gaussian).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Position relative to the centre (any length or angle unit, the same as σ).
+    sigma_x, sigma_y : array_like
+        Standard deviations, > 0, same unit as x and y.
+
+    Returns
+    -------
+    array_like
+        h in [0, 1].
+    """
+    xp, (xx, yy, sx, sy) = _arrays.arrays(x, y, sigma_x, sigma_y)
+    _arrays.require_positive("sigma_x", sx, xp)
+    _arrays.require_positive("sigma_y", sy, xp)
+    return _arrays.result(xp.exp(-(xx * xx) / (2 * sx * sx) - (yy * yy) / (2 * sy * sy)))
+
+
+def blur_cycle_angle(blur_sigma: Any) -> Any:
+    """Resolvable cycle of a Gaussian optics blur, ``≈ 2.86 σ`` (see the module docstring).
+
+    Parameters
+    ----------
+    blur_sigma : array_like
+        Angular standard deviation of the Gaussian PSF [rad], >= 0 (σ on the focal plane
+        divided by the focal length).
+
+    Returns
+    -------
+    array_like
+        Angle of one resolvable cycle [rad]: ``π σ sqrt(2 / ln(1/M*))``.
+    """
+    xp, (s,) = _arrays.arrays(blur_sigma)
+    _arrays.require_nonnegative("blur_sigma", s, xp, "rad")
+    return _arrays.result(BLUR_CYCLE_PER_SIGMA * s)
+
+
+def _cycle_angle(ifov_: Array, wavelength: Any, aperture: Any, blur_sigma: Any, xp: Any) -> Array:
+    """Resolvable cycle from already-validated IFOV and optional optics (see module doc)."""
+    if (wavelength is None) != (aperture is None):
+        raise ValueError("give both wavelength and aperture for the diffraction limit, or neither")
+    sampling = 2.0 * ifov_
+    optics_sq = None
+    if wavelength is not None:
+        lam, d = _arrays.as_float(wavelength, xp), _arrays.as_float(aperture, xp)
+        diff = _diffraction_angle(lam, d, xp)
+        optics_sq = diff * diff
+    if blur_sigma is not None:
+        s = _arrays.as_float(blur_sigma, xp)
+        _arrays.require_nonnegative("blur_sigma", s, xp, "rad")
+        blur = BLUR_CYCLE_PER_SIGMA * s
+        optics_sq = blur * blur if optics_sq is None else optics_sq + blur * blur
+    if optics_sq is None:
+        return sampling
+    return xp.maximum(sampling, xp.sqrt(optics_sq))
+
+
+def resolvable_cycle_angle(
+    ifov: Any, wavelength: Any = None, aperture: Any = None, blur_sigma: Any = None
+) -> Any:
+    """Angle of one resolvable cycle: the coarser of the sampling and the optics limits.
+
+    ``cycle = max(2·IFOV, sqrt(θ_diff² + θ_blur²))`` with ``θ_diff = asin(1.22 λ/D)``
+    (Eq. (5.3) and the MODEL.md erratum to §5.5) and ``θ_blur = 2.86 σ`` (Eq. (5.2), see the
+    module docstring for the threshold and the quadrature sum).
+
+    Parameters
+    ----------
+    ifov : array_like
+        Pixel IFOV [rad], > 0.
+    wavelength, aperture : array_like, optional
+        Wavelength λ and aperture diameter D [m] for the diffraction limit; both or neither.
+    blur_sigma : array_like, optional
+        Angular standard deviation of a Gaussian optics blur [rad].
+
+    Returns
+    -------
+    array_like
+        Cycle angle [rad].
+    """
+    xp, (i,) = _arrays.arrays(ifov)
+    _arrays.require_positive("ifov", i, xp, "rad")
+    return _arrays.result(_cycle_angle(i, wavelength, aperture, blur_sigma, xp))
+
+
+def cycles_on_target(
+    critical_dimension: Any,
+    range: Any,
+    ifov: Any,
+    *,
+    wavelength: Any = None,
+    aperture: Any = None,
+    blur_sigma: Any = None,
+) -> Any:
+    """Resolvable cycles (line pairs) across the target's critical dimension.
+
+    ``N = (d / R) / cycle`` with ``cycle = 2·IFOV`` (Johnson; Sonesson 2004 §3.5 and Fig. 3.3:
+    a target 2.5 pixel rows high is 1.25 cycles), or the coarser optical limit when
+    ``wavelength`` and ``aperture`` or ``blur_sigma`` are given (:func:`resolvable_cycle_angle`).
+    The target's angular size uses the small-angle ``d / R``.
+
+    Parameters
+    ----------
+    critical_dimension : array_like
+        Critical dimension of the target as seen [m], > 0.
+    range : array_like
+        Slant range [m], > 0.
+    ifov : array_like
+        Pixel IFOV [rad], > 0.
+    wavelength, aperture, blur_sigma : array_like, optional
+        Optics limits, see :func:`resolvable_cycle_angle`.
+
+    Returns
+    -------
+    array_like
+        N [cycles].
+    """
+    xp, (d, r, i) = _arrays.arrays(critical_dimension, range, ifov)
+    _arrays.require_positive("critical_dimension", d, xp, "m")
+    _arrays.require_positive("range", r, xp, "m")
+    _arrays.require_positive("ifov", i, xp, "rad")
+    cycle = _cycle_angle(i, wavelength, aperture, blur_sigma, xp)
+    return _arrays.result(d / (r * cycle))
+
+
+def range_for_cycles(
+    critical_dimension: Any,
+    cycles: Any,
+    ifov: Any,
+    *,
+    wavelength: Any = None,
+    aperture: Any = None,
+    blur_sigma: Any = None,
+) -> Any:
+    """Range at which the target spans a given number of cycles: the inverse of
+    :func:`cycles_on_target`, ``R = d / (N · cycle)``.
+
+    Parameters
+    ----------
+    critical_dimension : array_like
+        [m], > 0.
+    cycles : array_like
+        N [cycles], >= 0 (0 gives an infinite range; +inf gives 0).
+    ifov : array_like
+        [rad], > 0.
+    wavelength, aperture, blur_sigma : array_like, optional
+        Optics limits, see :func:`resolvable_cycle_angle`.
+
+    Returns
+    -------
+    array_like
+        Range [m].
+    """
+    xp, (d, n, i) = _arrays.arrays(critical_dimension, cycles, ifov)
+    _arrays.require_positive("critical_dimension", d, xp, "m")
+    _arrays.require_nonnegative("cycles", n, xp)
+    _arrays.require_positive("ifov", i, xp, "rad")
+    cycle = _cycle_angle(i, wavelength, aperture, blur_sigma, xp)
+    denominator = n * cycle
+    safe = xp.where(denominator == 0, 1.0, denominator)
+    return _arrays.result(xp.where(denominator == 0, xp.inf, d / safe))
+
+
+def pixels_per_metre(range: Any, ifov: Any) -> Any:
+    """Pixel density on a target plane at a range, ``1 / (R · IFOV)`` [pixels/m].
+
+    The quantity of the EN 62676-4 thresholds (small angle).
+
+    Parameters
+    ----------
+    range : array_like
+        [m], > 0.
+    ifov : array_like
+        [rad], > 0.
+    """
+    xp, (r, i) = _arrays.arrays(range, ifov)
+    _arrays.require_positive("range", r, xp, "m")
+    _arrays.require_positive("ifov", i, xp, "rad")
+    return _arrays.result(1.0 / (r * i))
+
+
+def range_for_pixel_density(pixel_density: Any, ifov: Any) -> Any:
+    """Range at which the pixel density on the target falls to a threshold,
+    ``R = 1 / (density · IFOV)`` [m]; inverse of :func:`pixels_per_metre`.
+
+    Parameters
+    ----------
+    pixel_density : array_like
+        [pixels/m], > 0.
+    ifov : array_like
+        [rad], > 0.
+    """
+    xp, (q, i) = _arrays.arrays(pixel_density, ifov)
+    _arrays.require_positive("pixel_density", q, xp, "pixels/m")
+    _arrays.require_positive("ifov", i, xp, "rad")
+    return _arrays.result(1.0 / (q * i))

@@ -1,0 +1,565 @@
+"""Transforms from resolution (cycles on target) to the probability of a task.
+
+Three methods, kept in the registry :data:`TRANSFORMS` and reached through one dispatcher,
+:func:`transform` (and :func:`inverse_transform` for the cycles needed for a probability):
+
+``ttpf``
+    The target transfer probability function of the NVESD models (ACQUIRE, NVTherm):
+    ``P = x^E / (1 + x^E)``, ``x = N / N50``, ``E = 2.7 + 0.7 x``; ``P(N50) = 0.5``.
+``c2nveo``
+    Table 3.3 of Sonesson (2004): cycles needed for seven probabilities per task, each a range
+    whose low end is the optimistic and high end the pessimistic curve (``bound``); ``nominal``
+    is the geometric mean of each cell.
+``schmieder-weathersby``
+    Table 3.5 of Sonesson (2004): cycles needed for detection in low (SCR > 10), medium
+    (1 <= SCR <= 10) and high (SCR < 1) clutter. Detection only (§3.8). Hot spots use the
+    low-clutter curve (§3.9); a moving target is always detected (§1.3, §7.5).
+
+Table curves are interpolated linearly in ``log N`` between the printed points (the thesis's
+Figs. 3.5 and 3.7 use a logarithmic cycles axis), linearly in ``N`` from ``P = 0`` at ``N = 0``
+to the first printed point, and held at the last printed probability beyond the last point
+(1 where the table reaches 1; 0.9 for high clutter, which "never reaches 0.95"). Where a column
+prints the same N for two probabilities (C2NVEO recognition, pessimistic: 12 cycles for both 0.95
+and 1.00) the curve jumps at that N; the inverse gives the smallest N that reaches p.
+
+Scaling by the criterion: the table transforms carry their own 50 % points ``N50_ref`` (C2NVEO:
+the ``c2nveo`` criterion, the geometric mean of the 0.50 row; Schmieder–Weathersby: the
+medium-clutter 50 % point, 1.0 cycle). A criterion with another ``N50`` stretches the cycles axis:
+``P(N) = table(N · N50_ref / N50)``. With their own criterion the printed tables are reproduced;
+with Johnson's detection N50 (1.0) the Schmieder–Weathersby table is reproduced too, consistent
+with Johnson's trials having been made "in significant clutter" (§3.6).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+from targetacq import _arrays
+from targetacq._arrays import Array
+from targetacq.tables import load_table
+
+__all__ = [
+    "C2NVEO_BOUNDS",
+    "CLUTTER_REGIONS",
+    "TRANSFORMS",
+    "Transform",
+    "c2nveo",
+    "c2nveo_inverse",
+    "clutter_region",
+    "inverse_transform",
+    "schmieder_weathersby",
+    "schmieder_weathersby_inverse",
+    "transform",
+    "ttpf",
+    "ttpf_inverse",
+]
+
+C2NVEO_BOUNDS: tuple[str, ...] = ("optimistic", "nominal", "pessimistic")
+"""Which end of each Table 3.3 cell: low end, geometric mean, high end."""
+
+CLUTTER_REGIONS: tuple[str, ...] = ("low", "medium", "high")
+"""Table 3.5 clutter regions: SCR > 10, 1 <= SCR <= 10, SCR < 1."""
+
+# TTPF exponent E = TTPF_E0 + TTPF_E1 · N/N50 (ACQUIRE / NVTherm).
+TTPF_E0 = 2.7
+TTPF_E1 = 0.7
+
+# Beyond exp(±700) float64 over/underflows; the logistic is then 0 or 1 to double precision.
+_LOGIT_LIMIT = 700.0
+
+
+# --------------------------------------------------------------------------------------------
+# TTPF
+# --------------------------------------------------------------------------------------------
+
+
+def _ttpf(x: Array, xp: Any) -> Array:
+    """TTPF of x = N/N50 >= 0 (or NaN), as the logistic of E·ln x, without warnings."""
+    positive = x > 0
+    log_x = xp.log(xp.where(positive | xp.isnan(x), x, 1.0))
+    z = xp.clip((TTPF_E0 + TTPF_E1 * x) * log_x, -_LOGIT_LIMIT, _LOGIT_LIMIT)
+    p = 1.0 / (1.0 + xp.exp(-z))
+    return xp.where(x == 0, 0.0, p)
+
+
+def _ttpf_inverse(p: Array, xp: Any) -> Array:
+    """x = N/N50 with TTPF(x) = p, for p in (0, 1) (or NaN), by safeguarded Newton in ln x.
+
+    Solves ``h(u) = (E0 + E1 e^u) u = L`` with ``L = logit(p)``. ``h`` is increasing
+    (``h'(u) = E0 + E1 e^u (1 + u) > 0`` for all u, its minimum being at u = -2), and
+    ``E = E0 + E1 x`` lies in [E0, E0 + E1] for x <= 1 and above E0 + E1 for x > 1, so the
+    root lies in [L/E0, L/(E0+E1)] when L <= 0 and in [0, L/(E0+E1)] when L > 0.
+    """
+    logit = xp.log(p) - xp.log1p(-p)
+    negative = logit <= 0
+    lo = xp.where(negative, logit / TTPF_E0, 0.0)
+    hi = logit / (TTPF_E0 + TTPF_E1)
+    u = 0.5 * (lo + hi)
+    for _ in range(100):
+        e_u = xp.exp(u)
+        residual = (TTPF_E0 + TTPF_E1 * e_u) * u - logit
+        lo = xp.where(residual < 0, u, lo)
+        hi = xp.where(residual > 0, u, hi)
+        slope = TTPF_E0 + TTPF_E1 * e_u * (1.0 + u)
+        candidate = u - residual / slope
+        outside = (candidate < lo) | (candidate > hi)
+        candidate = xp.where(outside, 0.5 * (lo + hi), candidate)
+        step = xp.abs(candidate - u)
+        u = candidate
+        if not bool(xp.any(step > 4e-16 * (1.0 + xp.abs(u)))):
+            break
+    return xp.exp(u)
+
+
+def ttpf(cycles: Any, n50: Any) -> Any:
+    """Target transfer probability function.
+
+    ``P = x^E / (1 + x^E)`` with ``x = N / N50`` and ``E = 2.7 + 0.7 x``, the Johnson-based
+    target transfer probability function of the NVESD models ACQUIRE and NVTherm (e.g.
+    Driggers, Cox & Edwards, *Introduction to Infrared and Electro-Optical Systems*, ch. 12).
+    It gives ``P(N50) = 0.5``, the meaning of Johnson's table values (Sonesson 2004, §3.5).
+
+    Parameters
+    ----------
+    cycles : array_like
+        N, resolvable cycles across the critical dimension [cycles], >= 0.
+    n50 : array_like
+        Cycles for a probability of 0.5 [cycles], > 0.
+
+    Returns
+    -------
+    array_like
+        P in [0, 1]; NaN where ``cycles`` is NaN.
+    """
+    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    _arrays.require_nonnegative("cycles", n, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    return _arrays.result(_ttpf(n / n50_, xp))
+
+
+def ttpf_inverse(probability: Any, n50: Any) -> Any:
+    """Cycles at which the TTPF reaches a probability (inverse of :func:`ttpf`).
+
+    Parameters
+    ----------
+    probability : array_like
+        P in the open interval (0, 1).
+    n50 : array_like
+        [cycles], > 0.
+
+    Returns
+    -------
+    array_like
+        N [cycles].
+    """
+    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    _arrays.require_open_unit_interval("probability", p, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    return _arrays.result(_ttpf_inverse(p, xp) * n50_)
+
+
+# --------------------------------------------------------------------------------------------
+# Table curves (C2NVEO, Schmieder–Weathersby)
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Curve:
+    """A monotone curve through printed points (N_i > 0 ascending, P_i non-decreasing)."""
+
+    cycles: tuple[float, ...]
+    probabilities: tuple[float, ...]
+
+    @classmethod
+    def from_table(cls, cycles: tuple[float, ...], probabilities: tuple[float, ...]) -> _Curve:
+        points = sorted(
+            (n, p)
+            for n, p in zip(cycles, probabilities, strict=True)
+            if not math.isnan(n) and n > 0
+        )
+        ns, ps = zip(*points, strict=True)
+        if any(b < a for a, b in itertools.pairwise(ps)):
+            raise ValueError(f"table curve is not monotone: {points}")
+        return cls(tuple(ns), tuple(ps))
+
+    def forward(self, n: Array, xp: Any) -> Array:
+        ns, ps = self.cycles, self.probabilities
+        u = xp.log(xp.where(n > 0, n, 1.0))
+        out = xp.where(n >= ns[-1], ps[-1], 0.0)
+        out = xp.where(n < ns[0], ps[0] * n / ns[0], out)
+        for k in range(len(ns) - 1):
+            if ns[k + 1] == ns[k]:
+                continue  # a vertical step: the higher probability holds from that N on
+            lo, width = math.log(ns[k]), math.log(ns[k + 1]) - math.log(ns[k])
+            segment = ps[k] + (u - lo) / width * (ps[k + 1] - ps[k])
+            out = xp.where((n >= ns[k]) & (n < ns[k + 1]), segment, out)
+        return xp.where(xp.isnan(n), n, out)
+
+    def inverse(self, p: Array, xp: Any) -> Array:
+        """Smallest N with P(N) >= p; +inf where p exceeds the curve's last probability."""
+        ns, ps = self.cycles, self.probabilities
+        out = xp.where(p > ps[-1], xp.inf, 0.0)
+        out = xp.where(p <= ps[0], ns[0] * p / ps[0], out)
+        for k in range(len(ns) - 1):
+            if ps[k + 1] == ps[k]:
+                continue
+            lo, width = math.log(ns[k]), math.log(ns[k + 1]) - math.log(ns[k])
+            segment = xp.exp(lo + (p - ps[k]) / (ps[k + 1] - ps[k]) * width)
+            out = xp.where((p > ps[k]) & (p <= ps[k + 1]), segment, out)
+        return xp.where(xp.isnan(p), p, out)
+
+
+@functools.cache
+def _c2nveo_curves() -> Mapping[tuple[str, str], _Curve]:
+    table = load_table("c2nveo")
+    p = table.numbers("probability")
+    curves = {}
+    for task in ("detection", "recognition", "identification"):
+        low, high = table.numbers(f"{task}_low"), table.numbers(f"{task}_high")
+        nominal = tuple(math.sqrt(a * b) for a, b in zip(low, high, strict=True))
+        for bound, ns in zip(C2NVEO_BOUNDS, (low, nominal, high), strict=True):
+            curves[task, bound] = _Curve.from_table(ns, p)
+    return MappingProxyType(curves)
+
+
+@functools.cache
+def _c2nveo_reference_n50(task: str) -> float:
+    # The nominal curve's 50 % point: the geometric mean of the 0.50 row (the c2nveo criterion).
+    return float(_c2nveo_curves()[task, "nominal"].inverse(_arrays.as_float(0.5, _np()), _np()))
+
+
+@functools.cache
+def _sw_curves() -> Mapping[str, _Curve]:
+    table = load_table("schmieder_weathersby")
+    p = table.numbers("probability")
+    return MappingProxyType(
+        {region: _Curve.from_table(table.numbers(region), p) for region in CLUTTER_REGIONS}
+    )
+
+
+@functools.cache
+def _sw_reference_n50() -> float:
+    return float(_sw_curves()["medium"].inverse(_arrays.as_float(0.5, _np()), _np()))
+
+
+def _np() -> Any:
+    return _arrays.namespace()
+
+
+def _check_task(name: str, task: str, tasks: tuple[str, ...]) -> None:
+    if task not in tasks:
+        raise ValueError(
+            f"transform {name!r} has no curve for task {task!r}; its tasks: {', '.join(tasks)}"
+        )
+
+
+def _check_bound(bound: str) -> None:
+    if bound not in C2NVEO_BOUNDS:
+        raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}; got {bound!r}")
+
+
+_C2NVEO_TASKS = ("detection", "recognition", "identification")
+
+
+def c2nveo(cycles: Any, n50: Any, task: str = "detection", bound: str = "nominal") -> Any:
+    """C2NVEO probability of a task from cycles on target, Table 3.3 in Sonesson (2004).
+
+    Parameters
+    ----------
+    cycles : array_like
+        N [cycles], >= 0.
+    n50 : array_like
+        The criterion's 50 % point for the task [cycles], > 0. The table's own is
+        ``CRITERIA["c2nveo"].n50(task)``; another N50 stretches the cycles axis (module doc).
+    task : {"detection", "recognition", "identification"}
+    bound : {"optimistic", "nominal", "pessimistic"}
+        Low end, geometric mean or high end of each printed cell.
+
+    Returns
+    -------
+    array_like
+        P in [0, 1]: 0 at N = 0, 1 from the 1.00 row on.
+    """
+    _check_task("c2nveo", task, _C2NVEO_TASKS)
+    _check_bound(bound)
+    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    _arrays.require_nonnegative("cycles", n, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    scaled = n * (_c2nveo_reference_n50(task) / n50_)
+    return _arrays.result(_c2nveo_curves()[task, bound].forward(scaled, xp))
+
+
+def c2nveo_inverse(
+    probability: Any, n50: Any, task: str = "detection", bound: str = "nominal"
+) -> Any:
+    """Cycles needed for a probability on the C2NVEO curve (inverse of :func:`c2nveo`).
+
+    Returns the smallest N whose probability reaches ``probability`` in (0, 1).
+    """
+    _check_task("c2nveo", task, _C2NVEO_TASKS)
+    _check_bound(bound)
+    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    _arrays.require_open_unit_interval("probability", p, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    n = _c2nveo_curves()[task, bound].inverse(p, xp)
+    return _arrays.result(n * (n50_ / _c2nveo_reference_n50(task)))
+
+
+def clutter_region(scr: Any) -> Any:
+    """Clutter region of Table 3.5 for a signal-to-clutter ratio.
+
+    Parameters
+    ----------
+    scr : array_like
+        SCR [1], >= 0 (+inf for no clutter).
+
+    Returns
+    -------
+    numpy.ndarray of str or str
+        "low" (SCR > 10), "medium" (1 <= SCR <= 10) or "high" (SCR < 1); "" for NaN.
+    """
+    import numpy as np
+
+    s = np.asarray(scr, dtype=np.float64)
+    _arrays.require_nonnegative("scr", s, _np())
+    region = np.select([s > 10, s >= 1, s < 1], ["low", "medium", "high"], default="")
+    return region[()] if region.ndim == 0 else region
+
+
+def _sw_options(
+    scr: Any, region: str | None, hot_spot: bool, moving: bool, xp: Any
+) -> Array | None:
+    """The SCR array to pick curves by (None when one fixed region applies)."""
+    if region is not None and region not in CLUTTER_REGIONS:
+        raise ValueError(f"region must be one of {', '.join(CLUTTER_REGIONS)}; got {region!r}")
+    if scr is not None and region is not None:
+        raise ValueError("give either scr or region for schmieder-weathersby, not both")
+    if scr is None and region is None and not hot_spot and not moving:
+        raise ValueError(
+            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
+            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
+        )
+    if scr is None:
+        return None
+    s = _arrays.as_float(scr, xp)
+    _arrays.require_nonnegative("scr", s, xp)
+    return s
+
+
+def _sw_select(
+    values: Mapping[str, Array], scr: Array | None, region: str | None, xp: Any
+) -> Array:
+    if scr is None:
+        return values[region or "low"]
+    out = xp.where(scr > 10, values["low"], values["high"])
+    out = xp.where((scr >= 1) & (scr <= 10), values["medium"], out)
+    return xp.where(xp.isnan(scr), scr, out)
+
+
+def schmieder_weathersby(
+    cycles: Any,
+    n50: Any = 1.0,
+    *,
+    scr: Any = None,
+    region: str | None = None,
+    hot_spot: bool = False,
+    moving: bool = False,
+) -> Any:
+    """Probability of detection in clutter, Table 3.5 in Sonesson (2004) (Schmieder–Weathersby).
+
+    Parameters
+    ----------
+    cycles : array_like
+        N [cycles], >= 0.
+    n50 : array_like, optional
+        The criterion's detection N50 [cycles], > 0; the table's own (and Johnson's) is 1.0.
+    scr : array_like, optional
+        Signal-to-clutter ratio [1], >= 0; picks the region per element (broadcasts with N).
+    region : {"low", "medium", "high"}, optional
+        The clutter region, instead of ``scr``.
+    hot_spot : bool
+        A strong source on a uniform background: the low-clutter curve (§3.9).
+    moving : bool
+        A moving target is always detected (P = 1), §1.3 and §7.5.
+
+    Returns
+    -------
+    array_like
+        P(detection) in [0, 1].
+    """
+    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    _arrays.require_nonnegative("cycles", n, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    s = _sw_options(scr, region, hot_spot, moving, xp)
+    if moving:
+        return _arrays.result(xp.where(xp.isnan(n), n, xp.ones_like(n)))
+    scaled = n * (_sw_reference_n50() / n50_)
+    if hot_spot:
+        return _arrays.result(_sw_curves()["low"].forward(scaled, xp))
+    values = {name: curve.forward(scaled, xp) for name, curve in _sw_curves().items()}
+    return _arrays.result(_sw_select(values, s, region, xp))
+
+
+def schmieder_weathersby_inverse(
+    probability: Any,
+    n50: Any = 1.0,
+    *,
+    scr: Any = None,
+    region: str | None = None,
+    hot_spot: bool = False,
+    moving: bool = False,
+) -> Any:
+    """Cycles needed for a probability of detection in clutter (inverse of
+    :func:`schmieder_weathersby`): +inf where the region never reaches it (high clutter
+    above 0.9); 0 for a moving target."""
+    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    _arrays.require_open_unit_interval("probability", p, xp)
+    _arrays.require_positive("n50", n50_, xp)
+    s = _sw_options(scr, region, hot_spot, moving, xp)
+    scale = n50_ / _sw_reference_n50()
+    if moving:
+        return _arrays.result(xp.where(xp.isnan(p), p, xp.zeros_like(p)) * scale)
+    if hot_spot:
+        return _arrays.result(_sw_curves()["low"].inverse(p, xp) * scale)
+    values = {name: curve.inverse(p, xp) for name, curve in _sw_curves().items()}
+    return _arrays.result(_sw_select(values, s, region, xp) * scale)
+
+
+# --------------------------------------------------------------------------------------------
+# Registry and dispatcher
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Transform:
+    """A resolution-to-probability transform in the registry.
+
+    Attributes
+    ----------
+    name : str
+    forward : callable
+        ``forward(cycles, n50, task, **options) -> probability``.
+    inverse : callable
+        ``inverse(probability, n50, task, **options) -> cycles``.
+    tasks : tuple of str or None
+        Tasks the transform has curves for (None: any task with an N50).
+    options : Mapping[str, object]
+        Keyword options it takes, with their defaults.
+    source : str
+    """
+
+    name: str
+    forward: Callable[..., Any]
+    inverse: Callable[..., Any]
+    tasks: tuple[str, ...] | None
+    options: Mapping[str, object]
+    source: str
+
+    def check(self, task: str, options: Mapping[str, object]) -> None:
+        """Raise ``ValueError`` for a task it has no curve for or an option it does not take."""
+        if self.tasks is not None:
+            _check_task(self.name, task, self.tasks)
+        unknown = sorted(set(options) - set(self.options))
+        if unknown:
+            valid = ", ".join(self.options) or "none"
+            raise ValueError(
+                f"transform {self.name!r} takes no option(s) {', '.join(unknown)}; "
+                f"its options: {valid}"
+            )
+
+
+def _ttpf_forward(cycles: Any, n50: Any, task: str) -> Any:
+    return ttpf(cycles, n50)
+
+
+def _ttpf_backward(probability: Any, n50: Any, task: str) -> Any:
+    return ttpf_inverse(probability, n50)
+
+
+def _sw_forward(cycles: Any, n50: Any, task: str, **options: Any) -> Any:
+    return schmieder_weathersby(cycles, n50, **options)
+
+
+def _sw_backward(probability: Any, n50: Any, task: str, **options: Any) -> Any:
+    return schmieder_weathersby_inverse(probability, n50, **options)
+
+
+TRANSFORMS: Mapping[str, Transform] = MappingProxyType(
+    {
+        "ttpf": Transform(
+            "ttpf",
+            _ttpf_forward,
+            _ttpf_backward,
+            tasks=None,
+            options=MappingProxyType({}),
+            source="NVESD target transfer probability function (ACQUIRE, NVTherm)",
+        ),
+        "c2nveo": Transform(
+            "c2nveo",
+            c2nveo,
+            c2nveo_inverse,
+            tasks=_C2NVEO_TASKS,
+            options=MappingProxyType({"bound": "nominal"}),
+            source="Sonesson (2004) Table 3.3",
+        ),
+        "schmieder-weathersby": Transform(
+            "schmieder-weathersby",
+            _sw_forward,
+            _sw_backward,
+            tasks=("detection",),
+            options=MappingProxyType(
+                {"scr": None, "region": None, "hot_spot": False, "moving": False}
+            ),
+            source="Sonesson (2004) Table 3.5 (Schmieder & Weathersby 1983)",
+        ),
+    }
+)
+"""All transforms, by name (read-only)."""
+
+
+def get_transform(method: str | Transform) -> Transform:
+    """Resolve a transform by name; ``ValueError`` listing the valid names if unknown."""
+    if isinstance(method, Transform):
+        return method
+    if method not in TRANSFORMS:
+        raise ValueError(f"unknown transform {method!r}; valid transforms: {', '.join(TRANSFORMS)}")
+    return TRANSFORMS[method]
+
+
+def transform(
+    cycles: Any, n50: Any, task: str = "detection", method: str = "ttpf", **options: Any
+) -> Any:
+    """Probability of a task from cycles on target, by the named transform.
+
+    Parameters
+    ----------
+    cycles : array_like
+        N [cycles], >= 0.
+    n50 : array_like
+        The criterion's 50 % point for the task [cycles], > 0.
+    task : str
+        Observation task (some transforms cover only some tasks).
+    method : str
+        A name from :data:`TRANSFORMS`.
+    **options
+        The transform's own options (see ``TRANSFORMS[method].options``); any other keyword
+        raises ``ValueError``.
+    """
+    chosen = get_transform(method)
+    chosen.check(task, options)
+    return chosen.forward(cycles, n50, task, **options)
+
+
+def inverse_transform(
+    probability: Any, n50: Any, task: str = "detection", method: str = "ttpf", **options: Any
+) -> Any:
+    """Cycles needed for a probability by the named transform (inverse of :func:`transform`)."""
+    chosen = get_transform(method)
+    chosen.check(task, options)
+    return chosen.inverse(probability, n50, task, **options)

@@ -191,7 +191,7 @@ class _Curve:
     def forward(self, n: Array, xp: Any) -> Array:
         ns, ps = self.cycles, self.probabilities
         u = xp.log(xp.where(n > 0, n, 1.0))
-        out = xp.where(n >= ns[-1], ps[-1], 0.0)
+        out = xp.where(n >= ns[-1], ps[-1], xp.zeros_like(n))
         out = xp.where(n < ns[0], ps[0] * n / ns[0], out)
         for k in range(len(ns) - 1):
             if ns[k + 1] == ns[k]:
@@ -204,7 +204,7 @@ class _Curve:
     def inverse(self, p: Array, xp: Any) -> Array:
         """Smallest N with P(N) >= p; +inf where p exceeds the curve's last probability."""
         ns, ps = self.cycles, self.probabilities
-        out = xp.where(p > ps[-1], xp.inf, 0.0)
+        out = xp.where(p > ps[-1], xp.inf, xp.zeros_like(p))
         out = xp.where(p <= ps[0], ns[0] * p / ps[0], out)
         for k in range(len(ns) - 1):
             if ps[k + 1] == ps[k]:

@@ -1,0 +1,179 @@
+"""The `targetacq` command through its entry point."""
+
+import json
+import math
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from targetacq.cli import main
+
+
+def run(capsys, *args):
+    with pytest.raises(SystemExit) as done:
+        main(list(args))
+    out, err = capsys.readouterr()
+    return done.value.code, out, err
+
+
+def test_dri_json_gives_range_m_per_task(capsys):
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--pitch",
+        "17um",
+        "--focal-length",
+        "75mm",
+        "--critical-dimension",
+        "2.3m",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    report = json.loads(out)
+    ranges = {row["task"]: row["range_m"] for row in report["ranges"]}
+    ifov = 17e-6 / 75e-3
+    assert ranges["detection"] == pytest.approx(2.3 / (1.0 * 2 * ifov))
+    assert ranges["identification"] == pytest.approx(2.3 / (6.4 * 2 * ifov))
+
+
+@pytest.mark.parametrize(
+    "sensor",
+    [
+        ["--pitch", "17um", "--focal-length", "75mm"],
+        ["--ifov", "0.22666667mrad"],
+        ["--hfov", f"{math.degrees(2 * math.atan(640 * 17e-6 / 0.15)):.10f}deg", "--pixels", "640"],
+    ],
+)
+def test_three_ways_to_give_the_sensor_agree(capsys, sensor):
+    code, out, _ = run(capsys, "dri", *sensor, "--critical-dimension", "2.3m", "--format", "json")
+    assert code == 0
+    assert json.loads(out)["ranges"][0]["range_m"] == pytest.approx(5073.53, rel=1e-6)
+
+
+def test_table_and_csv_formats(capsys):
+    code, out, _ = run(capsys, "dri", "--example")
+    assert code == 0
+    assert "detection" in out and "identification" in out and "range [m]" in out
+    code, out, _ = run(capsys, "dri", "--example", "--format", "csv", "--probability", "0.5,0.8")
+    lines = out.strip().splitlines()
+    assert lines[0] == "task,probability,threshold,threshold_unit,range_m,reached"
+    assert len(lines) == 1 + 2 * 4
+
+
+def test_user_n50_and_transforms(capsys):
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--ifov",
+        "0.2mrad",
+        "--critical-dimension",
+        "2m",
+        "--n50",
+        "1,4,8",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    ranges = {row["task"]: row["range_m"] for row in json.loads(out)["ranges"]}
+    assert ranges["identification"] == pytest.approx(2 / (8 * 4e-4))
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--ifov",
+        "0.2mrad",
+        "--critical-dimension",
+        "2m",
+        "--transform",
+        "schmieder-weathersby",
+        "--clutter",
+        "high",
+        "--probability",
+        "0.95",
+    )
+    assert code == 0 and "not reached" in out
+
+
+def test_en62676_4_ranges(capsys):
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--ifov",
+        "0.2mrad",
+        "--critical-dimension",
+        "2m",
+        "--criterion",
+        "en62676-4",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    ranges = {row["task"]: row["range_m"] for row in json.loads(out)["ranges"]}
+    assert ranges["identification"] == pytest.approx(1 / (250 * 2e-4))
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (
+            ["--pitch", "17", "--focal-length", "75mm", "--critical-dimension", "2.3m"],
+            "needs a unit",
+        ),
+        (["--pitch", "17um", "--focal-length", "75mm", "--critical-dimension", "-2m"], "> 0"),
+        (["--pitch", "17um", "--critical-dimension", "2m"], "go together"),
+        (
+            ["--ifov", "0.2mrad", "--critical-dimension", "2m", "--criterion", "johnsen"],
+            "--criterion must be one of",
+        ),
+        (
+            ["--ifov", "0.2mrad", "--critical-dimension", "2m", "--transform", "x"],
+            "--transform must be one of",
+        ),
+        (
+            ["--ifov", "0.2mrad", "--critical-dimension", "2m", "--probability", "1.5"],
+            "open interval",
+        ),
+        (
+            ["--ifov", "0.2mrad", "--critical-dimension", "2m", "--format", "xml"],
+            "--format must be one of",
+        ),
+        (["--ifov", "0.2mrad", "--critical-dimension", "2m", "--n50", "1,4"], "three numbers"),
+        (
+            [
+                "--ifov",
+                "0.2mrad",
+                "--critical-dimension",
+                "2m",
+                "--bound",
+                "best",
+                "--transform",
+                "c2nveo",
+            ],
+            "bound",
+        ),
+        (["--ifov", "0.2mrad"], "--critical-dimension is required"),
+        (["--nope"], "No such option"),
+    ],
+)
+def test_bad_input_is_one_line_on_stderr_and_exit_2(capsys, args, match):
+    code, out, err = run(capsys, "dri", *args)
+    assert code == 2
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith("targetacq: error:")
+    assert "Traceback" not in err
+    assert re.search(match, err), err
+
+
+def test_installed_entry_point_runs():
+    exe = str(Path(sys.executable).with_name("targetacq"))
+    if not Path(exe).exists():
+        exe = shutil.which("targetacq") or exe
+    done = subprocess.run([exe, "dri", "--example"], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "identification" in done.stdout
+    bad = subprocess.run([exe, "dri", "--pitch", "x"], capture_output=True, text=True, check=False)
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1

@@ -1,0 +1,110 @@
+"""DRI ranges: inverse ranges agree with forward evaluation and the closed form."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import targetacq as ta
+from targetacq.criteria import CRITERIA
+
+
+def test_johnson_50_percent_ranges_are_the_closed_form():
+    # R = d / (N50 · 2 IFOV): the TTPF is 0.5 exactly at N50.
+    d, ifov = 2.3, 17e-6 / 75e-3
+    ranges = ta.dri_ranges(d, ifov)
+    assert list(ranges) == ["detection", "orientation", "recognition", "identification"]
+    for task, n50 in zip(ranges, (1.0, 1.4, 4.0, 6.4)):
+        assert ranges[task] == pytest.approx(d / (n50 * 2 * ifov), rel=1e-12)
+
+
+PROBABILITY_CRITERIA = [name for name, c in CRITERIA.items() if c.gives_probabilities]
+
+
+@given(
+    st.sampled_from(PROBABILITY_CRITERIA),
+    st.sampled_from(["ttpf", "c2nveo"]),
+    st.floats(0.02, 0.98),
+    st.floats(0.3, 10.0),
+    st.floats(1e-5, 1e-3),
+)
+def test_probability_at_the_found_range_is_the_asked_probability(criterion, method, p, d, ifov):
+    ranges = ta.dri_ranges(d, ifov, criterion=criterion, probability=p, transform=method)
+    assert ranges  # every probability criterion has some task the transform covers
+    for task, r in ranges.items():
+        n = ta.cycles_on_target(d, r, ifov)
+        assert ta.probability(n, task, criterion=criterion, transform=method) == pytest.approx(
+            p, abs=1e-9
+        )
+
+
+def test_ranges_with_diffraction_use_the_coarser_cycle():
+    d, ifov = 2.3, 1e-5
+    plain = ta.dri_ranges(d, ifov)["detection"]
+    limited = ta.dri_ranges(d, ifov, wavelength=10e-6, aperture=0.05)["detection"]
+    cycle = ta.diffraction_angle(10e-6, 0.05)
+    assert limited == pytest.approx(d / cycle, rel=1e-12)
+    assert limited < plain
+
+
+def test_schmieder_weathersby_ranges_and_never_reached():
+    ranges = ta.dri_ranges(
+        2.3,
+        1e-4,
+        probability=np.array([0.5, 0.95]),
+        transform="schmieder-weathersby",
+        region="high",
+    )
+    assert list(ranges) == ["detection"]
+    assert ranges["detection"][0] == pytest.approx(2.3 / (2.5 * 2e-4))  # Table 3.5: 2.5 cycles
+    assert math.isnan(ranges["detection"][1])
+
+
+def test_moving_target_is_detected_at_any_range():
+    r = ta.dri_ranges(2.3, 1e-4, transform="schmieder-weathersby", moving=True)
+    assert r["detection"] == math.inf
+
+
+def test_en62676_4_ranges_are_pixel_density_thresholds():
+    ifov = 2e-4
+    ranges = ta.dri_ranges(2.3, ifov, criterion="en62676-4")
+    assert ranges["identification"] == pytest.approx(1 / (250 * ifov))  # 250 px/m
+    assert ranges["detection"] == pytest.approx(1 / (25 * ifov))
+    assert list(ranges) == [
+        "monitoring",
+        "detection",
+        "observation",
+        "recognition",
+        "identification",
+        "inspection",
+    ]
+
+
+def test_non_increasing_in_range():
+    r = np.linspace(100.0, 20000.0, 200)
+    p = ta.probability(ta.cycles_on_target(2.3, r, 1e-4), "identification")
+    assert np.all(np.diff(p) <= 0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"probability": 1.0}, r"open interval \(0, 1\)"),
+        ({"probability": 0.0}, r"open interval \(0, 1\)"),
+        ({"criterion": "nope"}, "unknown criterion"),
+        ({"transform": "nope"}, "unknown transform"),
+        ({"criterion": "en62676-4", "bound": "nominal"}, "do not apply"),
+    ],
+)
+def test_bad_range_requests(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        ta.dri_ranges(2.3, 1e-4, **kwargs)
+
+
+def test_bad_sensor_or_target():
+    with pytest.raises(ValueError, match="critical_dimension must be > 0"):
+        ta.dri_ranges(0.0, 1e-4)
+    with pytest.raises(ValueError, match="ifov must be > 0"):
+        ta.dri_ranges(2.3, -1e-4)

@@ -85,14 +85,16 @@ class Acquisition:
     ----------
     detection, recognition, identification : array_like
         Probabilities with ``identification <= recognition <= detection``.
-    effect : array_like
-        ``P_effect`` of Eq. (2.5).
     """
 
     detection: Any
     recognition: Any
     identification: Any
-    effect: Any
+
+    @property
+    def effect(self) -> Any:
+        """``P_effect = P_det · P_rec · P_id``, Eq. (2.5), computed when asked for."""
+        return effect_probability(self.detection, self.recognition, self.identification)
 
 
 def _ttpf_three_numpy(n: np.ndarray, n50s: tuple[float, ...]) -> list[np.ndarray]:
@@ -171,6 +173,7 @@ def acquisition_probabilities(
     Returns
     -------
     Acquisition
+        ``detection``, ``recognition``, ``identification`` and, on demand, ``effect``.
     """
     chosen = _transforms.get_transform(transform)
     if chosen.tasks is not None and "recognition" not in chosen.tasks:
@@ -187,8 +190,10 @@ def acquisition_probabilities(
 
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
-    if chosen.name == "ttpf" and isinstance(n, np.ndarray) and n50s[0] <= n50s[1] <= n50s[2]:
-        det, rec, ide = _ttpf_three_numpy(n, n50s)  # the simulation hot path
+    fast = chosen.name == "ttpf" and isinstance(n, np.ndarray) and n50s[0] <= n50s[1] <= n50s[2]
+    if fast:
+        # The simulation hot path; increasing N50s already give ordered probabilities.
+        det, rec, ide = _ttpf_three_numpy(n, n50s)
     else:
         det, rec, ide = (
             chosen.forward(n, n50, task, **options)
@@ -198,12 +203,12 @@ def acquisition_probabilities(
         det = _transforms.schmieder_weathersby(
             n, n50s[0], scr=scr, region=region, hot_spot=hot_spot, moving=moving
         )
-    xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
-    rec = xp.minimum(rec, det)
-    ide = xp.minimum(ide, rec)
+    if clutter_given or not fast:
+        xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
+        rec = xp.minimum(rec, det)
+        ide = xp.minimum(ide, rec)
     return Acquisition(
         detection=_arrays.result(det),
         recognition=_arrays.result(rec),
         identification=_arrays.result(ide),
-        effect=_arrays.result(det * rec * ide),
     )

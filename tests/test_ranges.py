@@ -82,10 +82,25 @@ def test_en62676_4_ranges_are_pixel_density_thresholds():
     ]
 
 
-def test_non_increasing_in_range():
-    r = np.linspace(100.0, 20000.0, 200)
-    p = ta.probability(ta.cycles_on_target(2.3, r, 1e-4), "identification")
-    assert np.all(np.diff(p) <= 0)
+@given(
+    st.lists(st.floats(1.0, 1e5), min_size=2, max_size=30),
+    st.sampled_from(PROBABILITY_CRITERIA),
+    st.sampled_from([("ttpf", {}), ("c2nveo", {"bound": "pessimistic"})]),
+    st.floats(0, 30),
+)
+def test_probabilities_non_increasing_in_range(ranges, criterion, method, scr):
+    name, options = method
+    r = np.sort(np.array(ranges))
+    n = ta.cycles_on_target(2.3, r, 1e-4)
+    for task in ta.get_criterion(criterion).tasks:
+        if name == "c2nveo" and task == "orientation":
+            continue
+        p = ta.probability(n, task, criterion=criterion, transform=name, **options)
+        assert np.all(np.diff(p) <= 0)
+    if "recognition" in ta.get_criterion(criterion).tasks:
+        acq = ta.acquisition_probabilities(n, criterion=criterion, scr=scr)
+        for p in (acq.detection, acq.recognition, acq.identification):
+            assert np.all(np.diff(p) <= 0)
 
 
 @pytest.mark.parametrize(

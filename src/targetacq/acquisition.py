@@ -24,10 +24,55 @@ import numpy as np
 from targetacq import _arrays
 from targetacq import transforms as _transforms
 from targetacq.criteria import Criterion, get_criterion
+from targetacq.noise import NoiseModel, effective_scr, get_noise_model, noise_n50_factor
 
 __all__ = ["Acquisition", "acquisition_probabilities", "effect_probability", "probability"]
 
 _CLUTTER_KEYWORDS = ("scr", "region", "hot_spot", "moving")
+
+
+@dataclass(frozen=True)
+class _Conditions:
+    """Clutter and noise around a target, validated once, shared by the tasks."""
+
+    scr: Any
+    region: str | None
+    hot_spot: bool
+    moving: bool
+    snr: Any
+    noise: NoiseModel | None
+
+    @property
+    def clutter_given(self) -> bool:
+        return self.scr is not None or self.region is not None or self.hot_spot or self.moving
+
+
+def _conditions(
+    scr: Any, region: str | None, hot_spot: bool, moving: bool, snr: Any, noise_model: Any
+) -> _Conditions:
+    noise = get_noise_model(noise_model) if snr is not None else None
+    return _Conditions(scr, region, hot_spot, moving, snr, noise)
+
+
+def _noisy(n: Any, cond: _Conditions, xp: Any) -> Any:
+    """N / f: multiplying every N50 by the noise factor f is dividing N by it (noise.py)."""
+    if cond.noise is None:
+        return n
+    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(cond.snr, xp), cond.noise), xp)
+    infinite = xp.isinf(factor)
+    return xp.where(infinite, 0.0 * n, n / xp.where(infinite, 1.0, factor))
+
+
+def _detection_in_clutter(n: Any, n_noisy: Any, n50: float, cond: _Conditions) -> Any:
+    """P(detection) from Table 3.5 (Schmieder–Weathersby), with noise per the noise model."""
+    scr = cond.scr
+    if cond.noise is not None and cond.noise.combines_with_clutter and scr is not None:
+        scr = effective_scr(scr, cond.snr)  # read at R_eff, with the noise-free N
+    else:
+        n = n_noisy
+    return _transforms.schmieder_weathersby(
+        n, n50, scr=scr, region=cond.region, hot_spot=cond.hot_spot, moving=cond.moving
+    )
 
 
 def probability(
@@ -35,9 +80,20 @@ def probability(
     task: str,
     criterion: str | Criterion | Mapping[str, float] = "johnson",
     transform: str = "ttpf",
+    *,
+    scr: Any = None,
+    region: str | None = None,
+    hot_spot: bool = False,
+    moving: bool = False,
+    snr: Any = None,
+    noise_model: Any = "variance-sum",
     **options: Any,
 ) -> Any:
-    """Probability of one task from cycles on target.
+    """Probability of one task from cycles on target (the task's marginal curve).
+
+    Detection in clutter (``scr``, ``region``, ``hot_spot`` or ``moving`` given) comes from the
+    Schmieder–Weathersby transform (§3.8); everything else from ``transform``. Noise (``snr``)
+    moves the curves as the noise model says (:mod:`targetacq.noise`).
 
     Parameters
     ----------
@@ -50,9 +106,15 @@ def probability(
         user-defined task → N50 mapping.
     transform : str
         A name from :data:`targetacq.transforms.TRANSFORMS`.
+    scr, region, hot_spot, moving
+        The clutter, see :func:`targetacq.transforms.schmieder_weathersby`; ignored for tasks
+        other than detection (clutter acts on detection, §3.8).
+    snr : array_like, optional
+        Signal-to-noise ratio [dB]; None or +inf for no noise.
+    noise_model : str, NoiseModel or callable
+        See :mod:`targetacq.noise`.
     **options
-        The transform's options (e.g. ``bound=`` for c2nveo, ``scr=`` for
-        schmieder-weathersby); anything else raises ``ValueError``.
+        The transform's options (e.g. ``bound=`` for c2nveo); anything else raises ``ValueError``.
 
     Returns
     -------
@@ -60,7 +122,20 @@ def probability(
         P in [0, 1].
     """
     n50 = get_criterion(criterion).n50(task)
-    return _transforms.transform(cycles, n50, task, method=transform, **options)
+    chosen = _transforms.get_transform(transform)
+    cond = _conditions(scr, region, hot_spot, moving, snr, noise_model)
+    chosen.check(task, options)
+    if chosen.name == "schmieder-weathersby" and not cond.clutter_given:
+        raise ValueError(
+            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
+            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
+        )
+    xp, (n,) = _arrays.arrays(cycles)
+    _arrays.require_nonnegative("cycles", n, xp)
+    n_noisy = _noisy(n, cond, xp)
+    if task == "detection" and cond.clutter_given:
+        return _arrays.result(_detection_in_clutter(n, n_noisy, n50, cond))
+    return chosen.forward(n_noisy, n50, task, **options)
 
 
 def effect_probability(detection: Any, recognition: Any, identification: Any) -> Any:
@@ -143,6 +218,8 @@ def acquisition_probabilities(
     region: str | None = None,
     hot_spot: bool = False,
     moving: bool = False,
+    snr: Any = None,
+    noise_model: Any = "variance-sum",
     **options: Any,
 ) -> Acquisition:
     """Probabilities of detection, recognition and identification, ordered, and P_effect.
@@ -167,6 +244,11 @@ def acquisition_probabilities(
         Clutter region instead of ``scr``.
     hot_spot, moving : bool
         See :func:`targetacq.transforms.schmieder_weathersby`.
+    snr : array_like, optional
+        Signal-to-noise ratio [dB] (e.g. from :func:`targetacq.atmosphere.snr_from_transmittance`),
+        broadcasting with ``cycles``; None or +inf for no noise.
+    noise_model : str, NoiseModel or callable
+        How noise moves the transforms, see :mod:`targetacq.noise` (default "variance-sum").
     **options
         Options of ``transform`` (e.g. ``bound=``).
 
@@ -183,27 +265,31 @@ def acquisition_probabilities(
             "transform for all tasks, e.g. 'ttpf'"
         )
     crit = get_criterion(criterion)
-    n50s = tuple(crit.n50(task) for task in ("detection", "recognition", "identification"))
-    for task in ("detection", "recognition", "identification"):
+    tasks = ("detection", "recognition", "identification")
+    n50s = tuple(crit.n50(task) for task in tasks)
+    for task in tasks:
         chosen.check(task, options)
-    clutter_given = scr is not None or region is not None or hot_spot or moving
+    cond = _conditions(scr, region, hot_spot, moving, snr, noise_model)
 
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
-    fast = chosen.name == "ttpf" and isinstance(n, np.ndarray) and n50s[0] <= n50s[1] <= n50s[2]
+    n_noisy = _noisy(n, cond, xp)
+    fast = (
+        chosen.name == "ttpf"
+        and isinstance(n_noisy, np.ndarray)
+        and n50s[0] <= n50s[1] <= n50s[2]
+    )
     if fast:
         # The simulation hot path; increasing N50s already give ordered probabilities.
-        det, rec, ide = _ttpf_three_numpy(n, n50s)
+        det, rec, ide = _ttpf_three_numpy(n_noisy, n50s)
     else:
         det, rec, ide = (
-            chosen.forward(n, n50, task, **options)
-            for task, n50 in zip(("detection", "recognition", "identification"), n50s, strict=True)
+            chosen.forward(n_noisy, n50, task, **options)
+            for task, n50 in zip(tasks, n50s, strict=True)
         )
-    if clutter_given:
-        det = _transforms.schmieder_weathersby(
-            n, n50s[0], scr=scr, region=region, hot_spot=hot_spot, moving=moving
-        )
-    if clutter_given or not fast:
+    if cond.clutter_given:
+        det = _detection_in_clutter(n, n_noisy, n50s[0], cond)
+    if cond.clutter_given or not fast:
         xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
         rec = xp.minimum(rec, det)
         ide = xp.minimum(ide, rec)

@@ -22,6 +22,14 @@ to the first printed point, and held at the last printed probability beyond the 
 prints the same N for two probabilities (C2NVEO recognition, pessimistic: 12 cycles for both 0.95
 and 1.00) the curve jumps at that N; the inverse gives the smallest N that reaches p.
 
+Below the lowest SCR observed (0.33, Table 3.4) the high-clutter curve is stretched along the
+cycles axis so that its 50 % point grows as ``2.5 · (SCR / 0.33)^(−α)``, ``α = ln(2.5/1.0) / ln(1/0.33)``
+≈ 0.83: the slope between the medium-clutter 50 % point (1.0 cycle at SCR = 1) and the
+high-clutter one (2.5 cycles at SCR = 0.33), continued. The thesis's words: "for high clutter
+levels a strong increase in resolution is needed even for a little decrease in SCR" (§3.7).
+It makes ``P → 0`` as ``SCR → 0`` (no contrast left against the clutter) and leaves every printed
+point as it is. This continuation is this project's; see :func:`clutter_n50`.
+
 Scaling by the criterion: the table transforms carry their own 50 % points ``N50_ref`` (C2NVEO:
 the ``c2nveo`` criterion, the geometric mean of the 0.50 row; Schmieder–Weathersby: the
 medium-clutter 50 % point, 1.0 cycle). A criterion with another ``N50`` stretches the cycles axis:
@@ -51,6 +59,7 @@ __all__ = [
     "Transform",
     "c2nveo",
     "c2nveo_inverse",
+    "clutter_n50",
     "clutter_region",
     "inverse_transform",
     "schmieder_weathersby",
@@ -332,6 +341,50 @@ def clutter_region(scr: Any) -> Any:
     return region[()] if region.ndim == 0 else region
 
 
+@functools.cache
+def _sw_high_anchor() -> tuple[float, float, float]:
+    """(lowest observed SCR, high-clutter N50, exponent α) of the continuation (module doc)."""
+    observed = load_table("schmieder_weathersby_observed").numbers("scr")
+    scr_low = min(observed)
+    high_n50 = float(_sw_curves()["high"].inverse(_arrays.as_float(0.5, _np()), _np()))
+    medium_n50 = _sw_reference_n50()  # at the medium / high boundary, SCR = 1
+    return scr_low, high_n50, math.log(high_n50 / medium_n50) / math.log(1.0 / scr_low)
+
+
+def _sw_stretch(scr: Array, xp: Any) -> Array:
+    """Cycles-axis multiplier in (0, 1]: 1 for SCR >= 0.33, (SCR/0.33)^α below (module doc)."""
+    scr_low, _, alpha = _sw_high_anchor()
+    below = scr < scr_low
+    ratio = xp.where(below, scr, scr_low) / scr_low
+    return xp.where(below, ratio**alpha, xp.ones_like(scr))
+
+
+def clutter_n50(scr: Any) -> Any:
+    """Cycles for P(detection) = 0.5 at a signal-to-clutter ratio, Table 3.5 and its continuation.
+
+    0.5 cycles for SCR > 10, 1.0 for 1 <= SCR <= 10, 2.5 for 0.33 <= SCR < 1 (Table 3.5's
+    50 % row by region), and ``2.5 · (SCR/0.33)^(−α)`` below the lowest observed SCR (module doc),
+    growing without bound as SCR → 0.
+
+    Parameters
+    ----------
+    scr : array_like
+        SCR [1], >= 0 (+inf: no clutter).
+
+    Returns
+    -------
+    array_like
+        N50 [cycles] of the Schmieder–Weathersby detection curve with Johnson's scaling.
+    """
+    xp, (s,) = _arrays.arrays(scr)
+    _arrays.require_nonnegative("scr", s, xp)
+    n50 = {name: curve.inverse(xp.full_like(s, 0.5), xp) for name, curve in _sw_curves().items()}
+    base = _sw_select(n50, s, None, xp)
+    stretch = _sw_stretch(s, xp)
+    safe = xp.where(stretch > 0, stretch, 1.0)
+    return _arrays.result(xp.where(stretch > 0, base / safe, xp.inf))
+
+
 def _sw_options(
     scr: Any, region: str | None, hot_spot: bool, moving: bool, xp: Any
 ) -> Array | None:
@@ -402,6 +455,8 @@ def schmieder_weathersby(
     scaled = n * (_sw_reference_n50() / n50_)
     if hot_spot:
         return _arrays.result(_sw_curves()["low"].forward(scaled, xp))
+    if s is not None:
+        scaled = scaled * _sw_stretch(s, xp)
     values = {name: curve.forward(scaled, xp) for name, curve in _sw_curves().items()}
     return _arrays.result(_sw_select(values, s, region, xp))
 
@@ -428,7 +483,11 @@ def schmieder_weathersby_inverse(
     if hot_spot:
         return _arrays.result(_sw_curves()["low"].inverse(p, xp) * scale)
     values = {name: curve.inverse(p, xp) for name, curve in _sw_curves().items()}
-    return _arrays.result(_sw_select(values, s, region, xp) * scale)
+    needed = _sw_select(values, s, region, xp) * scale
+    if s is not None:
+        stretch = _sw_stretch(s, xp)
+        needed = xp.where(stretch > 0, needed / xp.where(stretch > 0, stretch, 1.0), xp.inf)
+    return _arrays.result(needed)
 
 
 # --------------------------------------------------------------------------------------------

@@ -1,0 +1,318 @@
+"""The atmosphere between target and sensor: extinction, transmittance, noise.
+
+Sources: Sonesson (2004) ch. 7: Beer–Lambert (7.1)–(7.3), the band mean (7.4), Tables 7.1 and 7.2,
+paths through regions of different conditions (§7.8), local obscurant clouds behind vehicles
+(§7.5–7.7), and the SNR from transmittance (7.5)–(7.7). Foliage in front of a target (§6.8) acts as
+a transmittance. Errata from MODEL.md §5: 1 dB/km = 0.2303 Np/km (not "Np/km = 0.23 dB/km").
+
+Units: extinction coefficients are in Np/m inside (SI); the tables and the CLI use Np/km, converted
+at the boundary. Visibility conventions are in the registry :data:`VISIBILITY_CONVENTIONS`.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any
+
+from targetacq import _arrays
+from targetacq.bands import band_name
+from targetacq.tables import load_table
+
+__all__ = [
+    "DB_PER_NEPER",
+    "EXTINCTION_LEVELS",
+    "OBSCURANTS",
+    "VISIBILITY_CONVENTIONS",
+    "band_transmittance",
+    "cloud_transmittance",
+    "db_per_km_to_np_per_km",
+    "extinction_from_visibility",
+    "extinction_term",
+    "np_per_km_to_db_per_km",
+    "obscurant_extinction",
+    "path_transmittance",
+    "snr_from_transmittance",
+    "transmittance",
+    "visibility_from_extinction",
+]
+
+DB_PER_NEPER = 10.0 / math.log(10.0)
+"""Decibels per neper for power, 10·log10(e) ≈ 4.343 (so 1 dB = 0.2303 Np; MODEL.md erratum)."""
+
+VISIBILITY_CONVENTIONS: Mapping[str, float] = MappingProxyType(
+    {
+        # Koschmieder's visual range: contrast threshold 2 %, γ = −ln(0.02)/V ≈ 3.912/V.
+        "koschmieder": -math.log(0.02),
+        # Meteorological optical range (WMO): 5 % contrast threshold, γ = −ln(0.05)/V ≈ 2.996/V.
+        "mor": -math.log(0.05),
+    }
+)
+"""Visibility conventions: name → ``−ln(contrast threshold)``, with γ = value / V."""
+
+EXTINCTION_LEVELS: tuple[str, ...] = ("low", "nominal", "high")
+"""Where in a Table 7.1 cell: low end, geometric mean (nominal), high end."""
+
+
+def transmittance(extinction: Any, range: Any) -> Any:
+    """Beer–Lambert transmittance ``τ = exp(−γ R)``, Eq. (7.3) (and (7.1) for absorption alone).
+
+    Parameters
+    ----------
+    extinction : array_like
+        γ = K_α + K_σ (7.2) [Np/m], >= 0.
+    range : array_like
+        Path length R [m], >= 0.
+
+    Returns
+    -------
+    array_like
+        τ in [0, 1]; τ(0) = 1.
+    """
+    xp, (g, r) = _arrays.arrays(extinction, range)
+    _arrays.require_nonnegative("extinction", g, xp, "Np/m")
+    _arrays.require_nonnegative("range", r, xp, "m")
+    return _arrays.result(xp.exp(-g * r))
+
+
+def path_transmittance(extinctions: Any, lengths: Any, axis: int = -1) -> Any:
+    """Transmittance of a path through segments, ``τ = exp(−Σ_j γ_j R_j)`` (§7.8).
+
+    Parameters
+    ----------
+    extinctions : array_like
+        γ_j of each segment [Np/m], >= 0; segments along ``axis``.
+    lengths : array_like
+        R_j of each segment [m], >= 0; broadcasts with ``extinctions``.
+    axis : int
+        The segment axis.
+
+    Returns
+    -------
+    array_like
+        τ, equal to the product of the segments' transmittances.
+    """
+    xp, (g, r) = _arrays.arrays(extinctions, lengths)
+    _arrays.require_nonnegative("extinctions", g, xp, "Np/m")
+    _arrays.require_nonnegative("lengths", r, xp, "m")
+    return _arrays.result(xp.exp(-xp.sum(g * r, axis=axis)))
+
+
+def cloud_transmittance(
+    extinction: Any, range: Any, cloud_extinction: Any, cloud_length: Any
+) -> Any:
+    """Transmittance with a local obscurant cloud crossed over part of the path (§7.5–7.7).
+
+    Spray behind a vehicle on a wet road, dust on a dirt road, snow behind a fast vehicle: a
+    cloud of extra extinction ``γ_cloud`` over a length ``L`` of the line of sight (at most the
+    whole path): ``τ = exp(−γ R − γ_cloud · min(L, R))``.
+
+    Parameters
+    ----------
+    extinction : array_like
+        Ambient γ [Np/m], >= 0.
+    range : array_like
+        R [m], >= 0.
+    cloud_extinction : array_like
+        Extra extinction inside the cloud [Np/m], >= 0.
+    cloud_length : array_like
+        Length of the line of sight inside the cloud [m], >= 0.
+    """
+    xp, (g, r, gc, lc) = _arrays.arrays(extinction, range, cloud_extinction, cloud_length)
+    _arrays.require_nonnegative("extinction", g, xp, "Np/m")
+    _arrays.require_nonnegative("range", r, xp, "m")
+    _arrays.require_nonnegative("cloud_extinction", gc, xp, "Np/m")
+    _arrays.require_nonnegative("cloud_length", lc, xp, "m")
+    return _arrays.result(xp.exp(-g * r - gc * xp.minimum(lc, r)))
+
+
+def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
+    """Band-mean transmittance, Eq. (7.4): ``τ = 1/(λ2−λ1) ∫ exp(−γ(λ) R) dλ``.
+
+    γ(λ) is given on a wavelength grid spanning the band; the integral is the trapezoid rule on
+    that grid (exact for γ flat over the band, where (7.4) equals (7.3)).
+
+    Parameters
+    ----------
+    extinction : array_like
+        γ(λ) on the grid [Np/m], >= 0, along the last axis.
+    wavelength : array_like
+        Increasing grid λ [m], 1-D, the same length as the last axis of ``extinction``.
+    range : array_like
+        R [m], >= 0; broadcasts with ``extinction[..., 0]``.
+    """
+    xp, (g, lam, r) = _arrays.arrays(extinction, wavelength, range)
+    _arrays.require_nonnegative("extinction", g, xp, "Np/m")
+    _arrays.require_nonnegative("range", r, xp, "m")
+    if lam.ndim != 1 or lam.shape[0] < 2 or g.shape[-1] != lam.shape[0]:
+        raise ValueError("wavelength must be a 1-D grid of >= 2 points matching extinction's last axis")
+    steps = lam[1:] - lam[:-1]
+    if bool(xp.any(steps <= 0)):
+        raise ValueError("wavelength grid must be strictly increasing")
+    tau = xp.exp(-g * r[..., None])
+    trapezoids = 0.5 * (tau[..., 1:] + tau[..., :-1]) * steps
+    return _arrays.result(xp.sum(trapezoids, axis=-1) / (lam[-1] - lam[0]))
+
+
+def db_per_km_to_np_per_km(value: Any) -> Any:
+    """Convert an extinction in dB/km to Np/km: ×0.2303 (MODEL.md erratum to §7.4)."""
+    xp, (v,) = _arrays.arrays(value)
+    return _arrays.result(v / DB_PER_NEPER)
+
+
+def np_per_km_to_db_per_km(value: Any) -> Any:
+    """Convert an extinction in Np/km to dB/km: ×4.343."""
+    xp, (v,) = _arrays.arrays(value)
+    return _arrays.result(v * DB_PER_NEPER)
+
+
+def _convention(convention: str | None) -> float:
+    if convention is None:
+        raise ValueError(
+            "a visibility needs its convention: convention='koschmieder' (2 % contrast, "
+            "3.912/V) or 'mor' (meteorological optical range, 5 %, 2.996/V)"
+        )
+    if convention not in VISIBILITY_CONVENTIONS:
+        raise ValueError(
+            f"convention must be one of {', '.join(VISIBILITY_CONVENTIONS)}; got {convention!r}"
+        )
+    return VISIBILITY_CONVENTIONS[convention]
+
+
+def extinction_from_visibility(visibility: Any, convention: str | None = None) -> Any:
+    """Visible-band extinction from a visibility, ``γ = −ln(C_threshold) / V``.
+
+    Parameters
+    ----------
+    visibility : array_like
+        V [m], > 0.
+    convention : {"koschmieder", "mor"}
+        Koschmieder's 2 % contrast threshold (γ = 3.912/V) or the meteorological optical
+        range's 5 % (γ = 2.996/V). Required: the two differ by 30 %.
+
+    Returns
+    -------
+    array_like
+        γ [Np/m] at visible wavelengths (≈ 0.55 µm); infrared extinction differs (Table 7.1).
+    """
+    k = _convention(convention)
+    xp, (v,) = _arrays.arrays(visibility)
+    _arrays.require_positive("visibility", v, xp, "m")
+    return _arrays.result(k / v)
+
+
+def visibility_from_extinction(extinction: Any, convention: str | None = None) -> Any:
+    """Visibility [m] from a visible-band extinction [Np/m] > 0 (inverse of the above)."""
+    k = _convention(convention)
+    xp, (g,) = _arrays.arrays(extinction)
+    _arrays.require_positive("extinction", g, xp, "Np/m")
+    return _arrays.result(k / g)
+
+
+@functools.cache
+def _extinction_table() -> dict[tuple[str, str], tuple[float, float]]:
+    table = load_table("extinction")
+    return {
+        (o, b): (lo / 1000.0, hi / 1000.0)  # Np/km → Np/m
+        for o, b, lo, hi in zip(
+            table.column("obscurant"),
+            table.column("band"),
+            table.numbers("low_np_per_km"),
+            table.numbers("high_np_per_km"),
+            strict=True,
+        )
+    }
+
+
+OBSCURANTS: tuple[str, ...] = tuple(dict.fromkeys(o for o, _ in _extinction_table()))
+"""Obscurants of Table 7.1: gases, haze, fog, rain, snow, dust."""
+
+
+def obscurant_extinction(obscurant: str, band: Any, level: str = "nominal") -> float:
+    """Extinction coefficient of an obscurant in a band, Table 7.1 in Sonesson (2004).
+
+    Parameters
+    ----------
+    obscurant : str
+        One of :data:`OBSCURANTS`.
+    band : str or (float, float)
+        "visible", "mwir" (3–5 µm) or "lwir" (8–12 µm), or their limits in metres.
+    level : {"low", "nominal", "high"}
+        Low end, geometric mean (the cells span up to two decades) or high end of the cell.
+
+    Returns
+    -------
+    float
+        γ [Np/m].
+    """
+    if obscurant not in OBSCURANTS:
+        raise ValueError(f"unknown obscurant {obscurant!r}; obscurants: {', '.join(OBSCURANTS)}")
+    if level not in EXTINCTION_LEVELS:
+        raise ValueError(f"level must be one of {', '.join(EXTINCTION_LEVELS)}; got {level!r}")
+    low, high = _extinction_table()[obscurant, band_name(band)]
+    return {"low": low, "high": high, "nominal": math.sqrt(low * high)}[level]
+
+
+@functools.cache
+def _terms() -> tuple[tuple[str, float, float, str], ...]:
+    table = load_table("extinction_terms")
+    return tuple(
+        (term, 0.0 if math.isnan(lo) else lo / 1000.0, math.inf if math.isnan(hi) else hi / 1000.0, vr)
+        for term, lo, hi, vr in zip(
+            table.column("term"),
+            table.numbers("low_np_per_km"),
+            table.numbers("high_np_per_km"),
+            table.column("visual_range"),
+            strict=True,
+        )
+    )
+
+
+def extinction_term(extinction: float) -> tuple[str, str]:
+    """Descriptive term and visual range of an extinction, Table 7.2 in Sonesson (2004).
+
+    Parameters
+    ----------
+    extinction : float
+        γ [Np/m], >= 0.
+
+    Returns
+    -------
+    (term, visual_range) : (str, str)
+        E.g. ``("medium", "2 - 6 km, hazy")`` for 1 Np/km.
+    """
+    value = float(extinction)
+    if math.isnan(value) or value < 0:
+        raise ValueError(f"extinction must be >= 0 Np/m, got {extinction!r}")
+    for term, low, high, visual_range in _terms():
+        if low <= value < high:
+            return term, visual_range
+    raise AssertionError("Table 7.2 covers [0, inf)")  # pragma: no cover
+
+
+def snr_from_transmittance(tau: Any) -> Any:
+    """Signal-to-noise ratio of an attenuated signal, Eqs. (7.5)–(7.7) in Sonesson (2004).
+
+    ``SNR = 20 log10(τ / (1 − τ))`` dB: the part of the signal lost, ``(1 − τ)·o``, counts as noise.
+    τ = 1 → +inf, τ = 0.5 → 0 dB, τ = 0 → −inf. With ``τ = exp(−γR)`` this is
+    ``−20 log10(exp(γR) − 1)`` (7.7).
+
+    Parameters
+    ----------
+    tau : array_like
+        Transmittance in [0, 1].
+
+    Returns
+    -------
+    array_like
+        SNR [dB].
+    """
+    xp, (t,) = _arrays.arrays(tau)
+    _arrays.require_unit_interval("tau", t, xp)
+    inner = (t > 0) & (t < 1)
+    safe = xp.where(inner, t, 0.5)
+    snr = 20.0 * (xp.log10(safe) - xp.log10(1.0 - safe))
+    snr = xp.where(t >= 1, xp.inf, xp.where(t <= 0, -xp.inf, snr))
+    return _arrays.result(xp.where(xp.isnan(t), t, snr))

@@ -1,0 +1,74 @@
+"""Named spectral bands (Tables 6.1 and 7.1 of Sonesson 2004) and band validation."""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any
+
+from targetacq.tables import load_table
+
+__all__ = ["BANDS", "band_limits", "band_name"]
+
+
+@functools.cache
+def _bands() -> Mapping[str, tuple[float, float]]:
+    table = load_table("bands")
+    return MappingProxyType(
+        {
+            name: (low * 1e-6, high * 1e-6)
+            for name, low, high in zip(
+                table.column("band"),
+                table.numbers("low_um"),
+                table.numbers("high_um"),
+                strict=True,
+            )
+        }
+    )
+
+
+BANDS: Mapping[str, tuple[float, float]] = _bands()
+"""Named bands → (λ1, λ2) [m]: visible 0.4–0.7 µm, mwir 3–5 µm, lwir 8–12 µm."""
+
+
+def band_limits(band: Any) -> tuple[float, float]:
+    """(λ1, λ2) [m] of a band given by name or as a pair of wavelengths in metres.
+
+    Raises
+    ------
+    ValueError
+        Unknown name (the valid ones are listed), or not ``0 <= λ1 < λ2``.
+    """
+    if isinstance(band, str):
+        if band not in BANDS:
+            raise ValueError(f"unknown band {band!r}; named bands: {', '.join(BANDS)}")
+        return BANDS[band]
+    try:
+        low, high = (float(v) for v in band)
+    except (TypeError, ValueError) as error:
+        raise ValueError(
+            f"band must be a name ({', '.join(BANDS)}) or a pair (λ1, λ2) in metres; got {band!r}"
+        ) from error
+    if math.isnan(low) or math.isnan(high) or not 0 <= low < high:
+        raise ValueError(f"band must satisfy 0 <= λ1 < λ2 [m]; got ({low:g}, {high:g})")
+    return low, high
+
+
+def band_name(band: Any) -> str:
+    """The name of the Table 6.1 / 7.1 band that a band is or matches exactly.
+
+    Raises
+    ------
+    ValueError
+        If the band is not one of the named bands (tables are given for those only).
+    """
+    limits = band_limits(band)
+    for name, named in BANDS.items():
+        if all(math.isclose(a, b, rel_tol=1e-9) for a, b in zip(limits, named, strict=True)):
+            return name
+    raise ValueError(
+        f"the tables are given for the bands {', '.join(BANDS)} only; got {limits[0] * 1e6:g}-"
+        f"{limits[1] * 1e6:g} um"
+    )

@@ -1,0 +1,192 @@
+"""Noise in the transforms: how a signal-to-noise ratio moves the N50 of each task.
+
+The thesis found no published SNR transform (Sonesson 2004 ch. 4, §9.1) and states only the
+intent: noise should shift the resolution-to-probability transform "in a similar way to that of
+clutter" (§3.10). MODEL.md §6 leaves the choice open; this module is the project's documented
+assumption, replaceable through the registry :data:`NOISE_MODELS`.
+
+``variance-sum`` (default)
+    Noise and clutter are independent disturbances that add in variance:
+    ``1/R_eff² = 1/SCR² + 1/SNR_lin²`` with ``SNR_lin = 10^(SNR_dB / 20)``.
+
+    - Detection in clutter is read from the Schmieder–Weathersby transform at ``R_eff``.
+    - Every other probability (recognition, identification, and detection when no clutter is
+      given) uses its transform with N50 multiplied by the factor by which noise moves the
+      detection N50 of an uncluttered target: ``f = N50_R(SNR_lin) / N50_R(∞)``. Clutter does not
+      act on recognition or identification (§3.8), so their factor depends on the noise alone.
+      ``N50_R`` is Table 3.5's 50 % point made continuous in the ratio R (:func:`ratio_n50`):
+      0.5 cycles for R >= 10 (low clutter); ``0.5 · (10/R)^log10(2)`` for 1 <= R < 10 ("a doubling
+      of resolution is needed when SCR drops from 10 to 1", §3.7), reaching the medium-clutter
+      1.0 at R = 1; ``R^(−α)`` below 1, through the high-clutter 2.5 cycles at R = 0.33 (the
+      continuation of :func:`targetacq.transforms.clutter_n50`). Continuous, so ranges solved
+      against it have no jumps from the noise.
+
+    ``f = 1`` from 20 dB up (noise weaker than the weakest clutter of Table 3.5), 2 at 0 dB, 5 at
+    −9.6 dB, growing without bound below: ``P → 0`` as ``τ → 0``, and
+    the model is exactly the noise-free one at SNR = +inf. Probabilities are non-increasing as
+    SNR falls and non-decreasing in SCR (both ``R_eff`` and ``f`` are monotone).
+``none``
+    Noise is ignored (``f = 1``).
+
+A user model is any function ``f(snr_db) -> N50 factor >= 1``, passed as ``noise_model=``; it
+multiplies every task's N50 (detection in clutter too, at the clutter's own SCR).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+from targetacq import _arrays
+from targetacq.transforms import _sw_high_anchor, clutter_n50
+
+__all__ = [
+    "NOISE_MODELS",
+    "NoiseModel",
+    "effective_scr",
+    "get_noise_model",
+    "noise_n50_factor",
+    "ratio_n50",
+    "snr_ratio",
+]
+
+
+def snr_ratio(snr: Any) -> Any:
+    """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6))."""
+    xp, (s,) = _arrays.arrays(snr)
+    return _arrays.result(10.0 ** (s / 20.0))
+
+
+def effective_scr(scr: Any, snr: Any) -> Any:
+    """Clutter and noise added in variance: ``R_eff = (1/SCR² + 1/SNR_lin²)^(−1/2)``.
+
+    Parameters
+    ----------
+    scr : array_like
+        Signal-to-clutter ratio, >= 0 (+inf: no clutter).
+    snr : array_like
+        Signal-to-noise ratio [dB] (+inf: no noise; −inf: no signal).
+
+    Returns
+    -------
+    array_like
+        R_eff, equal to SCR exactly where SNR = +inf.
+    """
+    xp, (c, s) = _arrays.arrays(scr, snr)
+    _arrays.require_nonnegative("scr", c, xp)
+    lin = 10.0 ** (s / 20.0)
+    inv_sq = xp.where(c > 0, 1.0 / xp.where(c > 0, c, 1.0) ** 2, xp.inf) + xp.where(
+        lin > 0, 1.0 / xp.where(lin > 0, lin, 1.0) ** 2, xp.inf
+    )
+    combined = xp.where(inv_sq > 0, 1.0 / xp.sqrt(xp.where(inv_sq > 0, inv_sq, 1.0)), xp.inf)
+    exact = xp.where(xp.isinf(s) & (s > 0), c, combined)
+    return _arrays.result(xp.where(xp.isnan(s), s, exact))
+
+
+def ratio_n50(ratio: Any) -> Any:
+    """Continuous 50 % point of detection against a clutter or noise ratio R [cycles].
+
+    See the module docstring: 0.5 for R >= 10, ``0.5 · (10/R)^log10(2)`` on [1, 10),
+    ``R^(−α)`` below 1 (α ≈ 0.83, through 2.5 cycles at R = 0.33); +inf at R = 0.
+
+    Parameters
+    ----------
+    ratio : array_like
+        R >= 0 (+inf allowed).
+    """
+    xp, (r,) = _arrays.arrays(ratio)
+    _arrays.require_nonnegative("ratio", r, xp)
+    low = float(clutter_n50(float("inf")))  # 0.5, Table 3.5 low clutter
+    medium = float(clutter_n50(1.0))  # 1.0, Table 3.5 medium clutter
+    _, _, alpha = _sw_high_anchor()
+    safe = xp.where(r > 0, r, 1.0)
+    mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (math.log(medium / low) / math.log(10.0))
+    out = xp.where(r >= 1.0, mid, medium * safe ** (-alpha))
+    return _arrays.result(xp.where(r > 0, out, xp.inf))
+
+
+def _variance_sum_factor(snr: Any) -> Any:
+    xp, (s,) = _arrays.arrays(snr)
+    lin = 10.0 ** (s / 20.0)
+    uncluttered = float(ratio_n50(float("inf")))
+    return _arrays.result(ratio_n50(lin) / uncluttered)
+
+
+def _no_noise_factor(snr: Any) -> Any:
+    xp, (s,) = _arrays.arrays(snr)
+    return _arrays.result(xp.where(xp.isnan(s), s, xp.ones_like(s)))
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """How noise acts on the transforms.
+
+    Attributes
+    ----------
+    name : str
+    n50_factor : callable
+        ``f(snr_db) -> factor >= 1`` multiplying the N50s.
+    combines_with_clutter : bool
+        Whether detection in clutter is read at ``R_eff`` (:func:`effective_scr`) instead of
+        applying ``n50_factor`` at the clutter's own SCR.
+    source : str
+    """
+
+    name: str
+    n50_factor: Callable[[Any], Any]
+    combines_with_clutter: bool = False
+    source: str = ""
+
+
+NOISE_MODELS: Mapping[str, NoiseModel] = MappingProxyType(
+    {
+        "variance-sum": NoiseModel(
+            "variance-sum",
+            _variance_sum_factor,
+            combines_with_clutter=True,
+            source="project assumption (MODEL.md §6): noise and clutter add in variance",
+        ),
+        "none": NoiseModel("none", _no_noise_factor, source="noise ignored"),
+    }
+)
+"""Noise models by name (read-only)."""
+
+
+def get_noise_model(noise_model: str | NoiseModel | Callable[[Any], Any]) -> NoiseModel:
+    """Resolve a noise model by name, as a :class:`NoiseModel`, or from a user function."""
+    if isinstance(noise_model, NoiseModel):
+        return noise_model
+    if isinstance(noise_model, str):
+        if noise_model not in NOISE_MODELS:
+            raise ValueError(
+                f"unknown noise model {noise_model!r}; valid noise models: {', '.join(NOISE_MODELS)}"
+            )
+        return NOISE_MODELS[noise_model]
+    if callable(noise_model):
+        return NoiseModel(getattr(noise_model, "__name__", "user"), noise_model, source="user")
+    raise TypeError(f"noise_model must be a name, a NoiseModel or a function, got {noise_model!r}")
+
+
+def noise_n50_factor(snr: Any, noise_model: str | NoiseModel | Callable[[Any], Any] = "variance-sum") -> Any:
+    """Factor >= 1 by which noise multiplies the N50s (see the module docstring).
+
+    Parameters
+    ----------
+    snr : array_like
+        SNR [dB]; +inf for no noise.
+    noise_model : str, NoiseModel or callable
+
+    Returns
+    -------
+    array_like
+        f >= 1 (+inf where no signal is left); exactly 1 at SNR = +inf for the built-in models.
+    """
+    model = get_noise_model(noise_model)
+    factor = model.n50_factor(snr)
+    xp, (f,) = _arrays.arrays(factor)
+    if bool(xp.any(f < 1)):
+        raise ValueError(f"noise model {model.name!r} returned an N50 factor below 1")
+    return _arrays.result(f)

@@ -275,9 +275,7 @@ def acquisition_probabilities(
     _arrays.require_nonnegative("cycles", n, xp)
     n_noisy = _noisy(n, cond, xp)
     fast = (
-        chosen.name == "ttpf"
-        and isinstance(n_noisy, np.ndarray)
-        and n50s[0] <= n50s[1] <= n50s[2]
+        chosen.name == "ttpf" and isinstance(n_noisy, np.ndarray) and n50s[0] <= n50s[1] <= n50s[2]
     )
     if fast:
         # The simulation hot path; increasing N50s already give ordered probabilities.

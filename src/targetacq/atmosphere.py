@@ -147,7 +147,9 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
     _arrays.require_nonnegative("extinction", g, xp, "Np/m")
     _arrays.require_nonnegative("range", r, xp, "m")
     if lam.ndim != 1 or lam.shape[0] < 2 or g.shape[-1] != lam.shape[0]:
-        raise ValueError("wavelength must be a 1-D grid of >= 2 points matching extinction's last axis")
+        raise ValueError(
+            "wavelength must be a 1-D grid of >= 2 points matching extinction's last axis"
+        )
     steps = lam[1:] - lam[:-1]
     if bool(xp.any(steps <= 0)):
         raise ValueError("wavelength grid must be strictly increasing")
@@ -158,13 +160,13 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
 
 def db_per_km_to_np_per_km(value: Any) -> Any:
     """Convert an extinction in dB/km to Np/km: ×0.2303 (MODEL.md erratum to §7.4)."""
-    xp, (v,) = _arrays.arrays(value)
+    _, (v,) = _arrays.arrays(value)
     return _arrays.result(v / DB_PER_NEPER)
 
 
 def np_per_km_to_db_per_km(value: Any) -> Any:
     """Convert an extinction in Np/km to dB/km: ×4.343."""
-    xp, (v,) = _arrays.arrays(value)
+    _, (v,) = _arrays.arrays(value)
     return _arrays.result(v * DB_PER_NEPER)
 
 
@@ -259,7 +261,12 @@ def obscurant_extinction(obscurant: str, band: Any, level: str = "nominal") -> f
 def _terms() -> tuple[tuple[str, float, float, str], ...]:
     table = load_table("extinction_terms")
     return tuple(
-        (term, 0.0 if math.isnan(lo) else lo / 1000.0, math.inf if math.isnan(hi) else hi / 1000.0, vr)
+        (
+            term,
+            0.0 if math.isnan(lo) else lo / 1000.0,
+            math.inf if math.isnan(hi) else hi / 1000.0,
+            vr,
+        )
         for term, lo, hi, vr in zip(
             table.column("term"),
             table.numbers("low_np_per_km"),

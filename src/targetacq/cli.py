@@ -10,13 +10,18 @@ import csv
 import io
 import json
 import math
+import re
 import sys
 from typing import Annotated, Any
 
 import typer
 
-from targetacq import optics, ranges
+from targetacq import atmosphere, optics, radiometry, ranges
+from targetacq import clutter as clutter_module
+from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
+from targetacq.bands import BANDS, band_limits, band_name
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
+from targetacq.noise import NOISE_MODELS
 from targetacq.tables import load_table
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.units import parse_quantity
@@ -120,6 +125,139 @@ def _sensor_ifov(
     return value, {"hfov_rad": fov, "pixels": float(pixels)}
 
 
+def _band(text: str) -> tuple[float, float]:
+    """A named band, or "8-12um"-style limits, as (λ1, λ2) [m]."""
+    if text in BANDS:
+        return BANDS[text]
+    match = re.fullmatch(r"\s*([\d.]+)\s*-\s*([\d.]+)\s*([A-Za-zµ]+)\s*", text)
+    if match is None:
+        raise ValueError(f"--band must be one of {', '.join(BANDS)} or like 8-12um; got {text!r}")
+    low, high, unit = match.groups()
+    limits = (
+        parse_quantity(f"{low} {unit}", "length", "--band"),
+        parse_quantity(f"{high} {unit}", "length", "--band"),
+    )
+    return band_limits(limits)
+
+
+def _path(
+    extinction: str | None,
+    obscurant: str | None,
+    visibility: str | None,
+    convention: str | None,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """The path's extinction from one of --extinction, --obscurant, --visibility ({} if none)."""
+    given = [v is not None for v in (extinction, obscurant, visibility)]
+    if sum(given) > 1:
+        raise ValueError("give one of --extinction, --obscurant and --visibility")
+    if convention is not None and visibility is None:
+        raise ValueError("--visibility-convention goes with --visibility")
+    if extinction is not None:
+        gamma = parse_quantity(extinction, "extinction", "--extinction")
+        if not gamma >= 0:
+            raise ValueError(f"--extinction must be >= 0; got {extinction!r}")
+        info: dict[str, Any] = {"source": f"--extinction {extinction}"}
+    elif obscurant is not None:
+        if band is None:
+            raise ValueError("--obscurant needs --band (Table 7.1 depends on the band)")
+        name, _, level = obscurant.partition(":")
+        _choice(name, OBSCURANTS, "--obscurant")
+        level = level or "nominal"
+        _choice(level, EXTINCTION_LEVELS, "--obscurant level")
+        gamma = atmosphere.obscurant_extinction(name, band, level)
+        info = {"source": f"Table 7.1: {name}, {level}, {band_name(band)}"}
+    elif visibility is not None:
+        if band is not None and band_name_or_none(band) != "visible":
+            raise ValueError(
+                "--visibility gives the visible-band extinction; for an infrared --band give "
+                "--extinction or --obscurant"
+            )
+        if convention is None:
+            raise ValueError(
+                "--visibility needs --visibility-convention koschmieder (2 % contrast, 3.912/V) "
+                "or mor (5 %, 2.996/V)"
+            )
+        _choice(convention, VISIBILITY_CONVENTIONS, "--visibility-convention")
+        v = parse_quantity(visibility, "length", "--visibility")
+        gamma = float(atmosphere.extinction_from_visibility(v, convention))
+        info = {"source": f"visibility {visibility} ({convention})"}
+    else:
+        return {}
+    term, visual_range = atmosphere.extinction_term(gamma)
+    return {
+        "extinction_np_per_m": gamma,
+        "extinction_np_per_km": gamma * 1e3,
+        "term": term,
+        "visual_range": visual_range,
+        **info,
+    }
+
+
+def band_name_or_none(band: tuple[float, float]) -> str | None:
+    try:
+        return band_name(band)
+    except ValueError:
+        return None
+
+
+def _clutter(
+    scr: float | None,
+    region: str | None,
+    clutter_std: str | None,
+    target_temperature: str | None,
+    background_temperature: str | None,
+    emissivity: float,
+    background_emissivity: float,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
+    if sum(v is not None for v in (scr, region, clutter_std)) > 1:
+        raise ValueError("give one of --scr, --clutter and --clutter-std")
+    temperatures = (target_temperature, background_temperature)
+    if any(t is not None for t in temperatures) and None in temperatures:
+        raise ValueError("--target-temperature and --background-temperature go together")
+    if scr is not None:
+        if not scr >= 0:
+            raise ValueError(f"--scr must be >= 0; got {scr}")
+        return {"scr": scr}
+    if region is not None:
+        return {"region": _choice(region, CLUTTER_REGIONS, "--clutter")}
+    info: dict[str, Any] = {}
+    if target_temperature is not None and background_temperature is not None:
+        if band is None:
+            raise ValueError("temperatures need --band to compute the band exitance")
+        t_t = parse_quantity(target_temperature, "temperature", "--target-temperature")
+        t_b = parse_quantity(background_temperature, "temperature", "--background-temperature")
+        for name, eps in (
+            ("--emissivity", emissivity),
+            ("--background-emissivity", background_emissivity),
+        ):
+            if not 0 <= eps <= 1:
+                raise ValueError(f"{name} must be in [0, 1]; got {eps}")
+        m_t = emissivity * float(radiometry.band_exitance(t_t, band))
+        m_b = background_emissivity * float(radiometry.band_exitance(t_b, band))
+        info = {
+            "target_temperature_k": t_t,
+            "background_temperature_k": t_b,
+            "contrast_w_per_m2": abs(m_t - m_b),
+        }
+        if clutter_std is not None:
+            sigma_t = parse_quantity(clutter_std, "temperature difference", "--clutter-std")
+            if not sigma_t >= 0:
+                raise ValueError(f"--clutter-std must be >= 0; got {clutter_std!r}")
+            sigma_m = (
+                background_emissivity
+                * float(radiometry.band_exitance_derivative(t_b, band))
+                * sigma_t
+            )
+            info["clutter_w_per_m2"] = sigma_m
+            info["scr"] = float(clutter_module.signal_to_clutter_ratio(m_t, m_b, sigma_m))
+    elif clutter_std is not None:
+        raise ValueError("--clutter-std needs --target-temperature and --background-temperature")
+    return info
+
+
 @app.command()
 def dri(
     pitch: Annotated[str | None, typer.Option(help="Pixel pitch, e.g. 17um.")] = None,
@@ -157,6 +295,40 @@ def dri(
         str | None,
         typer.Option(help=f"Clutter region (schmieder-weathersby): {', '.join(CLUTTER_REGIONS)}."),
     ] = None,
+    band: Annotated[
+        str | None, typer.Option(help=f"Sensor band: {', '.join(BANDS)} or e.g. 8-12um.")
+    ] = None,
+    target_temperature: Annotated[
+        str | None, typer.Option(help="Target temperature, e.g. 305K or 32degC.")
+    ] = None,
+    background_temperature: Annotated[
+        str | None, typer.Option(help="Background temperature, e.g. 295K.")
+    ] = None,
+    emissivity: Annotated[float, typer.Option(help="Target emissivity in [0, 1].")] = 1.0,
+    background_emissivity: Annotated[
+        float, typer.Option(help="Background emissivity in [0, 1].")
+    ] = 1.0,
+    clutter_std: Annotated[
+        str | None,
+        typer.Option(help="Background temperature spread (clutter), e.g. 2K; gives the SCR."),
+    ] = None,
+    extinction: Annotated[
+        str | None, typer.Option(help="Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.")
+    ] = None,
+    obscurant: Annotated[
+        str | None,
+        typer.Option(help=f"Table 7.1 obscurant[:low|nominal|high]: {', '.join(OBSCURANTS)}."),
+    ] = None,
+    visibility: Annotated[
+        str | None, typer.Option(help="Visibility (visible band), e.g. 7.5km.")
+    ] = None,
+    visibility_convention: Annotated[
+        str | None,
+        typer.Option(help=f"Visibility convention: {', '.join(VISIBILITY_CONVENTIONS)}."),
+    ] = None,
+    noise_model: Annotated[
+        str, typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)}.")
+    ] = "variance-sum",
     probability: Annotated[
         str, typer.Option(help="Probability, or several separated by commas, e.g. 0.5,0.8.")
     ] = "0.5",
@@ -185,7 +357,7 @@ def dri(
     if not d > 0:
         raise ValueError(f"--critical-dimension must be > 0; got {critical_dimension!r}")
     ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels)
-    optics_kw: dict[str, float] = {}
+    optics_kw: dict[str, Any] = {}
     if (aperture is None) != (wavelength is None):
         raise ValueError("--aperture and --wavelength go together (diffraction limit)")
     if aperture is not None and wavelength is not None:
@@ -203,17 +375,36 @@ def dri(
     options: dict[str, Any] = {}
     if bound is not None:
         options["bound"] = _choice(bound, C2NVEO_BOUNDS, "--bound")
-    if scr is not None:
-        options["scr"] = scr
-    if clutter is not None:
-        options["region"] = _choice(clutter, CLUTTER_REGIONS, "--clutter")
+    band_limits_m = _band(band) if band is not None else None
+    path = _path(extinction, obscurant, visibility, visibility_convention, band_limits_m)
+    scene = _clutter(
+        scr,
+        clutter,
+        clutter_std,
+        target_temperature,
+        background_temperature,
+        emissivity,
+        background_emissivity,
+        band_limits_m,
+    )
+    clutter_kw = {k: scene[k] for k in ("scr", "region") if scene.get(k) is not None}
+    _choice(noise_model, NOISE_MODELS, "--noise-model")
     probabilities = _probabilities(probability)
     cycle = float(optics.resolvable_cycle_angle(ifov_rad, **optics_kw))
 
     rows = []
     for p in probabilities:
         found = ranges.dri_ranges(
-            d, ifov_rad, crit, probability=p, transform=transform, **optics_kw, **options
+            d,
+            ifov_rad,
+            crit,
+            probability=p,
+            transform=transform,
+            extinction=path.get("extinction_np_per_m"),
+            noise_model=noise_model,
+            **optics_kw,
+            **clutter_kw,
+            **options,
         )
         for task, r in found.items():
             value = float(r)
@@ -236,11 +427,13 @@ def dri(
             **sensor,
             **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in optics_kw.items()},
         },
-        "target": {"critical_dimension_m": d},
+        "target": {"critical_dimension_m": d, **scene},
+        "path": path,
         "criterion": crit.name,
         "criterion_kind": crit.kind,
         "transform": transform if crit.gives_probabilities else None,
         "options": options,
+        "noise_model": noise_model if path else None,
         "ranges": rows,
     }
     typer.echo(_render(report, output_format), nl=False)
@@ -264,9 +457,16 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         + "".join(f", {k} {v}" for k, v in report["options"].items()),
         f"sensor: IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
         f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
-        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m",
-        "",
+        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+        + _scene_line(report["target"]),
     ]
+    if report["path"]:
+        path = report["path"]
+        lines.append(
+            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['term']}, visual "
+            f"range {path['visual_range']}; {path['source']}), noise model {report['noise_model']}"
+        )
+    lines.append("")
     unit = rows[0]["threshold_unit"]
     header = f"{'task':<16}{'P':>6}  {'N50 [' + unit + ']':>18}  {'range [m]':>12}"
     lines += [header, "-" * len(header)]
@@ -280,6 +480,17 @@ def _render(report: dict[str, Any], output_format: str) -> str:
             r = f"{row['range_m']:,.0f}"
         lines.append(f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {r:>12}")
     return "\n".join(lines) + "\n"
+
+
+def _scene_line(target: dict[str, Any]) -> str:
+    parts = []
+    if "contrast_w_per_m2" in target:
+        parts.append(f"contrast {target['contrast_w_per_m2']:.4g} W/m²")
+    if "scr" in target:
+        parts.append(f"SCR {target['scr']:.4g}")
+    if "region" in target:
+        parts.append(f"{target['region']} clutter")
+    return "; " + ", ".join(parts) if parts else ""
 
 
 def _one_line(message: str) -> str:

@@ -56,7 +56,7 @@ __all__ = [
 
 def snr_ratio(snr: Any) -> Any:
     """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6))."""
-    xp, (s,) = _arrays.arrays(snr)
+    _, (s,) = _arrays.arrays(snr)
     return _arrays.result(10.0 ** (s / 20.0))
 
 
@@ -103,13 +103,15 @@ def ratio_n50(ratio: Any) -> Any:
     medium = float(clutter_n50(1.0))  # 1.0, Table 3.5 medium clutter
     _, _, alpha = _sw_high_anchor()
     safe = xp.where(r > 0, r, 1.0)
-    mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (math.log(medium / low) / math.log(10.0))
+    mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (
+        math.log(medium / low) / math.log(10.0)
+    )
     out = xp.where(r >= 1.0, mid, medium * safe ** (-alpha))
     return _arrays.result(xp.where(r > 0, out, xp.inf))
 
 
 def _variance_sum_factor(snr: Any) -> Any:
-    xp, (s,) = _arrays.arrays(snr)
+    _, (s,) = _arrays.arrays(snr)
     lin = 10.0 ** (s / 20.0)
     uncluttered = float(ratio_n50(float("inf")))
     return _arrays.result(ratio_n50(lin) / uncluttered)
@@ -162,7 +164,8 @@ def get_noise_model(noise_model: str | NoiseModel | Callable[[Any], Any]) -> Noi
     if isinstance(noise_model, str):
         if noise_model not in NOISE_MODELS:
             raise ValueError(
-                f"unknown noise model {noise_model!r}; valid noise models: {', '.join(NOISE_MODELS)}"
+                f"unknown noise model {noise_model!r}; "
+                f"valid noise models: {', '.join(NOISE_MODELS)}"
             )
         return NOISE_MODELS[noise_model]
     if callable(noise_model):
@@ -170,7 +173,9 @@ def get_noise_model(noise_model: str | NoiseModel | Callable[[Any], Any]) -> Noi
     raise TypeError(f"noise_model must be a name, a NoiseModel or a function, got {noise_model!r}")
 
 
-def noise_n50_factor(snr: Any, noise_model: str | NoiseModel | Callable[[Any], Any] = "variance-sum") -> Any:
+def noise_n50_factor(
+    snr: Any, noise_model: str | NoiseModel | Callable[[Any], Any] = "variance-sum"
+) -> Any:
     """Factor >= 1 by which noise multiplies the N50s (see the module docstring).
 
     Parameters

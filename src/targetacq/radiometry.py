@@ -46,6 +46,7 @@ __all__ = [
     "BAND_EXITANCE_METHODS",
     "MATERIALS",
     "band_exitance",
+    "band_exitance_derivative",
     "diurnal_temperature",
     "emissivity",
     "emissivity_from_reflectance",
@@ -88,7 +89,7 @@ def _partial_small(x: Any, xp: Any) -> Any:
 def _tail_large(x: Any, xp: Any) -> Any:
     """∫_x^∞ t³/(e^t − 1) dt for x >= 2 (elements below 2 give garbage that is not used)."""
     finite = xp.where(x >= _SMALL_X, x, _SMALL_X)
-    x_min = float(xp.min(finite)) if finite.size else _SMALL_X  # type: ignore[union-attr]
+    x_min = float(xp.min(finite)) if finite.size else _SMALL_X
     terms = max(1, math.ceil(37.5 / x_min))
     decay = xp.exp(-finite)
     power = xp.ones_like(finite)
@@ -194,7 +195,9 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
         M [W/m²]. Check values: 8–12 µm at 300 K ≈ 120.95 W/m²; (0, ∞) gives σT⁴.
     """
     if method not in BAND_EXITANCE_METHODS:
-        raise ValueError(f"method must be one of {', '.join(BAND_EXITANCE_METHODS)}; got {method!r}")
+        raise ValueError(
+            f"method must be one of {', '.join(BAND_EXITANCE_METHODS)}; got {method!r}"
+        )
     low, high = band_limits(band)
     xp, (t,) = _arrays.arrays(temperature)
     _arrays.require_nonnegative("temperature", t, xp, "K")
@@ -202,6 +205,35 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
     integral = BAND_EXITANCE_METHODS[method](x_short, x_long, xp)
     t2 = t * t
     return _arrays.result(_BAND_CONSTANT * t2 * t2 * integral)
+
+
+def band_exitance_derivative(temperature: Any, band: Any) -> Any:
+    """Temperature derivative of the blackbody band exitance, ``dM/dT`` [W m⁻² K⁻¹].
+
+    Differentiating the closed form (module docstring) under ``x = c2/(λT)``, ``dx/dT = −x/T``:
+    ``dM/dT = K T³ [4 I + g(x2) − g(x1)]`` with ``I = ∫_{x2}^{x1} t³/(e^t − 1) dt``,
+    ``g(x) = x⁴/(e^x − 1)`` and ``K = 2π k⁴/(h³c²)``. Over all wavelengths it is ``4σT³``.
+    Used to turn a background temperature spread into an exitance clutter.
+
+    Parameters
+    ----------
+    temperature : array_like
+        T [K], >= 0.
+    band : (float, float) or str
+        As in :func:`band_exitance`.
+    """
+    low, high = band_limits(band)
+    xp, (t,) = _arrays.arrays(temperature)
+    _arrays.require_nonnegative("temperature", t, xp, "K")
+    x_short, x_long = _x_of(low, t, xp), _x_of(high, t, xp)
+    integral = _band_integral_planck(x_short, x_long, xp)
+
+    def g(x: Any) -> Any:
+        safe = xp.where(x > 0, x, 1.0)
+        value = safe**4 * xp.exp(-safe) / -xp.expm1(-safe)
+        return xp.where(x > 0, value, 0.0 * x)
+
+    return _arrays.result(_BAND_CONSTANT * t**3 * (4.0 * integral + g(x_long) - g(x_short)))
 
 
 def stefan_boltzmann_exitance(temperature: Any) -> Any:
@@ -347,7 +379,11 @@ def lambert_intensity(intensity: Any, angle: Any) -> Any:
 
 
 def irradiance_at_sensor(
-    intensity: Any, range: Any, emission_angle: Any = 0.0, off_axis_angle: Any = 0.0, lens: bool = True
+    intensity: Any,
+    range: Any,
+    emission_angle: Any = 0.0,
+    off_axis_angle: Any = 0.0,
+    lens: bool = True,
 ) -> Any:
     """Irradiance at the sensor from a Lambertian source, Eqs. (6.15)–(6.17).
 

@@ -1,8 +1,22 @@
-"""Ranges at which tasks reach a probability (DRI ranges).
+"""Ranges at which tasks reach a probability (DRI ranges), with atmosphere and clutter.
 
-Geometry only for now: with no atmosphere, ``P`` depends on range only through the cycles on
-target ``N = d / (R · cycle)`` (Sonesson 2004 §3.5, Fig. 3.3), so the range for a probability
-has the closed form ``R = d / (N_p · cycle)``, where ``N_p`` is the transform's inverse at ``p``.
+Without atmosphere, ``P`` depends on range only through the cycles on target
+``N = d / (R · cycle)`` (Sonesson 2004 §3.5, Fig. 3.3), so the range for a probability has the
+closed form ``R = d / (N_p · cycle)``, with ``N_p`` the transform's inverse at ``p``.
+
+With an atmosphere, the transmittance ``τ = exp(−γR)`` lowers the SNR (7.7) as the range grows
+and the noise model (:mod:`targetacq.noise`) lowers ``P`` further, so ``P(R)`` is no longer a
+function of N alone. It is still non-increasing in R, and never above its noise-free value, so
+the range lies between 0 and the closed-form one; it is found by bisection in ``log R``, all
+cases at once. Tolerance: the returned range ``R`` satisfies ``P(R) >= p`` and
+``P(R · (1 + tolerance)) < p`` (or R is the closed-form range itself). Where ``P`` jumps across
+``p`` (a Schmieder–Weathersby clutter-region boundary crossed as the noise grows with range), the
+range is that of the jump.
+
+Ordering: nothing is recognised that was not detected (MODEL.md §2), so the recognition range
+is at most the detection range, and identification at most recognition (as the capped
+probabilities of :func:`targetacq.acquisition_probabilities`). Where a probability is never
+reached the range is NaN; where no resolution is needed (a moving target's detection) it is +inf.
 """
 
 from __future__ import annotations
@@ -10,11 +24,14 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from targetacq import _arrays, optics
+from targetacq import _arrays, atmosphere, optics
 from targetacq import transforms as _transforms
+from targetacq.acquisition import probability as task_probability
 from targetacq.criteria import Criterion, get_criterion
 
 __all__ = ["dri_ranges"]
+
+_BRACKET = 1e-12  # lower end of the search, relative to the noise-free range
 
 
 def dri_ranges(
@@ -24,23 +41,19 @@ def dri_ranges(
     probability: Any = 0.5,
     transform: str = "ttpf",
     *,
+    extinction: Any = None,
+    scr: Any = None,
+    region: str | None = None,
+    hot_spot: bool = False,
+    moving: bool = False,
+    noise_model: Any = "variance-sum",
     wavelength: Any = None,
     aperture: Any = None,
     blur_sigma: Any = None,
+    tolerance: float = 1e-9,
     **options: Any,
 ) -> dict[str, Any]:
-    """Range at which each task reaches a probability, for a sensor and a target.
-
-    For a cycles criterion: ``R = d / (N_p · cycle)`` with ``N_p`` the cycles the transform needs
-    for ``probability`` (its inverse) and ``cycle`` the resolvable cycle angle
-    (:func:`targetacq.optics.resolvable_cycle_angle`). Where a transform never reaches the
-    probability (Schmieder–Weathersby high clutter above 0.9) the range is NaN; where it needs
-    no resolution at all (a moving target's detection) the range is +inf.
-
-    For a pixel-density criterion (``en62676-4``) the range of each level is where the pixel
-    density on the target falls to its threshold, ``R = 1 / (density · IFOV)``; these are
-    thresholds, so ``probability`` and ``transform`` do not apply to them (the optics limits do
-    not either: the standard counts pixels).
+    """Range at which each task reaches a probability, for a sensor, a target and a path.
 
     Parameters
     ----------
@@ -53,24 +66,41 @@ def dri_ranges(
     probability : array_like
         In (0, 1); broadcasts with the other inputs.
     transform : str
-        A name from :data:`targetacq.transforms.TRANSFORMS`.
+        A name from :data:`targetacq.transforms.TRANSFORMS` ("schmieder-weathersby" gives the
+        detection range only).
+    extinction : array_like, optional
+        γ of the path [Np/m], >= 0; None or 0 for no atmosphere.
+    scr, region, hot_spot, moving
+        The clutter, acting on detection (§3.8); see
+        :func:`targetacq.transforms.schmieder_weathersby`.
+    noise_model : str, NoiseModel or callable
+        How the atmosphere's noise moves the transforms (:mod:`targetacq.noise`).
     wavelength, aperture, blur_sigma : array_like, optional
         Optics limits on the cycle, see :func:`targetacq.optics.resolvable_cycle_angle`.
+    tolerance : float
+        Relative tolerance on the range when it is solved numerically (module docstring).
     **options
-        Options of the transform (e.g. ``bound=``, ``scr=``).
+        Options of the transform (e.g. ``bound=``).
 
     Returns
     -------
     dict
-        Task → range [m], for every task of the criterion that the transform covers, in the
-        criterion's order.
+        Task → range [m] for every task of the criterion that the transform covers, in the
+        criterion's order. For a pixel-density criterion (``en62676-4``) the range of each level
+        is where the pixel density on the target falls to its threshold,
+        ``R = 1 / (density · IFOV)``: thresholds, to which probability, transform, clutter,
+        atmosphere and optics limits do not apply.
     """
+    if not 0 < tolerance < 1e-2:
+        raise ValueError(f"tolerance must be in (0, 0.01), got {tolerance!r}")
     crit = get_criterion(criterion)
+    clutter = {"scr": scr, "region": region, "hot_spot": hot_spot, "moving": moving}
     if not crit.gives_probabilities:
-        if options:
+        extras = [name for name, v in {**options, **clutter, "extinction": extinction}.items() if v]
+        if extras:
             raise ValueError(
-                f"criterion {crit.name!r} gives pixel-density thresholds; transform options "
-                f"{', '.join(options)} do not apply"
+                f"criterion {crit.name!r} gives pixel-density thresholds; {', '.join(extras)} "
+                "do not apply"
             )
         return {
             task: optics.range_for_pixel_density(crit.threshold(task), ifov) for task in crit.tasks
@@ -82,22 +112,84 @@ def dri_ranges(
             f"transform {chosen.name!r} covers none of criterion {crit.name!r}'s tasks "
             f"({', '.join(crit.tasks)})"
         )
-    ranges = {}
-    for task in tasks:
-        needed = _transforms.inverse_transform(
-            probability, crit.n50(task), task, method=chosen.name, **options
-        )
+    optics_kw = {"wavelength": wavelength, "aperture": aperture, "blur_sigma": blur_sigma}
+    clutter_given = scr is not None or region is not None or hot_spot or moving
+
+    def noise_free_range(task: str) -> Any:
+        if task == "detection" and clutter_given:
+            needed = _transforms.schmieder_weathersby_inverse(
+                probability, crit.n50(task), **clutter
+            )
+        else:
+            needed = _transforms.inverse_transform(
+                probability, crit.n50(task), task, method=chosen.name, **options
+            )
         xp, (n,) = _arrays.arrays(needed)
         never = xp.isinf(n)
-        reached = xp.where(never, 1.0, n)
-        r = optics.range_for_cycles(
-            critical_dimension,
-            reached,
-            ifov,
-            wavelength=wavelength,
-            aperture=aperture,
-            blur_sigma=blur_sigma,
-        )
+        r = optics.range_for_cycles(critical_dimension, xp.where(never, 1.0, n), ifov, **optics_kw)
         xp, (r,) = _arrays.arrays(r)
-        ranges[task] = _arrays.result(xp.where(never, xp.nan, r))
-    return ranges
+        return xp.where(never, xp.nan, r)
+
+    def probability_at(task: str, r: Any) -> Any:
+        n = optics.cycles_on_target(critical_dimension, r, ifov, **optics_kw)
+        snr = atmosphere.snr_from_transmittance(atmosphere.transmittance(extinction, r))
+        return task_probability(
+            n,
+            task,
+            crit,
+            chosen.name,
+            snr=snr,
+            noise_model=noise_model,
+            **(clutter if task == "detection" else {}),
+            **options,
+        )
+
+    ranges: dict[str, Any] = {}
+    for task in tasks:
+        r_free = noise_free_range(task)
+        if extinction is None:
+            r = r_free
+        else:
+            r = _solve(
+                lambda rr, task=task: probability_at(task, rr), probability, r_free, tolerance
+            )
+        ranges[task] = r
+    _order(ranges)
+    return {task: _arrays.result(r) for task, r in ranges.items()}
+
+
+def _solve(prob: Any, p: Any, r_free: Any, tolerance: float) -> Any:
+    """Largest R in (0, r_free] with prob(R) >= p, by bisection in log R (module docstring)."""
+    xp, (p_, hi) = _arrays.arrays(p, r_free)
+    hi = hi + 0.0 * p_
+    finite = xp.isfinite(hi) & (hi > 0)
+    hi = xp.where(finite, hi, 1.0)
+    lo = hi * _BRACKET
+    at_hi = prob(hi) >= p_
+    reachable = prob(lo) >= p_
+    for _ in range(200):
+        if not bool(xp.any(hi > lo * (1.0 + tolerance))):
+            break
+        mid = xp.sqrt(lo * hi)
+        ok = prob(mid) >= p_
+        lo = xp.where(ok, mid, lo)
+        hi = xp.where(ok, hi, mid)
+    _, (r_free_,) = _arrays.arrays(r_free)
+    found = xp.where(at_hi, hi, xp.where(reachable, lo, xp.nan))
+    # inf (no resolution needed) and NaN (never reached) come through from the noise-free range.
+    return xp.where(finite, found, r_free_ + 0.0 * p_)
+
+
+def _order(ranges: dict[str, Any]) -> None:
+    """Cap each task's range by the one it presupposes (detection ← orientation, recognition;
+    recognition ← identification). NaN (never reached) propagates."""
+    presupposes = {
+        "orientation": "detection",
+        "recognition": "detection",
+        "identification": "recognition",
+    }
+    for task, before in presupposes.items():
+        if task in ranges and before in ranges:
+            xp, (r, b) = _arrays.arrays(ranges[task], ranges[before])
+            capped = xp.minimum(r, b)
+            ranges[task] = xp.where(xp.isnan(b) | xp.isnan(r), xp.nan + 0.0 * capped, capped)

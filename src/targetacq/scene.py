@@ -114,8 +114,9 @@ def scene_acquisition(
     extinction : array_like
         γ of the path [Np/m], >= 0; 0 for no atmosphere.
     quantisation_step : array_like, optional
-        Smallest contrast the detector resolves [W/m²] (:func:`targetacq.radiometry.quantisation_step`);
-        a smaller contrast gives probability 0 (§6.8).
+        Smallest contrast the detector resolves [W/m²]
+        (:func:`targetacq.radiometry.quantisation_step`); a smaller contrast gives probability 0
+        (§6.8).
     criterion, transform, noise_model
         As in :func:`targetacq.acquisition_probabilities`.
     hot_spot, moving : bool
@@ -133,7 +134,12 @@ def scene_acquisition(
     if sum(given) > 1:
         raise ValueError("give at most one of clutter_std, scr and clutter_region")
     n = optics.cycles_on_target(
-        critical_dimension, range, ifov, wavelength=wavelength, aperture=aperture, blur_sigma=blur_sigma
+        critical_dimension,
+        range,
+        ifov,
+        wavelength=wavelength,
+        aperture=aperture,
+        blur_sigma=blur_sigma,
     )
     if target_exitance is None:
         target_exitance = _emitted(target_emissivity, target_temperature, band, "target")

@@ -23,10 +23,11 @@ prints the same N for two probabilities (C2NVEO recognition, pessimistic: 12 cyc
 and 1.00) the curve jumps at that N; the inverse gives the smallest N that reaches p.
 
 Below the lowest SCR observed (0.33, Table 3.4) the high-clutter curve is stretched along the
-cycles axis so that its 50 % point grows as ``2.5 · (SCR / 0.33)^(−α)``, ``α = ln(2.5/1.0) / ln(1/0.33)``
-≈ 0.83: the slope between the medium-clutter 50 % point (1.0 cycle at SCR = 1) and the
-high-clutter one (2.5 cycles at SCR = 0.33), continued. The thesis's words: "for high clutter
-levels a strong increase in resolution is needed even for a little decrease in SCR" (§3.7).
+cycles axis so that its 50 % point grows as ``2.5 · (SCR / 0.33)^(−α)``,
+``α = ln(2.5/1.0) / ln(1/0.33) ≈ 0.83``: the slope between the medium-clutter 50 % point
+(1.0 cycle at SCR = 1) and the high-clutter one (2.5 cycles at SCR = 0.33), continued. The
+thesis's words: "for high clutter levels a strong increase in resolution is needed even for a
+little decrease in SCR" (§3.7).
 It makes ``P → 0`` as ``SCR → 0`` (no contrast left against the clutter) and leaves every printed
 point as it is. This continuation is this project's; see :func:`clutter_n50`.
 

@@ -7,6 +7,8 @@ about units. A bare number where a unit is needed is an error that says which un
 from __future__ import annotations
 
 import functools
+import math
+import re
 from typing import Any
 
 __all__ = ["DIMENSIONS", "parse_quantity"]
@@ -15,8 +17,14 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     # kind: (SI unit it is converted to, an example for error messages)
     "length": ("meter", "17 um, 75 mm, 2.5 km"),
     "angle": ("radian", "0.227 mrad, 12 deg"),
+    "temperature": ("kelvin", "305 K, 22 degC"),
+    "temperature difference": ("kelvin", "2 K, 0.05 K"),
+    "extinction": ("1 / meter", "0.4 /km (Np/km), 1.7 dB/km"),
 }
 """Quantity kinds accepted at the boundary: the SI unit they become and an example."""
+
+_NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+_DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER (MODEL.md erratum)
 
 
 @functools.cache
@@ -32,16 +40,17 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
     Parameters
     ----------
     text : str
-        A number followed by a unit (a space is optional: ``"17um"``).
+        A number followed by a unit (a space is optional: ``"17um"``). Extinctions take
+        ``/km`` (nepers per km, as Table 7.1) or ``dB/km`` (1 dB/km = 0.2303 Np/km).
     kind : str
-        A key of :data:`DIMENSIONS` ("length", "angle").
+        A key of :data:`DIMENSIONS`.
     name : str
         The input's name for error messages (e.g. ``"--pitch"``).
 
     Returns
     -------
     float
-        The value in the SI unit of ``kind`` (m, rad).
+        The value in the SI unit of ``kind`` (m, rad, K, Np/m).
 
     Raises
     ------
@@ -52,17 +61,26 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
     if kind not in DIMENSIONS:
         raise ValueError(f"kind must be one of {', '.join(DIMENSIONS)}; got {kind!r}")
     si_unit, example = DIMENSIONS[kind]
+    match = _NUMBER.match(text)
+    if match is None:
+        raise ValueError(f"{name}: cannot read {text!r} as a {kind} (e.g. {example})")
+    value, unit = float(match.group(1)), match.group(2)
+    if not unit:
+        raise ValueError(f"{name} needs a unit: got {text!r}; write e.g. {example}")
+    if kind == "extinction" and unit.replace(" ", "") in ("dB/km", "db/km"):
+        return value / _DB_PER_NEPER / 1000.0
+    if unit.startswith("/"):
+        unit = "1" + unit
+    if kind == "temperature difference":
+        unit = {"degC": "delta_degC", "°C": "delta_degC", "degF": "delta_degF"}.get(unit, unit)
     ureg = _registry()
     try:
-        quantity = ureg.Quantity(text.strip())
+        quantity = ureg.Quantity(value, unit)
     except Exception as error:  # pint raises several unrelated types for bad text
-        raise ValueError(f"{name}: cannot read {text!r} as a {kind} (e.g. {example})") from error
-    if not isinstance(quantity, ureg.Quantity) or quantity.unitless:
-        raise ValueError(f"{name} needs a unit: got {text!r}; write e.g. {example}")
+        raise ValueError(f"{name}: unknown unit in {text!r} (e.g. {example})") from error
     try:
-        value = float(quantity.to(si_unit).magnitude)
+        return float(quantity.to(si_unit).magnitude)
     except Exception as error:
         raise ValueError(
             f"{name}: {text!r} is not a {kind} (e.g. {example}); its unit is {quantity.units}"
         ) from error
-    return value

@@ -10,29 +10,14 @@ timed in this run, best of ``REPEATS``, single-threaded. The last line printed i
 from __future__ import annotations
 
 import json
-import os
 import sys
-import time
 
-# Single-threaded, whatever BLAS or OpenMP would do (set before NumPy is imported).
-for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_var, "1")
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-import targetacq as ta  # noqa: E402
+import targetacq as ta
+from _timing import REPEATS, best_of, roofline
 
 PAIRS = int(sys.argv[1]) if len(sys.argv) > 1 else 4_000_000
-REPEATS = 7
-
-
-def best_of(function, repeats=REPEATS):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:
@@ -42,9 +27,6 @@ def main() -> None:
     def kernel():
         return ta.acquisition_probabilities(cycles)
 
-    def roofline():
-        return cycles + 1.0, cycles + 1.0, cycles + 1.0
-
     def per_task():  # the generic array-API path, one transform call per task
         return [
             ta.probability(cycles, task) for task in ("detection", "recognition", "identification")
@@ -52,7 +34,7 @@ def main() -> None:
 
     kernel()  # warm-up: tables, caches
     t_kernel = best_of(kernel)
-    t_roof = best_of(roofline)
+    t_roof = best_of(roofline([cycles], outputs=3))
     t_generic = best_of(per_task)
     result = {
         "benchmark": "core: cycles -> 3 TTPF probabilities (acquisition_probabilities)",

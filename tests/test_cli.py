@@ -177,3 +177,139 @@ def test_installed_entry_point_runs():
     assert "identification" in done.stdout
     bad = subprocess.run([exe, "dri", "--pitch", "x"], capture_output=True, text=True, check=False)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1
+
+
+# --- signal and atmosphere options ---------------------------------------------------------------
+
+
+def test_dri_with_temperatures_clutter_and_obscurant(capsys):
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--example",
+        "--band",
+        "lwir",
+        "--target-temperature",
+        "305K",
+        "--background-temperature",
+        "295K",
+        "--clutter-std",
+        "2K",
+        "--obscurant",
+        "haze:high",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    report = json.loads(out)
+    assert report["path"]["extinction_np_per_km"] == pytest.approx(0.4)  # Table 7.1 haze, lwir
+    assert report["path"]["term"] == "low"  # Table 7.2
+    assert report["target"]["scr"] > 1
+    ranges = {row["task"]: row["range_m"] for row in report["ranges"]}
+    plain = json.loads(run(capsys, "dri", "--example", "--format", "json")[1])
+    plain_ranges = {row["task"]: row["range_m"] for row in plain["ranges"]}
+    assert ranges["detection"] < plain_ranges["detection"]
+
+
+def test_dri_extinction_units_and_visibility(capsys):
+    a = json.loads(
+        run(capsys, "dri", "--example", "--extinction", "0.2303/km", "--format", "json")[1]
+    )
+    b = json.loads(run(capsys, "dri", "--example", "--extinction", "1dB/km", "--format", "json")[1])
+    assert a["ranges"][0]["range_m"] == pytest.approx(b["ranges"][0]["range_m"], rel=1e-3)
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--example",
+        "--visibility",
+        "5km",
+        "--visibility-convention",
+        "koschmieder",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    assert json.loads(out)["path"]["extinction_np_per_km"] == pytest.approx(3.912 / 5, abs=1e-3)
+
+
+def test_atmosphere_command(capsys):
+    code, out, _ = run(
+        capsys,
+        "atmosphere",
+        "--range",
+        "0m,1km",
+        "--extinction",
+        "0.693147/km",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    rows = json.loads(out)["rows"]
+    assert rows[0]["transmittance"] == 1.0 and rows[0]["snr_db"] is None  # τ(0) = 1, SNR +inf
+    assert rows[1]["transmittance"] == pytest.approx(0.5, rel=1e-6)
+    assert rows[1]["snr_db"] == pytest.approx(0.0, abs=1e-4)  # τ = 0.5 → 0 dB
+    code, out, _ = run(
+        capsys, "atmosphere", "--range", "2km", "--obscurant", "fog", "--band", "lwir"
+    )
+    assert code == 0 and "foggy" in out
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (
+            ["dri", "--example", "--obscurant", "smoke", "--band", "lwir"],
+            "--obscurant must be one of",
+        ),
+        (["dri", "--example", "--obscurant", "fog"], "needs --band"),
+        (["dri", "--example", "--visibility", "5km"], "needs --visibility-convention"),
+        (
+            ["dri", "--example", "--visibility", "5km", "--visibility-convention", "x"],
+            "convention must be one of",
+        ),
+        (["dri", "--example", "--extinction", "-0.4/km"], "must be >= 0"),
+        (["dri", "--example", "--extinction", "0.4"], "needs a unit"),
+        (["dri", "--example", "--band", "12-8um"], "0 <= λ1 < λ2"),
+        (["dri", "--example", "--band", "swir"], "--band must be one of"),
+        (
+            [
+                "dri",
+                "--example",
+                "--band",
+                "lwir",
+                "--target-temperature",
+                "-5K",
+                "--background-temperature",
+                "290K",
+            ],
+            "temperature must be >= 0",
+        ),
+        (
+            [
+                "dri",
+                "--example",
+                "--band",
+                "lwir",
+                "--target-temperature",
+                "300K",
+                "--background-temperature",
+                "290K",
+                "--emissivity",
+                "2",
+            ],
+            r"--emissivity must be in \[0, 1\]",
+        ),
+        (["dri", "--example", "--clutter-std", "2K"], "needs --target-temperature"),
+        (
+            ["dri", "--example", "--noise-model", "x", "--extinction", "1/km"],
+            "--noise-model must be one of",
+        ),
+        (["atmosphere", "--range", "1km"], "give the path's extinction"),
+        (["atmosphere", "--range", "-1km", "--extinction", "1/km"], "must be >= 0"),
+    ],
+)
+def test_bad_signal_and_atmosphere_input(capsys, args, match):
+    code, _, err = run(capsys, *args)
+    assert code == 2
+    assert err.count("\n") == 1
+    assert re.search(match, err), err

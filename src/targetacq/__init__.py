@@ -11,9 +11,19 @@ from targetacq.acquisition import (
     effect_probability,
     probability,
 )
+from targetacq.atmosphere import (
+    extinction_from_visibility,
+    obscurant_extinction,
+    path_transmittance,
+    snr_from_transmittance,
+    transmittance,
+)
+from targetacq.bands import BANDS
+from targetacq.clutter import signal_to_clutter_ratio, terrain_clutter
 from targetacq.criteria import CRITERIA, TASKS, Criterion, get_criterion
 from targetacq.fusion import central_level_bounds, fuse
 from targetacq.geometry import critical_dimension, projected_extents, slant_range, solid_angle
+from targetacq.noise import NOISE_MODELS, effective_scr, noise_n50_factor
 from targetacq.optics import (
     cycles_on_target,
     diffraction_angle,
@@ -27,7 +37,9 @@ from targetacq.optics import (
     range_for_pixel_density,
     resolvable_cycle_angle,
 )
+from targetacq.radiometry import band_exitance, spectral_exitance
 from targetacq.ranges import dri_ranges
+from targetacq.scene import SceneAcquisition, scene_acquisition
 from targetacq.transforms import (
     TRANSFORMS,
     c2nveo,
@@ -44,12 +56,16 @@ from targetacq.transforms import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "BANDS",
     "CRITERIA",
+    "NOISE_MODELS",
     "TASKS",
     "TRANSFORMS",
     "Acquisition",
     "Criterion",
+    "SceneAcquisition",
     "acquisition_probabilities",
+    "band_exitance",
     "c2nveo",
     "c2nveo_inverse",
     "central_level_bounds",
@@ -60,6 +76,8 @@ __all__ = [
     "diffraction_spot",
     "dri_ranges",
     "effect_probability",
+    "effective_scr",
+    "extinction_from_visibility",
     "field_of_view",
     "fuse",
     "gaussian_psf",
@@ -67,17 +85,26 @@ __all__ = [
     "ifov",
     "ifov_from_field_of_view",
     "inverse_transform",
+    "noise_n50_factor",
+    "obscurant_extinction",
+    "path_transmittance",
     "pixels_per_metre",
     "probability",
     "projected_extents",
     "range_for_cycles",
     "range_for_pixel_density",
     "resolvable_cycle_angle",
+    "scene_acquisition",
     "schmieder_weathersby",
     "schmieder_weathersby_inverse",
+    "signal_to_clutter_ratio",
     "slant_range",
+    "snr_from_transmittance",
     "solid_angle",
+    "spectral_exitance",
+    "terrain_clutter",
     "transform",
+    "transmittance",
     "ttpf",
     "ttpf_inverse",
 ]

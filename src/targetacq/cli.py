@@ -18,7 +18,12 @@ import typer
 
 from targetacq import atmosphere, optics, radiometry, ranges
 from targetacq import clutter as clutter_module
-from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
+from targetacq.atmosphere import (
+    EXTINCTION_LEVELS,
+    OBSCURANTS,
+    VISIBILITY_CONVENTIONS,
+    np_per_km_to_db_per_km,
+)
 from targetacq.bands import BANDS, band_limits, band_name
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
 from targetacq.noise import NOISE_MODELS
@@ -437,6 +442,86 @@ def dri(
         "ranges": rows,
     }
     typer.echo(_render(report, output_format), nl=False)
+
+
+@app.command("atmosphere")
+def atmosphere_command(
+    range_: Annotated[
+        str, typer.Option("--range", help="Path length(s), comma-separated, e.g. 1km,2km,5km.")
+    ],
+    band: Annotated[
+        str | None, typer.Option(help=f"Sensor band: {', '.join(BANDS)} or e.g. 8-12um.")
+    ] = None,
+    extinction: Annotated[
+        str | None, typer.Option(help="Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.")
+    ] = None,
+    obscurant: Annotated[
+        str | None,
+        typer.Option(help=f"Table 7.1 obscurant[:low|nominal|high]: {', '.join(OBSCURANTS)}."),
+    ] = None,
+    visibility: Annotated[
+        str | None, typer.Option(help="Visibility (visible band), e.g. 7.5km.")
+    ] = None,
+    visibility_convention: Annotated[
+        str | None,
+        typer.Option(help=f"Visibility convention: {', '.join(VISIBILITY_CONVENTIONS)}."),
+    ] = None,
+    output_format: Annotated[
+        str, typer.Option("--format", help=f"Output: {', '.join(FORMATS)}.")
+    ] = "table",
+) -> None:
+    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path."""
+    _choice(output_format, FORMATS, "--format")
+    lengths = [parse_quantity(part, "length", "--range") for part in range_.split(",")]
+    if not all(r >= 0 for r in lengths):
+        raise ValueError(f"--range must be >= 0; got {range_!r}")
+    path = _path(
+        extinction, obscurant, visibility, visibility_convention, _band(band) if band else None
+    )
+    if not path:
+        raise ValueError("give the path's extinction: --extinction, --obscurant or --visibility")
+    gamma = path["extinction_np_per_m"]
+    rows = []
+    for r in lengths:
+        tau = float(atmosphere.transmittance(gamma, r))
+        snr = float(atmosphere.snr_from_transmittance(tau))
+        rows.append(
+            {
+                "range_m": r,
+                "transmittance": tau,
+                "snr_db": snr if math.isfinite(snr) else None,
+                "snr": "+inf"
+                if snr == math.inf
+                else ("-inf" if snr == -math.inf else f"{snr:.4g}"),
+            }
+        )
+    report = {"path": path, "rows": rows}
+    if output_format == "json":
+        typer.echo(json.dumps(report, indent=2))
+        return
+    if output_format == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(
+            buffer,
+            fieldnames=["range_m", "transmittance", "snr_db"],
+            lineterminator="\n",
+            extrasaction="ignore",
+        )
+        writer.writeheader()
+        writer.writerows(rows)
+        typer.echo(buffer.getvalue(), nl=False)
+        return
+    lines = [
+        f"extinction {path['extinction_np_per_km']:.4g} Np/km "
+        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): {path['term']}, "
+        f"visual range {path['visual_range']} (Table 7.2); {path['source']}",
+        "",
+        f"{'range [m]':>12}  {'τ':>10}  {'SNR [dB]':>10}",
+    ]
+    lines += [
+        f"{row['range_m']:>12,.0f}  {row['transmittance']:>10.4g}  {row['snr']:>10}" for row in rows
+    ]
+    typer.echo("\n".join(lines))
 
 
 def _render(report: dict[str, Any], output_format: str) -> str:

@@ -78,10 +78,12 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     xp, (c, s) = _arrays.arrays(scr, snr)
     _arrays.require_nonnegative("scr", c, xp)
     lin = 10.0 ** (s / 20.0)
-    inv_sq = xp.where(c > 0, 1.0 / xp.where(c > 0, c, 1.0) ** 2, xp.inf) + xp.where(
-        lin > 0, 1.0 / xp.where(lin > 0, lin, 1.0) ** 2, xp.inf
-    )
-    combined = xp.where(inv_sq > 0, 1.0 / xp.sqrt(xp.where(inv_sq > 0, inv_sq, 1.0)), xp.inf)
+    # R = a / sqrt(1 + (a/b)²) with a = min, b = max of the two ratios: no overflow for tiny or
+    # infinite ratios (1/R² = 1/a² + 1/b²).
+    a, b = xp.minimum(c, lin), xp.maximum(c, lin)
+    usable = (b > 0) & xp.isfinite(b)
+    ratio = xp.where(usable, xp.where(usable, a, 0.0) / xp.where(usable, b, 1.0), 0.0)
+    combined = a / xp.sqrt(1.0 + ratio * ratio)
     exact = xp.where(xp.isinf(s) & (s > 0), c, combined)
     return _arrays.result(xp.where(xp.isnan(s), s, exact))
 

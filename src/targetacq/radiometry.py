@@ -92,14 +92,17 @@ def _tail_large(x: Any, xp: Any) -> Any:
     x_min = float(xp.min(finite)) if finite.size else _SMALL_X
     terms = max(1, math.ceil(37.5 / x_min))
     decay = xp.exp(-finite)
-    power = xp.ones_like(finite)
-    x2 = finite * finite
-    x3 = x2 * finite
-    acc = xp.zeros_like(finite)
-    for n in range(1, terms + 1):
+    power = decay
+    # Σ_n e^{-nx}(x³/n + 3x²/n² + 6x/n³ + 6/n⁴) = x³ S1 + 3x² S2 + 6x S3 + 6 S4,
+    # with S_k = Σ_n e^{-nx} / n^k.
+    s1, s2, s3, s4 = power, power, power, power
+    for n in range(2, terms + 1):
         power = power * decay
-        acc = acc + power * (x3 / n + 3.0 * x2 / n**2 + 6.0 * finite / n**3 + 6.0 / n**4)
-    return acc
+        s1 = s1 + power / n
+        s2 = s2 + power / n**2
+        s3 = s3 + power / n**3
+        s4 = s4 + power / n**4
+    return ((finite * s1 + 3.0 * s2) * finite + 6.0 * s3) * finite + 6.0 * s4
 
 
 def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
@@ -113,11 +116,18 @@ def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
 
 def _band_integral_planck(x_short: Any, x_long: Any, xp: Any) -> Any:
     """∫_{x_long}^{x_short} t³/(e^t−1) dt (x_short = c2/(λ1 T) >= x_long = c2/(λ2 T))."""
+    # Each series is evaluated only where some element needs it (most bands need one only).
+    small_long_any = bool(xp.any(x_long < _SMALL_X))
+    large_short_any = bool(xp.any(x_short >= _SMALL_X))
+    if not small_long_any:  # both ends in the large-x series
+        return _tail_large(x_long, xp) - _tail_large(x_short, xp)
+    small_long = _partial_small(xp.minimum(x_long, _SMALL_X), xp)
+    tail_long = xp.where(x_long < _SMALL_X, _Q0 - small_long, _tail_large(x_long, xp))
+    if not large_short_any:  # both ends in the small-x series: no large constant cancels
+        return _partial_small(xp.minimum(x_short, _SMALL_X), xp) - small_long
     both_small = x_short < _SMALL_X
     small_short = _partial_small(xp.minimum(x_short, _SMALL_X), xp)
-    small_long = _partial_small(xp.minimum(x_long, _SMALL_X), xp)
     tail_short = xp.where(both_small, 0.0, _tail_large(x_short, xp))
-    tail_long = xp.where(x_long < _SMALL_X, _Q0 - small_long, _tail_large(x_long, xp))
     return xp.where(both_small, small_short - small_long, tail_long - tail_short)
 
 
@@ -201,10 +211,14 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
     low, high = band_limits(band)
     xp, (t,) = _arrays.arrays(temperature)
     _arrays.require_nonnegative("temperature", t, xp, "K")
-    x_short, x_long = _x_of(low, t, xp), _x_of(high, t, xp)
-    integral = BAND_EXITANCE_METHODS[method](x_short, x_long, xp)
-    t2 = t * t
-    return _arrays.result(_BAND_CONSTANT * t2 * t2 * integral)
+    integrate = BAND_EXITANCE_METHODS[method]
+
+    def kernel(part: Any) -> Any:
+        integral = integrate(_x_of(low, part, xp), _x_of(high, part, xp), xp)
+        t2 = part * part
+        return _BAND_CONSTANT * t2 * t2 * integral
+
+    return _arrays.result(_arrays.chunked_elementwise(kernel, t))
 
 
 def band_exitance_derivative(temperature: Any, band: Any) -> Any:

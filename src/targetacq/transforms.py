@@ -49,6 +49,8 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 from targetacq._arrays import Array
 from targetacq.tables import load_table
@@ -179,7 +181,7 @@ def ttpf_inverse(probability: Any, n50: Any) -> Any:
 # --------------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class _Curve:
     """A monotone curve through printed points (N_i > 0 ascending, P_i non-decreasing)."""
 
@@ -198,8 +200,18 @@ class _Curve:
             raise ValueError(f"table curve is not monotone: {points}")
         return cls(tuple(ns), tuple(ps))
 
+    @functools.cached_property
+    def _strict(self) -> bool:
+        return all(b > a for a, b in itertools.pairwise(self.cycles))
+
     def forward(self, n: Array, xp: Any) -> Array:
         ns, ps = self.cycles, self.probabilities
+        if isinstance(n, np.ndarray) and self._strict:
+            # NumPy fast path: the same piecewise-linear curve in log N by np.interp.
+            with np.errstate(divide="ignore"):
+                u = np.log(n)
+            out = np.interp(u, np.log(ns), ps)
+            return np.where(n < ns[0], ps[0] * n / ns[0], out)
         u = xp.log(xp.where(n > 0, n, 1.0))
         out = xp.where(n >= ns[-1], ps[-1], xp.zeros_like(n))
         out = xp.where(n < ns[0], ps[0] * n / ns[0], out)

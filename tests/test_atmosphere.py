@@ -1,0 +1,144 @@
+"""Atmosphere: Beer–Lambert (7.1)–(7.4), Tables 7.1–7.2, segments, SNR (7.5)–(7.7)."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import targetacq as ta
+from targetacq import atmosphere
+
+# Table 7.1, Sonesson (2004) p. 42, Np/km: (obscurant, band) → (low, high).
+TABLE_7_1 = {
+    ("gases", "visible"): (0.02, 0.02),
+    ("gases", "mwir"): (0.25, 0.73),
+    ("gases", "lwir"): (0.03, 0.8),
+    ("haze", "visible"): (0.2, 2.0),
+    ("haze", "mwir"): (0.02, 1.0),
+    ("haze", "lwir"): (0.02, 0.4),
+    ("fog", "visible"): (2.0, 20),
+    ("fog", "mwir"): (1.0, 20),
+    ("fog", "lwir"): (0.4, 20),
+    ("rain", "visible"): (0.3, 1.6),
+    ("rain", "mwir"): (0.3, 1.6),
+    ("rain", "lwir"): (0.3, 1.6),
+    ("snow", "visible"): (2.0, 12),
+    ("snow", "mwir"): (2.0, 12),
+    ("snow", "lwir"): (2.0, 12),
+    ("dust", "visible"): (0.2, 4.0),
+    ("dust", "mwir"): (0.2, 4.0),
+    ("dust", "lwir"): (0.2, 4.0),
+}
+
+
+def test_table_7_1():
+    for (obscurant, band), (low, high) in TABLE_7_1.items():
+        assert atmosphere.obscurant_extinction(obscurant, band, "low") == pytest.approx(low / 1000)
+        assert atmosphere.obscurant_extinction(obscurant, band, "high") == pytest.approx(
+            high / 1000
+        )
+        nominal = atmosphere.obscurant_extinction(obscurant, band)
+        assert nominal == pytest.approx(math.sqrt(low * high) / 1000)
+
+
+@pytest.mark.parametrize(
+    ("np_per_km", "term", "visual"),
+    [  # Table 7.2
+        (0.05, "very low", "> 30 km, very clear"),
+        (0.3, "low", "6 - 30 km, clear to hazy"),
+        (1.0, "medium", "2 - 6 km, hazy"),
+        (5.0, "high", "< 2 km, foggy"),
+        (0.1, "low", "6 - 30 km, clear to hazy"),
+    ],
+)
+def test_table_7_2_terms(np_per_km, term, visual):
+    assert atmosphere.extinction_term(np_per_km / 1000) == (term, visual)
+
+
+def test_beer_lambert():
+    assert ta.transmittance(0.4e-3, 0.0) == 1.0  # τ(0) = 1
+    assert ta.transmittance(0.4e-3, 2500.0) == pytest.approx(math.exp(-1.0))  # (7.3)
+
+
+@given(st.lists(st.tuples(st.floats(0, 1e-2), st.floats(0, 1e4)), min_size=1, max_size=6))
+def test_path_through_segments_is_the_product(segments):
+    gammas = np.array([g for g, _ in segments])
+    lengths = np.array([r for _, r in segments])
+    product = np.prod([ta.transmittance(g, r) for g, r in segments])
+    assert atmosphere.path_transmittance(gammas, lengths) == pytest.approx(
+        product, rel=1e-12, abs=1e-300
+    )
+
+
+def test_local_cloud_over_part_of_the_path():
+    tau = atmosphere.cloud_transmittance(0.2e-3, 3000.0, 5e-3, 50.0)
+    assert tau == pytest.approx(math.exp(-0.2e-3 * 3000) * math.exp(-5e-3 * 50))
+    # A cloud longer than the path covers only the path.
+    assert atmosphere.cloud_transmittance(0.0, 10.0, 1e-2, 100.0) == pytest.approx(math.exp(-0.1))
+
+
+def test_band_mean_transmittance_eq_7_4():
+    lam = np.linspace(8e-6, 12e-6, 4001)
+    flat = np.full_like(lam, 0.3e-3)
+    assert atmosphere.band_transmittance(flat, lam, 2000.0) == pytest.approx(
+        ta.transmittance(0.3e-3, 2000.0)
+    )
+    # γ linear in λ from a to b: the mean of exp(−γR) is (e^{−aR} − e^{−bR}) / ((b − a) R).
+    a, b, r = 0.1e-3, 0.9e-3, 3000.0
+    linear = a + (b - a) * (lam - lam[0]) / (lam[-1] - lam[0])
+    exact = (math.exp(-a * r) - math.exp(-b * r)) / ((b - a) * r)
+    assert atmosphere.band_transmittance(linear, lam, r) == pytest.approx(exact, rel=1e-6)
+
+
+def test_snr_from_transmittance_eqs_7_6_7_7():
+    assert ta.snr_from_transmittance(0.5) == pytest.approx(0.0, abs=1e-14)
+    assert ta.snr_from_transmittance(1.0) == math.inf
+    assert ta.snr_from_transmittance(0.0) == -math.inf
+    gamma, r = 0.3e-3, 1500.0
+    tau = ta.transmittance(gamma, r)
+    assert ta.snr_from_transmittance(tau) == pytest.approx(
+        -20 * math.log10(math.exp(gamma * r) - 1)
+    )
+
+
+def test_db_per_km_erratum():
+    # 1 dB/km = 0.2303 Np/km (MODEL.md erratum to "Np/km = 0.23 dB/km").
+    assert atmosphere.db_per_km_to_np_per_km(1.0) == pytest.approx(0.2303, abs=5e-5)
+    assert atmosphere.np_per_km_to_db_per_km(1.0) == pytest.approx(4.343, abs=5e-4)
+    assert atmosphere.np_per_km_to_db_per_km(
+        atmosphere.db_per_km_to_np_per_km(7.0)
+    ) == pytest.approx(7.0)
+
+
+def test_visibility_conventions():
+    assert ta.extinction_from_visibility(10e3, convention="koschmieder") == pytest.approx(
+        3.912e-4, abs=5e-8
+    )
+    assert ta.extinction_from_visibility(10e3, convention="mor") == pytest.approx(
+        2.996e-4, abs=5e-8
+    )
+    assert atmosphere.visibility_from_extinction(3.912e-4, "koschmieder") == pytest.approx(
+        10e3, rel=1e-4
+    )
+    with pytest.raises(ValueError, match="needs its convention"):
+        ta.extinction_from_visibility(10e3)
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: ta.transmittance(-1e-3, 100.0), "extinction must be >= 0"),
+        (lambda: ta.transmittance(1e-3, -100.0), "range must be >= 0"),
+        (lambda: atmosphere.obscurant_extinction("smoke", "lwir"), "unknown obscurant 'smoke'"),
+        (lambda: atmosphere.obscurant_extinction("fog", "swir"), "unknown band"),
+        (lambda: atmosphere.obscurant_extinction("fog", "lwir", "max"), "level must be one of"),
+        (lambda: ta.extinction_from_visibility(1e3, convention="wmo"), "convention must be one of"),
+        (lambda: ta.snr_from_transmittance(1.5), r"tau must be in \[0, 1\]"),
+        (lambda: atmosphere.extinction_term(-1.0), "extinction must be >= 0"),
+    ],
+)
+def test_bad_atmosphere_input(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

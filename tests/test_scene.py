@@ -1,0 +1,134 @@
+"""scene_acquisition: physics to probabilities adds nothing of its own."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import targetacq as ta
+from targetacq import radiometry
+
+
+def test_scene_equals_the_chain_of_lower_level_functions():
+    r = np.array([500.0, 2000.0, 5000.0])
+    d, ifov, gamma = 2.3, 2.27e-4, 0.3e-3
+    got = ta.scene_acquisition(
+        r, d, ifov, "lwir", 305.0, 295.0, target_emissivity=0.9, clutter_std=2.0, extinction=gamma
+    )
+    n = ta.cycles_on_target(d, r, ifov)
+    m_t = 0.9 * ta.band_exitance(305.0, "lwir")
+    m_b = ta.band_exitance(295.0, "lwir")
+    scr = ta.signal_to_clutter_ratio(m_t, m_b, 2.0)
+    snr = ta.snr_from_transmittance(ta.transmittance(gamma, r))
+    acq = ta.acquisition_probabilities(n, scr=scr, snr=snr)
+    np.testing.assert_allclose(got.cycles, n)
+    np.testing.assert_allclose(got.contrast, abs(m_t - m_b))
+    np.testing.assert_allclose(got.scr, scr)
+    np.testing.assert_allclose(got.snr, snr)
+    for task in ("detection", "recognition", "identification", "effect"):
+        np.testing.assert_allclose(getattr(got, task), getattr(acq, task))
+
+
+def test_no_atmosphere_no_clutter_is_exactly_the_core_model():
+    r = np.linspace(100.0, 8000.0, 50)
+    got = ta.scene_acquisition(r, 2.3, 2e-4, "mwir", 310.0, 290.0)
+    core = ta.acquisition_probabilities(ta.cycles_on_target(2.3, r, 2e-4))
+    for task in ("detection", "recognition", "identification"):
+        np.testing.assert_array_equal(getattr(got, task), getattr(core, task))
+
+
+@given(st.floats(100, 2e4), st.floats(0, 5e-3), st.floats(0, 5e-3), st.floats(0.1, 20))
+def test_non_increasing_in_extinction(r, g1, g2, clutter):
+    low, high = sorted((g1, g2))
+    a = ta.scene_acquisition(
+        r, 2.3, 2e-4, "lwir", 300.0, 295.0, clutter_std=clutter, extinction=low
+    )
+    b = ta.scene_acquisition(
+        r, 2.3, 2e-4, "lwir", 300.0, 295.0, clutter_std=clutter, extinction=high
+    )
+    for task in ("detection", "recognition", "identification"):
+        assert getattr(b, task) <= getattr(a, task) + 1e-15
+
+
+@given(st.floats(100, 2e4), st.floats(100, 2e4), st.floats(0, 3e-3), st.floats(0.1, 20))
+def test_non_increasing_in_range(r1, r2, gamma, clutter):
+    near, far = sorted((r1, r2))
+    a = ta.scene_acquisition(
+        near, 2.3, 2e-4, "lwir", 300.0, 295.0, clutter_std=clutter, extinction=gamma
+    )
+    b = ta.scene_acquisition(
+        far, 2.3, 2e-4, "lwir", 300.0, 295.0, clutter_std=clutter, extinction=gamma
+    )
+    for task in ("detection", "recognition", "identification"):
+        assert getattr(b, task) <= getattr(a, task) + 1e-15
+
+
+def test_broadcasting_over_all_inputs():
+    got = ta.scene_acquisition(
+        np.array([1000.0, 2000.0])[:, None, None],
+        2.3,
+        2e-4,
+        "lwir",
+        np.array([300.0, 310.0])[None, :, None],
+        295.0,
+        clutter_std=np.array([0.5, 5.0, 50.0]),
+        extinction=0.2e-3,
+    )
+    for name in (
+        "cycles",
+        "contrast",
+        "scr",
+        "snr",
+        "transmittance",
+        "detection",
+        "identification",
+    ):
+        assert np.shape(getattr(got, name)) == (2, 2, 3)
+
+
+def test_visible_band_uses_reflected_light():
+    e_sun = 500.0
+    got = ta.scene_acquisition(
+        1000.0,
+        2.3,
+        1e-4,
+        "visible",
+        0.0,
+        0.0,
+        target_exitance=radiometry.reflected_exitance(0.75, e_sun),
+        background_exitance=radiometry.reflected_exitance(0.1, e_sun),
+        clutter_std=20.0,
+    )
+    assert got.contrast == pytest.approx(0.65 * e_sun)
+    assert got.scr == pytest.approx(0.65 * e_sun / 20.0)
+
+
+def test_contrast_below_quantisation_is_invisible():
+    step = radiometry.quantisation_step(8, 255.0)  # 1 W/m² per level
+    faint = ta.scene_acquisition(500.0, 2.3, 2e-4, "lwir", 300.1, 300.0, quantisation_step=step)
+    assert faint.contrast < 1.0
+    assert faint.detection == 0.0
+    clear = ta.scene_acquisition(500.0, 2.3, 2e-4, "lwir", 310.0, 300.0, quantisation_step=step)
+    assert clear.detection > 0.9
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"target_emissivity": 2.0}, r"target_emissivity must be in \[0, 1\]"),
+        ({"extinction": -1e-3}, "extinction must be >= 0"),
+        ({"scr": 3.0, "clutter_std": 1.0}, "at most one of"),
+        ({"clutter_std": -1.0}, "clutter must be >= 0"),
+    ],
+)
+def test_bad_scene_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", 300.0, 290.0, **kwargs)
+
+
+def test_negative_temperature_is_an_error():
+    with pytest.raises(ValueError, match="temperature must be >= 0"):
+        ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", -3.0, 290.0)
+    assert math.isfinite(ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", 0.0, 290.0).contrast)

@@ -313,3 +313,48 @@ def test_bad_signal_and_atmosphere_input(capsys, args, match):
     assert code == 2
     assert err.count("\n") == 1
     assert re.search(match, err), err
+
+
+# --- plots and report ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["plot", "curves", "--example", "--band", "lwir", "--obscurant", "haze"],
+        ["plot", "transforms", "--criterion", "johnson-truck"],
+        ["plot", "atmosphere", "--band", "mwir", "--max-range", "5km"],
+    ],
+)
+def test_plot_writes_a_png(capsys, tmp_path, args):
+    out = tmp_path / "figure.png"
+    code, text, _ = run(capsys, *args, "--out", str(out))
+    assert code == 0
+    assert out.stat().st_size > 10_000
+    assert str(out) in text
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (["plot", "bars", "--out", "x.png"], "plot kind must be one of curves, transforms"),
+        (["plot", "curves", "--example", "--out", "/no/such/folder/x.png"], "does not exist"),
+        (["plot", "curves", "--example", "--out", "x.gif"], r"\.png or \.svg"),
+        (["plot", "transforms", "--pitch", "17um", "--out", "x.png"], "does not use --pitch"),
+        (
+            ["plot", "curves", "--example", "--probability", "1.2", "--out", "x.png"],
+            "open interval",
+        ),
+        (["report", "--example", "--out", "/no/such/folder/r.html"], "does not exist"),
+        (
+            ["report", "--example", "--criterion", "en62676-4", "--out", "r.html"],
+            "needs a criterion",
+        ),
+    ],
+)
+def test_bad_plot_and_report_input(capsys, tmp_path, monkeypatch, args, match):
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(capsys, *args)
+    assert code == 2
+    assert err.count("\n") == 1
+    assert re.search(match, err), err

@@ -22,14 +22,17 @@ reached the range is NaN; where no resolution is needed (a moving target's detec
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
+from difflib import get_close_matches
 from typing import Any
 
 from targetacq import _arrays, atmosphere, optics
 from targetacq import transforms as _transforms
+from targetacq.acquisition import acquisition_probabilities
 from targetacq.acquisition import probability as task_probability
 from targetacq.criteria import Criterion, get_criterion
 
-__all__ = ["dri_ranges"]
+__all__ = ["CASE_KEYS", "RangePerformance", "case_probabilities", "dri_ranges", "range_performance"]
 
 _BRACKET = 1e-12  # lower end of the search, relative to the noise-free range
 
@@ -193,3 +196,191 @@ def _order(ranges: dict[str, Any]) -> None:
             xp, (r, b) = _arrays.arrays(ranges[task], ranges[before])
             capped = xp.minimum(r, b)
             ranges[task] = xp.where(xp.isnan(b) | xp.isnan(r), xp.nan + 0.0 * capped, capped)
+
+
+# --- range-performance curves ---------------------------------------------------------------
+
+CASE_KEYS: tuple[str, ...] = (
+    "critical_dimension",
+    "ifov",
+    "criterion",
+    "transform",
+    "extinction",
+    "scr",
+    "region",
+    "hot_spot",
+    "moving",
+    "noise_model",
+    "wavelength",
+    "aperture",
+    "blur_sigma",
+    "options",
+)
+"""Keys of one case of :func:`range_performance` (``options``: the transform's options)."""
+
+_DRI_TASKS = ("detection", "recognition", "identification")
+
+
+@dataclass(frozen=True)
+class RangePerformance:
+    """Range-performance curves and DRI ranges for one or several cases.
+
+    Attributes
+    ----------
+    curves : xarray.Dataset
+        Dims ``(case, range)``; variables ``detection``, ``recognition``, ``identification``
+        (ordered probabilities), ``cycles`` [cycles], ``transmittance`` and ``snr`` [dB]; the
+        ``range`` coordinate in metres.
+    dri : pandas.DataFrame
+        One row per case, task and probability: ``range_m`` (NaN where never reached) and
+        ``reached``.
+    cases : Mapping[str, Mapping[str, Any]]
+        The inputs of each case, as given.
+    """
+
+    curves: Any
+    dri: Any
+    cases: Mapping[str, Mapping[str, Any]]
+
+
+def _check_case(label: str, case: Mapping[str, Any]) -> None:
+    unknown = [key for key in case if key not in CASE_KEYS]
+    if unknown:
+        hints = [
+            f"{key!r} (did you mean {close[0]!r}?)"
+            if (close := get_close_matches(key, CASE_KEYS, 1))
+            else repr(key)
+            for key in unknown
+        ]
+        raise ValueError(
+            f"case {label!r}: unknown key(s) {', '.join(hints)}; valid keys: {', '.join(CASE_KEYS)}"
+        )
+    for key in ("critical_dimension", "ifov"):
+        if key not in case:
+            raise ValueError(f"case {label!r} needs {key!r}")
+
+
+def case_probabilities(range: Any, case: Mapping[str, Any]) -> tuple[Any, Any, Any, Any]:
+    """Cycles, transmittance, SNR and the ordered probabilities of one case at ranges.
+
+    Returns
+    -------
+    cycles, transmittance, snr, acquisition
+        The last is a :class:`targetacq.acquisition.Acquisition`.
+    """
+    n = optics.cycles_on_target(
+        case["critical_dimension"],
+        range,
+        case["ifov"],
+        wavelength=case.get("wavelength"),
+        aperture=case.get("aperture"),
+        blur_sigma=case.get("blur_sigma"),
+    )
+    extinction = case.get("extinction")
+    tau = atmosphere.transmittance(0.0 if extinction is None else extinction, range)
+    snr = atmosphere.snr_from_transmittance(tau)
+    acq = acquisition_probabilities(
+        n,
+        case.get("criterion", "johnson"),
+        case.get("transform", "ttpf"),
+        scr=case.get("scr"),
+        region=case.get("region"),
+        hot_spot=case.get("hot_spot", False),
+        moving=case.get("moving", False),
+        snr=None if extinction is None else snr,
+        noise_model=case.get("noise_model", "variance-sum"),
+        **case.get("options", {}),
+    )
+    return n, tau, snr, acq
+
+
+def range_performance(
+    range: Any,
+    cases: Mapping[str, Mapping[str, Any]],
+    probabilities: Any = (0.5, 0.8, 0.95),
+    tolerance: float = 1e-9,
+) -> RangePerformance:
+    """Probabilities of detection, recognition and identification against range, per case.
+
+    Parameters
+    ----------
+    range : array_like
+        1-D grid of slant ranges [m], > 0.
+    cases : mapping
+        Label → case; a case is a mapping with the keys of :data:`CASE_KEYS`
+        (``critical_dimension`` [m] and ``ifov`` [rad] required; the rest as in
+        :func:`dri_ranges`). Several sensors, targets or weather cases side by side.
+    probabilities : sequence of float
+        Probabilities, in (0, 1), for the DRI table.
+    tolerance : float
+        Relative range tolerance of the DRI solver.
+
+    Returns
+    -------
+    RangePerformance
+    """
+    import numpy as np
+    import pandas as pd
+    import xarray as xr
+
+    grid = np.asarray(range, dtype=float)
+    if grid.ndim != 1 or grid.size < 2:
+        raise ValueError("range must be a 1-D grid of at least 2 ranges [m]")
+    if not cases:
+        raise ValueError("cases must name at least one case")
+    probs = np.asarray(probabilities, dtype=float).reshape(-1)
+    _arrays.require_open_unit_interval("probabilities", probs, _arrays.namespace())
+    curves, rows = [], []
+    for label, case in cases.items():
+        _check_case(label, case)
+        n, tau, snr, acq = case_probabilities(grid, case)
+        curves.append(
+            xr.Dataset(
+                {
+                    "detection": ("range", np.asarray(acq.detection)),
+                    "recognition": ("range", np.asarray(acq.recognition)),
+                    "identification": ("range", np.asarray(acq.identification)),
+                    "cycles": ("range", np.asarray(n)),
+                    "transmittance": ("range", np.broadcast_to(tau, grid.shape).copy()),
+                    "snr": ("range", np.broadcast_to(snr, grid.shape).copy()),
+                },
+                coords={"range": grid},
+            )
+        )
+        found = dri_ranges(
+            case["critical_dimension"],
+            case["ifov"],
+            case.get("criterion", "johnson"),
+            probability=probs,
+            transform=case.get("transform", "ttpf"),
+            extinction=case.get("extinction"),
+            scr=case.get("scr"),
+            region=case.get("region"),
+            hot_spot=case.get("hot_spot", False),
+            moving=case.get("moving", False),
+            noise_model=case.get("noise_model", "variance-sum"),
+            wavelength=case.get("wavelength"),
+            aperture=case.get("aperture"),
+            blur_sigma=case.get("blur_sigma"),
+            tolerance=tolerance,
+            **case.get("options", {}),
+        )
+        for task in _DRI_TASKS:
+            if task not in found:
+                continue
+            values = np.broadcast_to(found[task], probs.shape)
+            for p, r in zip(probs, values, strict=True):
+                rows.append(
+                    {
+                        "case": label,
+                        "task": task,
+                        "probability": float(p),
+                        "range_m": float(r),
+                        "reached": not np.isnan(r),
+                    }
+                )
+    dataset = xr.concat(curves, dim=pd.Index(list(cases), name="case"))
+    dataset["range"].attrs["units"] = "m"
+    dataset["snr"].attrs["units"] = "dB"
+    dataset["cycles"].attrs["units"] = "cycles"
+    return RangePerformance(curves=dataset, dri=pd.DataFrame(rows), cases=dict(cases))

@@ -8,6 +8,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from targetacq.cli import main
@@ -358,3 +359,90 @@ def test_bad_plot_and_report_input(capsys, tmp_path, monkeypatch, args, match):
     assert code == 2
     assert err.count("\n") == 1
     assert re.search(match, err), err
+
+
+# --- clutter --------------------------------------------------------------------------------------
+
+CAMERA = str(Path(__file__).parent / "data" / "camera.png")
+
+
+def test_clutter_command_json_and_overlay(capsys, tmp_path):
+    boxes = tmp_path / "boxes.csv"
+    boxes.write_text("x,y,width,height\n228,470,24,24\n")
+    overlay = tmp_path / "overlay.png"
+    code, out, _ = run(
+        capsys,
+        "clutter",
+        CAMERA,
+        "--box",
+        "412,118,20,20",
+        "--boxes",
+        str(boxes),
+        "--overlay",
+        str(overlay),
+        "--format",
+        "json",
+    )
+    assert code == 0
+    targets = json.loads(out)["targets"]
+    assert [t["box"] for t in targets] == ["412,118,20,20", "228,470,24,24"]
+    assert targets[0]["scr_negative"] > targets[1]["scr_negative"]
+    assert targets[0]["cycles"] == 10.0  # box's smaller side / 2 pixels per cycle
+    assert 0 <= targets[0]["p_detection"] <= 1
+    assert overlay.stat().st_size > 1000
+
+
+def test_clutter_probability_at_another_range(capsys):
+    near = json.loads(
+        run(capsys, "clutter", CAMERA, "--box", "228,470,24,24", "--format", "json")[1]
+    )
+    far = json.loads(
+        run(
+            capsys,
+            "clutter",
+            CAMERA,
+            "--box",
+            "228,470,24,24",
+            "--image-range",
+            "1km",
+            "--range",
+            "12km",
+            "--format",
+            "json",
+        )[1]
+    )
+    assert far["targets"][0]["cycles"] == pytest.approx(1.0)
+    assert far["targets"][0]["p_detection"] < near["targets"][0]["p_detection"]
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        ([CAMERA, "--box", "600,1,2,2"], "leaves the 512 x 512 image"),
+        ([CAMERA, "--box", "1,1,0,2"], "zero or negative size"),
+        ([CAMERA, "--box", "1,1,2"], "x,y,width,height"),
+        ([CAMERA], "at least one target"),
+        (["/no/such.png", "--box", "1,1,2,2"], "no image file"),
+        ([__file__, "--box", "1,1,2,2"], "cannot read"),
+        ([CAMERA, "--box", "1,1,2,2", "--overlay", "/no/dir/o.png"], "does not exist"),
+        ([CAMERA, "--box", "1,1,2,2", "--range", "3km"], "go together"),
+    ],
+)
+def test_bad_clutter_input(capsys, args, match):
+    code, _, err = run(capsys, "clutter", *args)
+    assert code == 2
+    assert err.count("\n") == 1
+    assert re.search(match, err), err
+
+
+def test_colour_image_needs_channel_on_cli(capsys, tmp_path):
+    from PIL import Image
+
+    rgb = tmp_path / "rgb.png"
+    Image.fromarray(np.zeros((20, 20, 3), dtype=np.uint8)).save(rgb)
+    code, _, err = run(capsys, "clutter", str(rgb), "--box", "5,5,4,4")
+    assert code == 2
+    assert "needs a channel" in err
+    code, out, _ = run(capsys, "clutter", str(rgb), "--box", "5,5,4,4", "--channel", "luminance")
+    assert "low" in out or "high" in out
+    assert code == 0

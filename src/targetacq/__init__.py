@@ -19,7 +19,7 @@ from targetacq.atmosphere import (
     transmittance,
 )
 from targetacq.bands import BANDS
-from targetacq.clutter import signal_to_clutter_ratio, terrain_clutter
+from targetacq.clutter import image_clutter, signal_to_clutter_ratio, terrain_clutter
 from targetacq.criteria import CRITERIA, TASKS, Criterion, get_criterion
 from targetacq.fusion import central_level_bounds, fuse
 from targetacq.geometry import critical_dimension, projected_extents, slant_range, solid_angle
@@ -84,6 +84,7 @@ __all__ = [
     "get_criterion",
     "ifov",
     "ifov_from_field_of_view",
+    "image_clutter",
     "inverse_transform",
     "noise_n50_factor",
     "obscurant_extinction",

@@ -323,3 +323,36 @@ def snr_from_transmittance(tau: Any) -> Any:
     snr = 20.0 * (xp.log10(safe) - xp.log10(1.0 - safe))
     snr = xp.where(t >= 1, xp.inf, xp.where(t <= 0, -xp.inf, snr))
     return _arrays.result(xp.where(xp.isnan(t), t, snr))
+
+
+def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
+    """Length of the segment from ``start`` to ``end`` inside a sphere [m].
+
+    Used for a local cloud crossed by a line of sight (:func:`cloud_transmittance`).
+
+    Parameters
+    ----------
+    start, end : array_like
+        (..., 3) segment ends [m].
+    center : array_like
+        (3,) sphere centre [m].
+    radius : float
+        [m], > 0.
+    """
+    import numpy as np
+
+    a = np.asarray(start, dtype=float)
+    b = np.asarray(end, dtype=float)
+    c = np.asarray(center, dtype=float)
+    d = b - a
+    length = np.linalg.norm(d, axis=-1)
+    safe = np.where(length > 0, length, 1.0)
+    u = d / safe[..., None]
+    m = a - c
+    bq = np.sum(m * u, axis=-1)
+    cq = np.sum(m * m, axis=-1) - radius * radius
+    disc = bq * bq - cq
+    root = np.sqrt(np.maximum(disc, 0.0))
+    t0 = np.clip(-bq - root, 0.0, length)
+    t1 = np.clip(-bq + root, 0.0, length)
+    return np.where((disc > 0) & (length > 0), t1 - t0, 0.0)

@@ -157,3 +157,106 @@ def critical_dimension(
     horizontal, vertical = projected_extents(length, width, height, aspect, depression)
     xp, (h, v) = _arrays.arrays(horizontal, vertical)
     return _arrays.result(CRITICAL_DIMENSION_METHODS[method](h, v, xp))
+
+
+def positions_at(times: Any, waypoint_times: Any, waypoint_positions: Any) -> Any:
+    """Positions along a path at times, linear between waypoints, held outside them.
+
+    Parameters
+    ----------
+    times : array_like
+        (n_t,) [s].
+    waypoint_times : array_like
+        (n_w,) increasing [s].
+    waypoint_positions : array_like
+        (n_w, 3) [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_t, 3) [m].
+    """
+    import numpy as np
+
+    t = np.asarray(times, dtype=float)
+    wt = np.asarray(waypoint_times, dtype=float)
+    wp = np.asarray(waypoint_positions, dtype=float)
+    return np.stack([np.interp(t, wt, wp[:, k]) for k in range(3)], axis=-1)
+
+
+def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, default: float) -> Any:
+    """Direction of motion (from north, clockwise) [rad] along a path; ``default`` where still."""
+    import numpy as np
+
+    t = np.asarray(times, dtype=float)
+    wt = np.asarray(waypoint_times, dtype=float)
+    wp = np.asarray(waypoint_positions, dtype=float)
+    leg = np.clip(np.searchsorted(wt, t, side="right") - 1, 0, len(wt) - 2)
+    d = wp[leg + 1] - wp[leg]
+    still = np.hypot(d[:, 0], d[:, 1]) == 0
+    return np.where(still, default, np.arctan2(d[:, 0], d[:, 1]))
+
+
+def viewing_angles(line_of_sight: Any, heading: Any) -> tuple[Any, Any, Any]:
+    """Range, aspect and depression of lines of sight from sensors to targets.
+
+    Parameters
+    ----------
+    line_of_sight : array_like
+        (..., 3) vectors from sensor to target [m] (x east, y north, z up).
+    heading : array_like
+        Target heading (long axis, from north clockwise) [rad], broadcasting with ``...``.
+
+    Returns
+    -------
+    range, aspect, depression : numpy.ndarray
+        Slant range [m]; horizontal angle between the line of sight and the long axis [rad];
+        the magnitude of the line of sight's angle to the horizontal [rad], in [0, π/2] (a box
+        looks the same from below as from above, for its outline).
+    """
+    import numpy as np
+
+    los = np.asarray(line_of_sight, dtype=float)
+    rng = np.linalg.norm(los, axis=-1)
+    azimuth = np.arctan2(los[..., 0], los[..., 1])
+    horizontal = np.hypot(los[..., 0], los[..., 1])
+    depression = np.abs(np.arctan2(los[..., 2], horizontal))
+    return rng, azimuth - heading, depression
+
+
+def in_field_of_view(line_of_sight: Any, forward: Any, field_of_view: tuple[float, float]) -> Any:
+    """Whether lines of sight fall inside a sensor's rectangular field of view.
+
+    The sensor frame: ``forward`` (the boresight), ``right`` = forward × up (horizontal),
+    ``up'`` = right × forward. A target is in view when it is in front and its horizontal and
+    vertical angles off the boresight are within half the fields of view.
+
+    Parameters
+    ----------
+    line_of_sight : array_like
+        (..., 3) [m].
+    forward : array_like
+        (..., 3) boresight directions, broadcasting with ``line_of_sight``.
+    field_of_view : (float, float)
+        Full horizontal and vertical fields of view [rad].
+    """
+    import numpy as np
+
+    los = np.asarray(line_of_sight, dtype=float)
+    f = np.asarray(forward, dtype=float)
+    f = f / np.linalg.norm(f, axis=-1, keepdims=True)
+    up = np.array([0.0, 0.0, 1.0])
+    right = np.cross(f, up)
+    norm = np.linalg.norm(right, axis=-1, keepdims=True)
+    # Looking straight down or up: any horizontal "right" will do.
+    right = np.where(norm > 1e-12, right / np.where(norm > 1e-12, norm, 1.0), [1.0, 0.0, 0.0])
+    up_sensor = np.cross(right, f)
+    ahead = np.sum(los * f, axis=-1)
+    across = np.sum(los * right, axis=-1)
+    vertical = np.sum(los * up_sensor, axis=-1)
+    half_h, half_v = field_of_view[0] / 2.0, field_of_view[1] / 2.0
+    return (
+        (ahead > 0)
+        & (np.abs(across) <= np.tan(half_h) * ahead)
+        & (np.abs(vertical) <= np.tan(half_v) * ahead)
+    )

@@ -20,6 +20,8 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "temperature": ("kelvin", "305 K, 22 degC"),
     "temperature difference": ("kelvin", "2 K, 0.05 K"),
     "extinction": ("1 / meter", "0.4 /km (Np/km), 1.7 dB/km"),
+    "time": ("second", "0.1 s, 60 s, 2 min"),
+    "irradiance": ("watt / meter ** 2", "500 W/m^2"),
 }
 """Quantity kinds accepted at the boundary: the SI unit they become and an example."""
 

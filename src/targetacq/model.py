@@ -1,0 +1,390 @@
+"""The orchestration object: a scenario evaluated for all sensors × targets × times at once.
+
+:class:`ModelChain` wires the topic modules together, like pvlib's ``ModelChain``; it holds no
+physics of its own (DESIGN.md §2). For each sensor–target–time triple:
+
+1. geometry: positions on their paths, line of sight, slant range, aspect and depression
+   (:mod:`targetacq.geometry`); the critical dimension is the smaller side of the target box as
+   seen, the vertical side shrunk by the visible fraction (a partly hidden target, §3.10);
+   a target outside the sensor's field of view has probability 0;
+2. optics: cycles on target ``N = d / (R · cycle)`` (:mod:`targetacq.optics`);
+3. radiometry and clutter: the contrast and SCR of each sensor–target pair
+   (:mod:`targetacq.radiometry`, :mod:`targetacq.clutter`);
+4. atmosphere: optical depth of the path (segments, local clouds), transmittance, SNR
+   (:mod:`targetacq.atmosphere`);
+5. transforms: ordered probabilities of detection, recognition and identification
+   (:func:`targetacq.acquisition_probabilities`), then sensor-level fusion over the sensors (8.4).
+
+:meth:`ModelChain.evaluate_chunks` yields the results chunk by chunk (targets × times), so a run
+over 10⁸ triples or more stays in bounded memory.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from targetacq import atmosphere, geometry, optics, radiometry
+from targetacq.acquisition import acquisition_probabilities
+from targetacq.clutter import signal_to_clutter_ratio
+from targetacq.criteria import get_criterion
+from targetacq.fusion import fuse
+from targetacq.scenario import Scenario
+
+__all__ = ["ModelChain", "Results", "evaluate"]
+
+_TASKS = ("detection", "recognition", "identification")
+OUTPUT_FORMATS = ("csv", "json", "parquet")
+
+
+@dataclass(frozen=True)
+class Results:
+    """Evaluation results.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Dims ``(sensor, target, time)`` for the per-sensor variables (range [m],
+        critical_dimension [m], cycles, in_view, transmittance, snr [dB], detection,
+        recognition, identification); ``(sensor, target)`` for contrast and scr;
+        ``(target, time)`` for the fused probabilities ``fused_<task>``.
+    """
+
+    dataset: Any
+
+    def to_dataframe(self) -> Any:
+        """One row per sensor–target–time, with the pair's contrast and SCR and the target's
+        fused probabilities at that time."""
+        ds = self.dataset
+        per_triple = [
+            name for name in ds.data_vars if ds[name].dims == ("sensor", "target", "time")
+        ]
+        frame = ds[per_triple].to_dataframe().reset_index()
+        pairs = ds[["contrast", "scr"]].to_dataframe().reset_index()
+        fused = ds[[f"fused_{t}" for t in _TASKS]].to_dataframe().reset_index()
+        return frame.merge(pairs, on=["sensor", "target"]).merge(fused, on=["target", "time"])
+
+    def write(self, path: str | Path) -> Path:
+        """Write the table as CSV, JSON (records) or Parquet, by suffix; atomically, so a failed
+        write leaves nothing half-written."""
+        out = Path(path)
+        kind = out.suffix.lower().lstrip(".")
+        if kind not in OUTPUT_FORMATS:
+            raise ValueError(f"output must end in .csv, .json or .parquet; got {str(out)!r}")
+        if not out.parent.is_dir():
+            raise ValueError(f"the folder of {str(out)!r} does not exist")
+        frame = self.to_dataframe()
+        handle, temporary = tempfile.mkstemp(dir=out.parent, prefix=".", suffix=out.suffix)
+        os.close(handle)
+        try:
+            if kind == "csv":
+                frame.to_csv(temporary, index=False)
+            elif kind == "json":
+                frame.to_json(temporary, orient="records", indent=1)
+            else:
+                frame.to_parquet(temporary, index=False)
+            os.replace(temporary, out)
+        except BaseException:
+            Path(temporary).unlink(missing_ok=True)
+            raise
+        return out
+
+
+def _path_arrays(items: list[Any], times: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """(n, n_t, 3) positions and, for targets, nothing else: headings are separate."""
+    out = np.empty((len(items), times.size, 3))
+    for k, item in enumerate(items):
+        if item.waypoints is None:
+            out[k] = np.asarray(item.position)
+        else:
+            wt = [w.time for w in item.waypoints]
+            wp = [w.position for w in item.waypoints]
+            out[k] = geometry.positions_at(times, wt, wp)
+    return out, None
+
+
+class ModelChain:
+    """A scenario prepared for evaluation.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A validated scenario (:func:`targetacq.scenario.load_scenario`).
+    """
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        sensors, targets = scenario.sensors, scenario.targets
+        self.sensor_names = [s.name for s in sensors]
+        self.target_names = [t.name for t in targets]
+        self.cycle = np.array(
+            [
+                float(
+                    optics.resolvable_cycle_angle(
+                        s.pixel_ifov,
+                        wavelength=sum(s.limits) / 2 if s.aperture is not None else None,
+                        aperture=s.aperture,
+                    )
+                )
+                for s in sensors
+            ]
+        )
+        self.contrast, self.scr = self._contrast_and_scr()
+        self.extinction = np.array([self._extinction(s) for s in sensors])
+        segments = scenario.atmosphere.segments
+        self.segment_lengths = np.array([seg.length for seg in segments])
+        self.segment_extinction = np.array(
+            [[self._segment_extinction(seg, s) for seg in segments] for s in sensors]
+        ).reshape(len(sensors), len(segments))
+        model = scenario.model
+        self.criteria = [
+            get_criterion(
+                t.criterion
+                if t.criterion is not None
+                else (
+                    dict(zip(_TASKS, model.n50, strict=True))
+                    if model.n50 is not None
+                    else model.criterion
+                )
+            )
+            for t in targets
+        ]
+        self.options = {} if model.bound is None else {"bound": model.bound}
+
+    # -- per pair ------------------------------------------------------------------------------
+
+    def _emissivity(self, thing: Any, band: tuple[float, float]) -> float:
+        if thing.emissivity is not None:
+            return float(thing.emissivity)
+        if thing.material is not None:
+            return radiometry.material_emissivity(thing.material, band)
+        return 1.0
+
+    def _contrast_and_scr(self) -> tuple[np.ndarray, np.ndarray | None]:
+        sc = self.scenario
+        bg = sc.background
+        contrast = np.empty((len(sc.sensors), len(sc.targets)))
+        clutter = np.full(contrast.shape, np.nan)
+        for i, s in enumerate(sc.sensors):
+            band = s.limits
+            if s.type == "tv":
+                assert bg.irradiance is not None
+                assert bg.reflectance is not None
+                m_b = bg.reflectance * bg.irradiance
+                m_t = np.array([t.reflectance for t in sc.targets], dtype=float) * bg.irradiance
+            else:
+                eps_b = self._emissivity(bg, band)
+                m_b = eps_b * float(radiometry.band_exitance(bg.temperature, band))
+                m_t = np.array(
+                    [
+                        self._emissivity(t, band)
+                        * float(radiometry.band_exitance(t.temperature, band))
+                        for t in sc.targets
+                    ]
+                )
+                if bg.clutter_std is not None:
+                    slope = float(radiometry.band_exitance_derivative(bg.temperature, band))
+                    clutter[i] = eps_b * slope * bg.clutter_std
+            contrast[i] = np.abs(m_t - m_b)
+        if bg.scr is not None:
+            return contrast, np.full(contrast.shape, bg.scr)
+        if bg.clutter_std is not None:
+            return contrast, np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
+        return contrast, None
+
+    def _extinction(self, sensor: Any) -> float:
+        atm = self.scenario.atmosphere
+        if atm.extinction is not None:
+            return atm.extinction
+        if atm.obscurant is not None:
+            name, _, level = atm.obscurant.partition(":")
+            return atmosphere.obscurant_extinction(name, sensor.limits, level or "nominal")
+        if atm.visibility is not None:
+            return float(
+                atmosphere.extinction_from_visibility(atm.visibility, atm.visibility_convention)
+            )
+        return 0.0
+
+    def _segment_extinction(self, segment: Any, sensor: Any) -> float:
+        if segment.extinction is not None:
+            return float(segment.extinction)
+        name, _, level = segment.obscurant.partition(":")
+        return atmosphere.obscurant_extinction(name, sensor.limits, level or "nominal")
+
+    # -- per triple ----------------------------------------------------------------------------
+
+    def _positions(self, times: np.ndarray, targets: slice) -> tuple[np.ndarray, ...]:
+        sc = self.scenario
+        sensor_pos, _ = _path_arrays(sc.sensors, times)
+        chosen = sc.targets[targets]
+        target_pos, _ = _path_arrays(chosen, times)
+        heading = np.empty((len(chosen), times.size))
+        for k, t in enumerate(chosen):
+            if t.waypoints is None:
+                heading[k] = t.heading
+            else:
+                wt = [w.time for w in t.waypoints]
+                wp = [w.position for w in t.waypoints]
+                heading[k] = geometry.heading_along(times, wt, wp, t.heading)
+        return sensor_pos, target_pos, heading
+
+    def _forward(self, sensor_pos: np.ndarray) -> list[np.ndarray | None]:
+        out: list[np.ndarray | None] = []
+        for k, s in enumerate(self.scenario.sensors):
+            if s.look_at is not None:
+                out.append(np.asarray(s.look_at) - sensor_pos[k])
+            elif s.azimuth is not None and s.depression is not None:
+                ce = math.cos(s.depression)
+                direction = [
+                    ce * math.sin(s.azimuth),
+                    ce * math.cos(s.azimuth),
+                    -math.sin(s.depression),
+                ]
+                out.append(np.broadcast_to(direction, sensor_pos[k].shape))
+            else:
+                out.append(None)
+        return out
+
+    def _optical_depth(
+        self, rng: np.ndarray, sensor_pos: np.ndarray, target_pos: np.ndarray
+    ) -> np.ndarray:
+        n_s = len(self.sensor_names)
+        gamma = self.extinction.reshape(n_s, 1, 1)
+        depth = gamma * rng
+        start = 0.0
+        for j, length in enumerate(self.segment_lengths):
+            inside = np.clip(rng - start, 0.0, length)
+            depth = depth + (self.segment_extinction[:, j].reshape(n_s, 1, 1) - gamma) * inside
+            start += length
+        for cloud in self.scenario.atmosphere.clouds:
+            chord = atmosphere.sphere_chord_length(
+                sensor_pos[:, None], target_pos[None], cloud.center, cloud.radius
+            )
+            depth = depth + cloud.extinction * chord
+        return depth
+
+    def compute(self, times: Any, targets: slice | None = None) -> dict[str, np.ndarray]:
+        """All variables for every sensor, the chosen targets and the times, as arrays."""
+        sc = self.scenario
+        t = np.atleast_1d(np.asarray(times, dtype=float))
+        chosen = slice(None) if targets is None else targets
+        sensor_pos, target_pos, heading = self._positions(t, chosen)
+        los = target_pos[None] - sensor_pos[:, None]  # (n_s, n_g, n_t, 3)
+        rng, aspect, depression = geometry.viewing_angles(los, heading[None])
+        items = sc.targets[chosen]
+        dims = np.array([t_.dimensions for t_ in items]).reshape(1, -1, 1, 3)
+        horizontal, vertical = geometry.projected_extents(
+            dims[..., 0], dims[..., 1], dims[..., 2], aspect, depression
+        )
+        visible = np.array([t_.visible_fraction for t_ in items]).reshape(1, -1, 1)
+        critical = np.minimum(horizontal, vertical * visible)
+        with np.errstate(divide="ignore"):
+            cycles = critical / (np.maximum(rng, 1e-9) * self.cycle.reshape(-1, 1, 1))
+        in_view = np.ones(rng.shape, dtype=bool)
+        for k, forward in enumerate(self._forward(sensor_pos)):
+            fov = sc.sensors[k].field_of_view
+            if forward is not None and fov is not None:
+                in_view[k] = geometry.in_field_of_view(los[k], forward[None], fov)
+        tau = np.exp(-self._optical_depth(rng, sensor_pos, target_pos))
+        snr = np.asarray(atmosphere.snr_from_transmittance(tau))
+        noise = snr if sc.atmosphere.present else None
+        probabilities = {task: np.zeros(rng.shape) for task in _TASKS}
+        bg = sc.background
+        scr = None if self.scr is None else self.scr[:, chosen][..., None]
+        groups: dict[tuple[Any, bool, bool], list[int]] = {}
+        for g, (target, crit) in enumerate(zip(items, self.criteria[chosen], strict=True)):
+            groups.setdefault((crit.name, target.hot_spot, target.moving), []).append(g)
+        for (_, hot_spot, moving), members in groups.items():
+            idx = np.array(members)
+            acq = acquisition_probabilities(
+                cycles[:, idx],
+                self.criteria[chosen][members[0]],
+                sc.model.transform,
+                scr=None if scr is None else scr[:, idx],
+                region=bg.clutter,
+                hot_spot=hot_spot,
+                moving=moving,
+                snr=None if noise is None else noise[:, idx],
+                noise_model=sc.model.noise_model,
+                **self.options,
+            )
+            for task in _TASKS:
+                probabilities[task][:, idx] = np.where(in_view[:, idx], getattr(acq, task), 0.0)
+        out = {
+            "range": rng,
+            "critical_dimension": critical,
+            "cycles": cycles,
+            "in_view": in_view,
+            "transmittance": tau,
+            "snr": snr,
+            **probabilities,
+        }
+        for task in _TASKS:
+            out[f"fused_{task}"] = np.asarray(fuse(probabilities[task], axis=0))
+        return out
+
+    # -- results -------------------------------------------------------------------------------
+
+    def _dataset(self, arrays: dict[str, np.ndarray], times: np.ndarray, targets: slice) -> Any:
+        import xarray as xr
+
+        names = self.target_names[targets]
+        coords = {"sensor": self.sensor_names, "target": names, "time": times}
+        variables: dict[str, Any] = {}
+        for name, value in arrays.items():
+            if name.startswith("fused_"):
+                variables[name] = (("target", "time"), value)
+            else:
+                variables[name] = (("sensor", "target", "time"), value)
+        variables["contrast"] = (("sensor", "target"), self.contrast[:, targets])
+        scr = np.full(self.contrast.shape, np.inf) if self.scr is None else self.scr
+        variables["scr"] = (("sensor", "target"), scr[:, targets])
+        ds = xr.Dataset(variables, coords=coords)
+        units = {
+            "range": "m",
+            "critical_dimension": "m",
+            "snr": "dB",
+            "time": "s",
+            "contrast": "W/m2",
+            "cycles": "cycles",
+        }
+        for name, unit in units.items():
+            ds[name].attrs["units"] = unit
+        return ds
+
+    def evaluate(self, times: Any = None) -> Results:
+        """Evaluate every sensor × target × time (default: the scenario's time grid)."""
+        t = self.scenario.time.times() if times is None else np.atleast_1d(np.asarray(times, float))
+        whole = slice(None)
+        return Results(self._dataset(self.compute(t, whole), t, whole))
+
+    def evaluate_chunks(
+        self, times: Any = None, targets_per_chunk: int = 256, times_per_chunk: int = 64
+    ) -> Iterator[tuple[slice, np.ndarray, dict[str, np.ndarray]]]:
+        """Evaluate in chunks of targets × times, for runs too large to hold at once.
+
+        Yields
+        ------
+        targets, times, arrays
+            The target slice, the chunk's times and the arrays of :meth:`compute`.
+        """
+        if targets_per_chunk < 1 or times_per_chunk < 1:
+            raise ValueError("chunk sizes must be >= 1")
+        t = self.scenario.time.times() if times is None else np.atleast_1d(np.asarray(times, float))
+        for start in range(0, len(self.target_names), targets_per_chunk):
+            chosen = slice(start, min(start + targets_per_chunk, len(self.target_names)))
+            for first in range(0, t.size, times_per_chunk):
+                part = t[first : first + times_per_chunk]
+                yield chosen, part, self.compute(part, chosen)
+
+
+def evaluate(scenario: Scenario, times: Any = None) -> Results:
+    """Evaluate a scenario (:class:`ModelChain` in one call)."""
+    return ModelChain(scenario).evaluate(times)

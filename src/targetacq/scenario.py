@@ -1,0 +1,558 @@
+"""The declarative scenario: sensors, targets, background, atmosphere, model choices.
+
+A scenario is written in TOML with a unit on every quantity (``"17 um"``, ``"3 km"``,
+``"305 K"``) and validated here with pydantic; errors are located ("sensors[0].pitch: ...") and an
+unknown key gets a "did you mean". Python users build the same objects directly
+(:class:`Scenario`, :class:`Sensor`, ...), passing quantities as strings with units, exactly as in
+the file; inside, every quantity is a bare SI float.
+
+Positions are map coordinates in metres, x east, y north, z up. A thing either stands at
+``position`` or moves along ``waypoints`` (times and positions, linear in between, held before
+the first and after the last).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from collections.abc import Sequence
+from difflib import get_close_matches
+from pathlib import Path
+from typing import Annotated, Any, Literal, get_args, get_origin
+
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    model_validator,
+)
+
+from targetacq import atmosphere as _atmosphere
+from targetacq.bands import BANDS, band_limits
+from targetacq.criteria import CRITERIA
+from targetacq.noise import NOISE_MODELS
+from targetacq.radiometry import MATERIALS
+from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
+from targetacq.units import parse_quantity
+
+__all__ = [
+    "Atmosphere",
+    "Background",
+    "Cloud",
+    "ModelChoices",
+    "Scenario",
+    "ScenarioError",
+    "Segment",
+    "Sensor",
+    "Target",
+    "TimeGrid",
+    "Waypoint",
+    "load_scenario",
+    "parse_scenario",
+]
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be used; the message says where and what is wrong."""
+
+
+def _quantity(kind: str) -> Any:
+    def parse(value: Any) -> float:
+        if isinstance(value, bool) or not isinstance(value, str):
+            if isinstance(value, (int, float)):
+                raise ValueError(f"missing unit: got {value!r}; write it as a string with a unit")
+            raise ValueError(f"expected a {kind} with a unit, as a string")
+        return parse_quantity(value, kind, "value")
+
+    return BeforeValidator(parse)
+
+
+Length = Annotated[float, _quantity("length")]
+Angle = Annotated[float, _quantity("angle")]
+Temperature = Annotated[float, _quantity("temperature")]
+TemperatureDifference = Annotated[float, _quantity("temperature difference")]
+Extinction = Annotated[float, _quantity("extinction")]
+Time = Annotated[float, _quantity("time")]
+Irradiance = Annotated[float, _quantity("irradiance")]
+Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+def _position(value: Any) -> tuple[float, float, float]:
+    if isinstance(value, str):
+        *numbers, unit = value.replace(",", " ").split()
+        parts = [f"{n} {unit}" for n in numbers]
+    elif isinstance(value, Sequence):
+        parts = list(value)
+    else:
+        raise ValueError("a position is [x, y, z] with units, e.g. ['0 m', '0 m', '1.5 km']")
+    if len(parts) != 3:
+        raise ValueError(f"a position needs three coordinates x, y, z; got {len(parts)}")
+    out = []
+    for part in parts:
+        if not isinstance(part, str):
+            raise ValueError(f"missing unit: got {part!r}; write e.g. '1500 m'")
+        out.append(parse_quantity(part, "length", "position"))
+    return out[0], out[1], out[2]
+
+
+Position = Annotated[tuple[float, float, float], BeforeValidator(_position)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Waypoint(_Strict):
+    """A point of a path: ``time`` [s] and ``position`` [m]."""
+
+    time: Time
+    position: Position
+
+
+def _one_place(position: Any, waypoints: Any, what: str) -> None:
+    if (position is None) == (waypoints is None):
+        raise ValueError(f"give the {what} either position or waypoints")
+    if waypoints is not None:
+        times = [w.time for w in waypoints]
+        if len(times) < 2 or any(b <= a for a, b in itertools.pairwise(times)):
+            raise ValueError("waypoints need at least two, with increasing times")
+
+
+class Sensor(_Strict):
+    """An imaging sensor.
+
+    ``type`` "thermal" sees emitted radiation in its ``band``; "tv" sees reflected light
+    (visible band, the background's ``irradiance``). The resolution is given one way: ``pitch``
+    with ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
+    or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
+    every target is taken to be in view.
+    """
+
+    name: str
+    type: Literal["thermal", "tv"] = "thermal"
+    band: str | None = None
+    pixels: tuple[Annotated[int, Field(gt=0)], Annotated[int, Field(gt=0)]] | None = None
+    pitch: Length | None = None
+    focal_length: Length | None = None
+    hfov: Angle | None = None
+    ifov: Angle | None = None
+    aperture: Length | None = None
+    position: Position | None = None
+    waypoints: list[Waypoint] | None = None
+    look_at: Position | None = None
+    azimuth: Angle | None = None
+    depression: Angle | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Sensor:
+        ways = [
+            self.pitch is not None or self.focal_length is not None,
+            self.hfov is not None,
+            self.ifov is not None,
+        ]
+        if sum(ways) != 1:
+            raise ValueError("give the resolution one way: pitch and focal_length, hfov, or ifov")
+        if ways[0] and (self.pitch is None or self.focal_length is None):
+            raise ValueError("pitch and focal_length go together")
+        for name in ("pitch", "focal_length", "ifov", "aperture"):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise ValueError(f"{name} must be > 0")
+        if self.hfov is not None and not 0 < self.hfov < math.pi:
+            raise ValueError("hfov must be in (0, 180) degrees")
+        if self.hfov is not None and self.pixels is None:
+            raise ValueError("hfov needs pixels = [width, height]")
+        if self.band is None and self.type == "thermal":
+            raise ValueError("a thermal sensor needs its band, e.g. 'lwir' or '8-12 um'")
+        if self.band is not None:
+            self.limits  # noqa: B018 - validates the band
+        _one_place(self.position, self.waypoints, "sensor")
+        if self.look_at is not None and (self.azimuth is not None or self.depression is not None):
+            raise ValueError("give look_at, or azimuth and depression, not both")
+        if (self.azimuth is None) != (self.depression is None):
+            raise ValueError("azimuth and depression go together")
+        if self.pixels is None and (self.look_at is not None or self.azimuth is not None):
+            raise ValueError("pointing needs pixels = [width, height] for the field of view")
+        return self
+
+    @property
+    def limits(self) -> tuple[float, float]:
+        """The band (λ1, λ2) [m]; the visible band for a TV sensor without one."""
+        if self.band is None:
+            return BANDS["visible"]
+        text = self.band
+        if text in BANDS:
+            return BANDS[text]
+        low, _, rest = text.partition("-")
+        parts = rest.split()
+        if not low or len(parts) != 2:
+            raise ValueError(
+                f"band must be one of {', '.join(BANDS)} or like '8-12 um'; got {text!r}"
+            )
+        unit = parts[1]
+        return band_limits(
+            (
+                parse_quantity(f"{low} {unit}", "length", "band"),
+                parse_quantity(f"{parts[0]} {unit}", "length", "band"),
+            )
+        )
+
+    @property
+    def pixel_ifov(self) -> float:
+        """IFOV [rad] of the central pixel."""
+        from targetacq import optics
+
+        if self.ifov is not None:
+            return self.ifov
+        if self.hfov is not None and self.pixels is not None:
+            return float(optics.ifov_from_field_of_view(self.hfov, self.pixels[0]))
+        assert self.pitch is not None
+        assert self.focal_length is not None
+        return self.pitch / self.focal_length
+
+    @property
+    def field_of_view(self) -> tuple[float, float] | None:
+        """(horizontal, vertical) full field of view [rad], if pixels are given."""
+        if self.pixels is None:
+            return None
+        half_tan = [n * self.pixel_ifov / 2.0 for n in self.pixels]
+        return 2.0 * math.atan(half_tan[0]), 2.0 * math.atan(half_tan[1])
+
+
+class Target(_Strict):
+    """A target: a box ``dimensions`` = [length, width, height] with its long axis along
+    ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints)."""
+
+    name: str
+    dimensions: tuple[Length, Length, Length]
+    heading: Angle = 0.0
+    criterion: str | None = None
+    temperature: Temperature | None = None
+    emissivity: Fraction | None = None
+    material: str | None = None
+    reflectance: Fraction | None = None
+    position: Position | None = None
+    waypoints: list[Waypoint] | None = None
+    moving: bool = False
+    visible_fraction: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
+    hot_spot: bool = False
+
+    @model_validator(mode="after")
+    def _check(self) -> Target:
+        if any(not d > 0 for d in self.dimensions):
+            raise ValueError("dimensions must be > 0")
+        _one_place(self.position, self.waypoints, "target")
+        if self.criterion is not None and self.criterion not in CRITERIA:
+            close = get_close_matches(self.criterion, list(CRITERIA), 1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ValueError(f"unknown criterion {self.criterion!r}{hint}")
+        if self.material is not None and self.material not in MATERIALS:
+            raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
+        if self.emissivity is not None and self.material is not None:
+            raise ValueError("give emissivity or material, not both")
+        return self
+
+
+class Background(_Strict):
+    """The background: its temperature and emissivity (thermal) or reflectance and the
+    irradiance (TV), and the clutter as a Table 3.5 region, an SCR, or a temperature spread."""
+
+    temperature: Temperature | None = None
+    emissivity: Fraction | None = None
+    material: str | None = None
+    reflectance: Fraction | None = None
+    irradiance: Irradiance | None = None
+    clutter: Literal["low", "medium", "high"] | None = None
+    scr: Annotated[float, Field(ge=0.0)] | None = None
+    clutter_std: TemperatureDifference | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Background:
+        if sum(v is not None for v in (self.clutter, self.scr, self.clutter_std)) > 1:
+            raise ValueError("give one of clutter, scr and clutter_std")
+        if self.material is not None and self.material not in MATERIALS:
+            raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
+        if self.clutter_std is not None and not self.clutter_std >= 0:
+            raise ValueError("clutter_std must be >= 0")
+        return self
+
+
+class Segment(_Strict):
+    """A stretch of the line of sight, from the sensor outward, with its own extinction."""
+
+    length: Length
+    extinction: Extinction | None = None
+    obscurant: str | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Segment:
+        if (self.extinction is None) == (self.obscurant is None):
+            raise ValueError("give a segment's extinction or obscurant")
+        if not self.length >= 0:
+            raise ValueError("length must be >= 0")
+        _check_obscurant(self.obscurant)
+        return self
+
+
+class Cloud(_Strict):
+    """A local obscurant cloud (spray, dust, snow behind a vehicle, §7.5–7.7): a sphere."""
+
+    center: Position
+    radius: Length
+    extinction: Extinction
+
+    @model_validator(mode="after")
+    def _check(self) -> Cloud:
+        if not self.radius > 0:
+            raise ValueError("radius must be > 0")
+        if not self.extinction >= 0:
+            raise ValueError("extinction must be >= 0")
+        return self
+
+
+def _check_obscurant(text: str | None) -> None:
+    if text is None:
+        return
+    name, _, level = text.partition(":")
+    if name not in _atmosphere.OBSCURANTS:
+        close = get_close_matches(name, list(_atmosphere.OBSCURANTS), 1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        raise ValueError(
+            f"unknown obscurant {name!r}{hint}; obscurants: {', '.join(_atmosphere.OBSCURANTS)}"
+        )
+    if level and level not in _atmosphere.EXTINCTION_LEVELS:
+        raise ValueError(
+            f"obscurant level must be one of {', '.join(_atmosphere.EXTINCTION_LEVELS)}"
+        )
+
+
+class Atmosphere(_Strict):
+    """The path: one of ``extinction``, ``obscurant`` ("haze" or "haze:high", per sensor band,
+    Table 7.1) or ``visibility`` with its ``visibility_convention`` (visible band only);
+    ``segments`` near the sensor; local ``clouds``."""
+
+    extinction: Extinction | None = None
+    obscurant: str | None = None
+    visibility: Length | None = None
+    visibility_convention: Literal["koschmieder", "mor"] | None = None
+    segments: list[Segment] = []
+    clouds: list[Cloud] = []
+
+    @model_validator(mode="after")
+    def _check(self) -> Atmosphere:
+        if sum(v is not None for v in (self.extinction, self.obscurant, self.visibility)) > 1:
+            raise ValueError("give one of extinction, obscurant and visibility")
+        if self.extinction is not None and not self.extinction >= 0:
+            raise ValueError("extinction must be >= 0")
+        if self.visibility is not None:
+            if not self.visibility > 0:
+                raise ValueError("visibility must be > 0")
+            if self.visibility_convention is None:
+                raise ValueError("visibility needs visibility_convention = 'koschmieder' or 'mor'")
+        _check_obscurant(self.obscurant)
+        return self
+
+    @property
+    def present(self) -> bool:
+        """Whether the path attenuates at all."""
+        return any(
+            v is not None for v in (self.extinction, self.obscurant, self.visibility)
+        ) or bool(self.segments or self.clouds)
+
+
+class ModelChoices(_Strict):
+    """Model choices: criterion (or a user N50 triple), transform, noise model, fusion, and the
+    search model's time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default)."""
+
+    criterion: str = "johnson"
+    n50: (
+        tuple[
+            Annotated[float, Field(gt=0)],
+            Annotated[float, Field(gt=0)],
+            Annotated[float, Field(gt=0)],
+        ]
+        | None
+    ) = None
+    transform: str = "ttpf"
+    bound: str | None = None
+    noise_model: str = "variance-sum"
+    fusion: Literal["sensor-level"] = "sensor-level"
+    search_time: Time = 3.4
+
+    @model_validator(mode="after")
+    def _check(self) -> ModelChoices:
+        for name, registry in (
+            ("criterion", CRITERIA),
+            ("transform", TRANSFORMS),
+            ("noise_model", NOISE_MODELS),
+        ):
+            value = getattr(self, name)
+            if value not in registry:
+                close = get_close_matches(value, list(registry), 1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise ValueError(f"unknown {name} {value!r}{hint}; valid: {', '.join(registry)}")
+        if self.bound is not None and self.bound not in C2NVEO_BOUNDS:
+            raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
+        if not self.search_time > 0:
+            raise ValueError("search_time must be > 0 s")
+        if not CRITERIA[self.criterion].gives_probabilities and self.n50 is None:
+            raise ValueError(f"criterion {self.criterion!r} gives no probabilities")
+        return self
+
+
+class TimeGrid(_Strict):
+    """Evaluation times: ``start`` to ``stop`` inclusive every ``step``."""
+
+    start: Time = 0.0
+    stop: Time = 0.0
+    step: Time = 1.0
+
+    @model_validator(mode="after")
+    def _check(self) -> TimeGrid:
+        if not self.step > 0:
+            raise ValueError("step must be > 0 s")
+        if self.stop < self.start:
+            raise ValueError("stop must not be before start")
+        return self
+
+    def times(self) -> Any:
+        import numpy as np
+
+        count = math.floor((self.stop - self.start) / self.step + 1e-9) + 1
+        return self.start + self.step * np.arange(count)
+
+
+class Scenario(_Strict):
+    """A whole scene. See the module docstring and ``examples/`` for files."""
+
+    name: str = ""
+    sensors: Annotated[list[Sensor], Field(min_length=1)]
+    targets: Annotated[list[Target], Field(min_length=1)]
+    background: Background = Background()
+    atmosphere: Atmosphere = Atmosphere()
+    model: ModelChoices = ModelChoices()
+    time: TimeGrid = TimeGrid()
+
+    @model_validator(mode="after")
+    def _check(self) -> Scenario:
+        for what, items in (("sensor", self.sensors), ("target", self.targets)):
+            names = [item.name for item in items]
+            duplicates = sorted({n for n in names if names.count(n) > 1})
+            if duplicates:
+                raise ValueError(f"{what} names must be unique; repeated: {', '.join(duplicates)}")
+        thermal = [s for s in self.sensors if s.type == "thermal"]
+        tv = [s for s in self.sensors if s.type == "tv"]
+        if thermal:
+            if self.background.temperature is None:
+                raise ValueError("background.temperature is needed for thermal sensors")
+            missing = [t.name for t in self.targets if t.temperature is None]
+            if missing:
+                raise ValueError(
+                    f"targets {', '.join(missing)} need a temperature (thermal sensors)"
+                )
+        if tv:
+            if self.background.irradiance is None or self.background.reflectance is None:
+                raise ValueError("TV sensors need background.irradiance and background.reflectance")
+            missing = [t.name for t in self.targets if t.reflectance is None]
+            if missing:
+                raise ValueError(f"targets {', '.join(missing)} need a reflectance (TV sensors)")
+            if self.background.clutter_std is not None:
+                raise ValueError(
+                    "clutter_std is a temperature spread; for TV sensors give clutter or scr"
+                )
+        if self.atmosphere.visibility is not None and thermal:
+            raise ValueError(
+                "visibility gives the visible-band extinction; with thermal sensors give "
+                "extinction or obscurant"
+            )
+        return self
+
+
+def _fields_of(model: Any) -> dict[str, Any]:
+    return (
+        dict(model.model_fields) if isinstance(model, type) and issubclass(model, BaseModel) else {}
+    )
+
+
+def _model_at(loc: Sequence[Any]) -> Any:
+    """The pydantic model class at a location of the scenario, for "did you mean" hints."""
+    current: Any = Scenario
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        fields = _fields_of(current)
+        if part not in fields:
+            return current
+        annotation = fields[part].annotation
+        while get_origin(annotation) is not None:
+            args = [a for a in get_args(annotation) if a is not type(None)]
+            models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
+            annotation = models[0] if models else (args[0] if args else annotation)
+            if models:
+                break
+        current = annotation
+    return current
+
+
+def _location(loc: Sequence[Any]) -> str:
+    text = ""
+    for part in loc:
+        if isinstance(part, int):
+            text += f"[{part}]"
+        else:
+            text += ("." if text else "") + str(part)
+    return text or "scenario"
+
+
+def _first_error(error: ValidationError) -> str:
+    detail = error.errors()[0]
+    loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
+    message = detail["msg"].removeprefix("Value error, ")
+    if detail["type"] == "extra_forbidden":
+        key = str(loc[-1])
+        parent = _model_at(loc[:-1])
+        valid = list(_fields_of(parent))
+        close = get_close_matches(key, valid, 1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        message = f"unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
+    elif detail["type"] == "missing":
+        message = "required key missing"
+    return f"{_location(loc)}: {message}"
+
+
+def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
+    """Validate a scenario given as nested dictionaries (as read from TOML).
+
+    Raises
+    ------
+    ScenarioError
+        With one located message: ``source: table.key: what is wrong``.
+    """
+    try:
+        return Scenario.model_validate(data)
+    except ValidationError as error:
+        raise ScenarioError(f"{source}: {_first_error(error)}") from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario TOML file.
+
+    Raises
+    ------
+    ScenarioError
+        Missing or unreadable file, malformed TOML (with its line and column), or an invalid
+        scenario (located message).
+    """
+    source = Path(path)
+    if not source.is_file():
+        raise ScenarioError(f"{source}: no such scenario file")
+    try:
+        data = tomllib.loads(source.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as error:
+        raise ScenarioError(f"{source}: malformed TOML: {error}") from None
+    except UnicodeDecodeError:
+        raise ScenarioError(f"{source}: not a text (UTF-8) file") from None
+    return parse_scenario(data, str(source))

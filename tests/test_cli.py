@@ -446,3 +446,101 @@ def test_colour_image_needs_channel_on_cli(capsys, tmp_path):
     code, out, _ = run(capsys, "clutter", str(rgb), "--box", "5,5,4,4", "--channel", "luminance")
     assert "low" in out or "high" in out
     assert code == 0
+
+
+# --- scenarios ---------------------------------------------------------------------------------
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+
+def test_evaluate_bundled_example_and_out(capsys, tmp_path):
+    code, out, _ = run(capsys, "evaluate")
+    assert code == 0
+    assert "UAV over vehicles in haze" in out
+    assert "truck" in out and "jeep" in out
+    target = tmp_path / "results.parquet"
+    code, out, _ = run(
+        capsys, "evaluate", str(EXAMPLES / "two_sensors_fused.toml"), "--out", str(target)
+    )
+    assert code == 0
+    import pandas as pd
+
+    assert len(pd.read_parquet(target)) == 2 * 2 * 13
+
+
+def test_simulate_and_validate(capsys):
+    code, out, _ = run(
+        capsys,
+        "simulate",
+        str(EXAMPLES / "two_sensors_fused.toml"),
+        "--duration",
+        "30s",
+        "--step",
+        "0.5s",
+        "--seed",
+        "7",
+        "--runs",
+        "200",
+        "--format",
+        "json",
+    )
+    assert code == 0
+    rows = json.loads(out)["targets"]
+    assert {r["task"] for r in rows} == {"detection", "recognition", "identification"}
+    again = json.loads(
+        run(
+            capsys,
+            "simulate",
+            str(EXAMPLES / "two_sensors_fused.toml"),
+            "--duration",
+            "30s",
+            "--step",
+            "0.5s",
+            "--seed",
+            "7",
+            "--runs",
+            "200",
+            "--format",
+            "json",
+        )[1]
+    )
+    assert again["targets"] == rows
+    code, out, _ = run(capsys, "validate", str(EXAMPLES / "uav_haze.toml"))
+    assert code == 0 and "valid" in out
+
+
+_SENSOR = '[[sensors]]\nname = "a"\nband = "lwir"\nposition = ["0 m","0 m","1 m"]\n'
+_TARGET = '[[targets]]\nname = "t"\ndimensions = ["1 m","1 m","1 m"]\ntemperature = "300 K"\n'
+_REST = 'position = ["1 km","0 m","0 m"]\n[background]\ntemperature = "290 K"\n'
+
+
+@pytest.mark.parametrize(
+    ("content", "match"),
+    [
+        ("[[sensors]\n", "malformed TOML"),
+        (_SENSOR + "ifov = 0.2\n" + _TARGET + _REST, r"sensors\[0\]\.ifov: missing unit"),
+        (
+            _SENSOR + 'ifov = "0.2 mrad"\n' + _TARGET + "emisivity = 0.5\n" + _REST,
+            r"targets\[0\]\.emisivity: unknown key 'emisivity' \(did you mean 'emissivity'\?\)",
+        ),
+        (
+            _SENSOR + 'ifov = "0.2 mrad"\n' + _TARGET + "emissivity = 2\n" + _REST,
+            r"targets\[0\]\.emissivity",
+        ),
+        (_SENSOR + 'ifov = "-0.2 mrad"\n' + _TARGET + _REST, "ifov must be > 0"),
+    ],
+)
+def test_bad_scenario_files(capsys, tmp_path, content, match):
+    scenario = tmp_path / "scene.toml"
+    scenario.write_text(content)
+    out_file = tmp_path / "results.csv"
+    for command in (
+        ["validate", str(scenario)],
+        ["evaluate", str(scenario), "--out", str(out_file)],
+    ):
+        code, out, err = run(capsys, *command)
+        assert code == 2
+        assert out == ""
+        assert err.count("\n") == 1
+        assert re.search(match, err), err
+    assert not out_file.exists()  # nothing half-written

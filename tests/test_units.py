@@ -35,3 +35,22 @@ def test_parse_to_si(text, kind, si):
 def test_bad_quantities(text, kind, match):
     with pytest.raises(ValueError, match=match):
         parse_quantity(text, kind, "--x")
+
+
+@pytest.mark.parametrize(
+    ("kind", "unit"),
+    [
+        (kind, unit)
+        for kind, units in __import__("targetacq.units").units._PLAIN_UNITS.items()
+        for unit in units
+    ],
+)
+def test_plain_units_agree_with_pint(kind, unit):
+    import pint
+
+    from targetacq.units import DIMENSIONS
+
+    ureg = pint.UnitRegistry()
+    pint_unit = {"1/m": "1/m", "/m": "1/m", "/km": "1/km", "W/m^2": "W/m**2"}.get(unit, unit)
+    expected = ureg.Quantity(2.5, pint_unit).to(DIMENSIONS[kind][0]).magnitude
+    assert parse_quantity(f"2.5 {unit}", kind, "--x") == pytest.approx(expected, rel=1e-15)

@@ -87,7 +87,7 @@ class Results:
             if kind == "csv":
                 frame.to_csv(temporary, index=False)
             elif kind == "json":
-                frame.to_json(temporary, orient="records", indent=1)
+                frame.to_json(temporary, orient="records", indent=1, double_precision=15)
             else:
                 frame.to_parquet(temporary, index=False)
             os.replace(temporary, out)
@@ -182,13 +182,9 @@ class ModelChain:
             else:
                 eps_b = self._emissivity(bg, band)
                 m_b = eps_b * float(radiometry.band_exitance(bg.temperature, band))
-                m_t = np.array(
-                    [
-                        self._emissivity(t, band)
-                        * float(radiometry.band_exitance(t.temperature, band))
-                        for t in sc.targets
-                    ]
-                )
+                eps_t = np.array([self._emissivity(t, band) for t in sc.targets])
+                temperatures = np.array([t.temperature for t in sc.targets], dtype=float)
+                m_t = eps_t * np.asarray(radiometry.band_exitance(temperatures, band))
                 if bg.clutter_std is not None:
                     slope = float(radiometry.band_exitance_derivative(bg.temperature, band))
                     clutter[i] = eps_b * slope * bg.clutter_std

@@ -25,6 +25,18 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 }
 """Quantity kinds accepted at the boundary: the SI unit they become and an example."""
 
+# Plain units converted without pint (exact SI definitions); anything else goes through pint.
+# Scenario files hold thousands of quantities, and pint takes tens of microseconds for each.
+_PLAIN_UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "km": 1e3, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9},
+    "angle": {"rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "µrad": 1e-6, "deg": math.pi / 180.0},
+    "temperature": {"K": 1.0},
+    "temperature difference": {"K": 1.0, "mK": 1e-3},
+    "extinction": {"/m": 1.0, "/km": 1e-3, "1/m": 1.0, "1/km": 1e-3},
+    "time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0},
+    "irradiance": {"W/m^2": 1.0, "W/m**2": 1.0},
+}
+
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 _DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER (MODEL.md erratum)
 
@@ -71,6 +83,9 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
         raise ValueError(f"{name} needs a unit: got {text!r}; write e.g. {example}")
     if kind == "extinction" and unit.replace(" ", "") in ("dB/km", "db/km"):
         return value / _DB_PER_NEPER / 1000.0
+    plain = _PLAIN_UNITS[kind].get(unit.replace(" ", ""))
+    if plain is not None:
+        return value * plain
     if unit.startswith("/"):
         unit = "1" + unit
     if kind == "temperature difference":

@@ -84,7 +84,7 @@ def main() -> None:
     triples = n_s * n_g * n_t
     peak_detection = np.zeros(n_g)
     start = time.perf_counter()
-    for targets, _, arrays in chain.evaluate_chunks(targets_per_chunk=50, times_per_chunk=100):
+    for targets, _, arrays in chain.evaluate_chunks(targets_per_chunk=10, times_per_chunk=100):
         peak_detection[targets] = np.maximum(
             peak_detection[targets], arrays["fused_detection"].max(axis=-1)
         )

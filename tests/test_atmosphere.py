@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 import targetacq as ta
@@ -142,3 +142,14 @@ def test_visibility_conventions():
 def test_bad_atmosphere_input(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+@given(st.floats(0.0, 50.0))
+def test_snr_from_optical_depth_equals_snr_from_transmittance(depth):
+    tau = math.exp(-depth)
+    assume(tau < 1.0)  # where exp(−d) rounds to 1, only the depth form still has an answer
+    assert atmosphere.snr_from_optical_depth(depth) == pytest.approx(
+        ta.snr_from_transmittance(tau), rel=1e-9, abs=1e-9
+    )
+    assert atmosphere.snr_from_optical_depth(0.0) == math.inf
+    assert atmosphere.snr_from_optical_depth(math.inf) == -math.inf

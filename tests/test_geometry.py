@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 import targetacq as ta
@@ -80,3 +80,32 @@ def test_bad_geometry_input(call, match):
 def test_nan_in_an_array_propagates():
     out = ta.slant_range([1.0, math.nan], [1.0, 1.0])
     assert math.isnan(out[1]) and out[0] == pytest.approx(math.sqrt(2))
+
+
+@given(
+    st.floats(0.1, 10),
+    st.floats(0.1, 10),
+    st.floats(0.1, 10),
+    st.floats(-5e3, 5e3),
+    st.floats(-5e3, 5e3),
+    st.floats(-3e3, 3e3),
+    st.floats(-7, 7),
+)
+def test_box_extents_from_vectors_equal_the_angle_form(length, width, height, x, y, z, heading):
+    from targetacq.geometry import box_extents_seen
+
+    rng, h, v = box_extents_seen([x, y, z], heading, length, width, height)
+    assume(math.hypot(x, y) > 1e-6)
+    aspect = math.atan2(x, y) - heading
+    depression = abs(math.atan2(z, math.hypot(x, y)))
+    eh, ev = ta.projected_extents(length, width, height, aspect, depression)
+    assert rng == pytest.approx(math.sqrt(x * x + y * y + z * z))
+    assert h == pytest.approx(eh, rel=1e-9, abs=1e-12)
+    assert v == pytest.approx(ev, rel=1e-9, abs=1e-12)
+
+
+def test_box_seen_from_straight_above_is_its_top():
+    from targetacq.geometry import box_extents_seen
+
+    _, h, v = box_extents_seen([0.0, 0.0, -100.0], 0.3, 6.0, 3.0, 2.0)
+    assert sorted((h, v)) == [3.0, 6.0]

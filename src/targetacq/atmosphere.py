@@ -34,6 +34,7 @@ __all__ = [
     "np_per_km_to_db_per_km",
     "obscurant_extinction",
     "path_transmittance",
+    "snr_from_optical_depth",
     "snr_from_transmittance",
     "transmittance",
     "visibility_from_extinction",
@@ -323,6 +324,27 @@ def snr_from_transmittance(tau: Any) -> Any:
     snr = 20.0 * (xp.log10(safe) - xp.log10(1.0 - safe))
     snr = xp.where(t >= 1, xp.inf, xp.where(t <= 0, -xp.inf, snr))
     return _arrays.result(xp.where(xp.isnan(t), t, snr))
+
+
+def snr_from_optical_depth(depth: Any) -> Any:
+    """SNR of Eq. (7.7) from the optical depth ``d = γR`` (or ``Σ γ_j R_j``) directly [dB].
+
+    ``−20 log10(e^d − 1) = 20 (−d / ln 10 − log10(1 − e^{−d}))``: the same as
+    :func:`snr_from_transmittance` of ``τ = e^{−d}``, with one exponential and one logarithm
+    fewer, and accurate where τ rounds to 1.
+
+    Parameters
+    ----------
+    depth : array_like
+        d >= 0 (0: no attenuation, +inf SNR; +inf: nothing left, −inf SNR).
+    """
+    xp, (d,) = _arrays.arrays(depth)
+    _arrays.require_nonnegative("depth", d, xp)
+    inner = (d > 0) & xp.isfinite(d)
+    safe = xp.where(inner, d, 1.0)
+    snr = 20.0 * (-safe / math.log(10.0) - xp.log10(-xp.expm1(-safe)))
+    snr = xp.where(d <= 0, xp.inf, xp.where(xp.isinf(d), -xp.inf, snr))
+    return _arrays.result(xp.where(xp.isnan(d), d, snr))
 
 
 def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:

@@ -197,35 +197,53 @@ def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, defa
     return np.where(still, default, np.arctan2(d[:, 0], d[:, 1]))
 
 
-def viewing_angles(line_of_sight: Any, heading: Any) -> tuple[Any, Any, Any]:
-    """Range, aspect and depression of lines of sight from sensors to targets.
+def box_extents_seen(
+    line_of_sight: Any, heading: Any, length: Any, width: Any, height: Any
+) -> tuple[Any, Any, Any]:
+    """Range and the outline of box targets seen along lines of sight, from the vectors.
+
+    The same outline as :func:`projected_extents`, with the aspect's and the depression's sines
+    and cosines taken straight from the line-of-sight components instead of through angles (no
+    arctangent, sine or cosine per triple):
+    ``|cos a| = |x sin h + y cos h| / ρ``, ``|sin a| = |x cos h − y sin h| / ρ``,
+    ``sin e = |z| / R``, ``cos e = ρ / R``, with ``ρ = hypot(x, y)``. Straight down (ρ = 0) the
+    outline is the box's top, length by width.
 
     Parameters
     ----------
     line_of_sight : array_like
         (..., 3) vectors from sensor to target [m] (x east, y north, z up).
     heading : array_like
-        Target heading (long axis, from north clockwise) [rad], broadcasting with ``...``.
+        Direction of the target's long axis, from north clockwise [rad], broadcasting with ``...``.
+    length, width, height : array_like
+        Box dimensions [m], broadcasting with ``...``.
 
     Returns
     -------
-    range, aspect, depression : numpy.ndarray
-        Slant range [m]; horizontal angle between the line of sight and the long axis [rad];
-        the magnitude of the line of sight's angle to the horizontal [rad], in [0, π/2] (a box
-        looks the same from below as from above, for its outline).
+    range, horizontal, vertical : numpy.ndarray
+        Slant range [m] and the sides of the outline [m].
     """
     import numpy as np
 
     los = np.asarray(line_of_sight, dtype=float)
-    rng = np.linalg.norm(los, axis=-1)
-    azimuth = np.arctan2(los[..., 0], los[..., 1])
-    horizontal = np.hypot(los[..., 0], los[..., 1])
-    depression = np.abs(np.arctan2(los[..., 2], horizontal))
-    return rng, azimuth - heading, depression
+    x, y, z = los[..., 0], los[..., 1], los[..., 2]
+    rho = np.hypot(x, y)
+    rng = np.hypot(rho, z)
+    sin_h, cos_h = np.sin(heading), np.cos(heading)
+    flat = rho > 0
+    safe_rho = np.where(flat, rho, 1.0)
+    cos_a = np.where(flat, np.abs(x * sin_h + y * cos_h) / safe_rho, 0.0)
+    sin_a = np.where(flat, np.abs(x * cos_h - y * sin_h) / safe_rho, 1.0)
+    safe_rng = np.where(rng > 0, rng, 1.0)
+    sin_e = np.abs(z) / safe_rng
+    cos_e = np.where(rng > 0, rho / safe_rng, 1.0)
+    horizontal = length * sin_a + width * cos_a
+    vertical = height * cos_e + (length * cos_a + width * sin_a) * sin_e
+    return rng, horizontal, vertical
 
 
-def in_field_of_view(line_of_sight: Any, forward: Any, field_of_view: tuple[float, float]) -> Any:
-    """Whether lines of sight fall inside a sensor's rectangular field of view.
+def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any, Any]) -> Any:
+    """Whether lines of sight fall inside sensors' rectangular fields of view.
 
     The sensor frame: ``forward`` (the boresight), ``right`` = forward × up (horizontal),
     ``up'`` = right × forward. A target is in view when it is in front and its horizontal and
@@ -236,27 +254,24 @@ def in_field_of_view(line_of_sight: Any, forward: Any, field_of_view: tuple[floa
     line_of_sight : array_like
         (..., 3) [m].
     forward : array_like
-        (..., 3) boresight directions, broadcasting with ``line_of_sight``.
-    field_of_view : (float, float)
-        Full horizontal and vertical fields of view [rad].
+        (..., 3) boresight directions (any length), broadcasting with ``line_of_sight``.
+    half_tangents : (array_like, array_like)
+        tan(FOV_h / 2) and tan(FOV_v / 2), broadcasting with ``line_of_sight[..., 0]``.
     """
     import numpy as np
 
-    los = np.asarray(line_of_sight, dtype=float)
     f = np.asarray(forward, dtype=float)
     f = f / np.linalg.norm(f, axis=-1, keepdims=True)
-    up = np.array([0.0, 0.0, 1.0])
-    right = np.cross(f, up)
+    right = np.stack([f[..., 1], -f[..., 0], np.zeros_like(f[..., 0])], axis=-1)  # f × z
     norm = np.linalg.norm(right, axis=-1, keepdims=True)
     # Looking straight down or up: any horizontal "right" will do.
     right = np.where(norm > 1e-12, right / np.where(norm > 1e-12, norm, 1.0), [1.0, 0.0, 0.0])
-    up_sensor = np.cross(right, f)
-    ahead = np.sum(los * f, axis=-1)
-    across = np.sum(los * right, axis=-1)
-    vertical = np.sum(los * up_sensor, axis=-1)
-    half_h, half_v = field_of_view[0] / 2.0, field_of_view[1] / 2.0
-    return (
-        (ahead > 0)
-        & (np.abs(across) <= np.tan(half_h) * ahead)
-        & (np.abs(vertical) <= np.tan(half_v) * ahead)
-    )
+    up = np.cross(right, f)
+    los = np.asarray(line_of_sight, dtype=float)
+
+    def dot(axis: Any) -> Any:
+        return los[..., 0] * axis[..., 0] + los[..., 1] * axis[..., 1] + los[..., 2] * axis[..., 2]
+
+    ahead = dot(f)
+    tan_h, tan_v = half_tangents
+    return (ahead > 0) & (np.abs(dot(right)) <= tan_h * ahead) & (np.abs(dot(up)) <= tan_v * ahead)

@@ -231,6 +231,20 @@ class ModelChain:
                 heading[k] = geometry.heading_along(times, wt, wp, t.heading)
         return sensor_pos, target_pos, heading
 
+    def _in_view(self, los: np.ndarray, sensor_pos: np.ndarray) -> np.ndarray:
+        """(n_s, n_g, n_t) field-of-view test, all pointed sensors at once."""
+        forward = self._forward(sensor_pos)
+        pointed = [k for k, f in enumerate(forward) if f is not None]
+        in_view = np.ones(los.shape[:-1], dtype=bool)
+        if pointed:
+            directions = np.stack([f for f in forward if f is not None])[:, None]  # (p, 1, n_t, 3)
+            fov = np.array([self.scenario.sensors[k].field_of_view for k in pointed])
+            halves = np.tan(fov / 2.0).reshape(len(pointed), 2, 1, 1)
+            in_view[pointed] = geometry.in_field_of_view(
+                los[pointed], directions, (halves[:, 0], halves[:, 1])
+            )
+        return in_view
+
     def _forward(self, sensor_pos: np.ndarray) -> list[np.ndarray | None]:
         out: list[np.ndarray | None] = []
         for k, s in enumerate(self.scenario.sensors):
@@ -272,24 +286,25 @@ class ModelChain:
         t = np.atleast_1d(np.asarray(times, dtype=float))
         chosen = slice(None) if targets is None else targets
         sensor_pos, target_pos, heading = self._positions(t, chosen)
-        los = target_pos[None] - sensor_pos[:, None]  # (n_s, n_g, n_t, 3)
-        rng, aspect, depression = geometry.viewing_angles(los, heading[None])
+        # (n_s, n_g, n_t, 3), each component contiguous in memory (fast elementwise work).
+        los = np.moveaxis(
+            np.stack([target_pos[None, ..., k] - sensor_pos[:, None, :, k] for k in range(3)]),
+            0,
+            -1,
+        )
         items = sc.targets[chosen]
         dims = np.array([t_.dimensions for t_ in items]).reshape(1, -1, 1, 3)
-        horizontal, vertical = geometry.projected_extents(
-            dims[..., 0], dims[..., 1], dims[..., 2], aspect, depression
+        rng, horizontal, vertical = geometry.box_extents_seen(
+            los, heading[None], dims[..., 0], dims[..., 1], dims[..., 2]
         )
         visible = np.array([t_.visible_fraction for t_ in items]).reshape(1, -1, 1)
         critical = np.minimum(horizontal, vertical * visible)
         with np.errstate(divide="ignore"):
             cycles = critical / (np.maximum(rng, 1e-9) * self.cycle.reshape(-1, 1, 1))
-        in_view = np.ones(rng.shape, dtype=bool)
-        for k, forward in enumerate(self._forward(sensor_pos)):
-            fov = sc.sensors[k].field_of_view
-            if forward is not None and fov is not None:
-                in_view[k] = geometry.in_field_of_view(los[k], forward[None], fov)
-        tau = np.exp(-self._optical_depth(rng, sensor_pos, target_pos))
-        snr = np.asarray(atmosphere.snr_from_transmittance(tau))
+        in_view = self._in_view(los, sensor_pos)
+        depth = self._optical_depth(rng, sensor_pos, target_pos)
+        tau = np.exp(-depth)
+        snr = np.asarray(atmosphere.snr_from_optical_depth(depth))
         noise = snr if sc.atmosphere.present else None
         probabilities = {task: np.zeros(rng.shape) for task in _TASKS}
         bg = sc.background

@@ -17,14 +17,19 @@ from dataclasses import dataclass
 from typing import Any
 
 from targetacq import _arrays, atmosphere, clutter, optics, radiometry
-from targetacq.acquisition import acquisition_probabilities, effect_probability
+from targetacq.acquisition import Acquisition, acquisition_probabilities
+
+_TASKS = ("detection", "recognition", "identification")
 
 __all__ = ["SceneAcquisition", "scene_acquisition"]
 
 
 @dataclass(frozen=True)
-class SceneAcquisition:
+class SceneAcquisition(Acquisition):
     """Descriptive factors and probabilities, each an array of the broadcast input shape.
+
+    The probabilities (``detection``, ``recognition``, ``identification``, ``effect``) as in
+    :class:`targetacq.acquisition.Acquisition`, and:
 
     Attributes
     ----------
@@ -38,8 +43,6 @@ class SceneAcquisition:
         τ of the path [1].
     snr : array_like
         SNR of Eq. (7.7) [dB].
-    detection, recognition, identification : array_like
-        Probabilities, ``identification <= recognition <= detection``.
     """
 
     cycles: Any
@@ -47,14 +50,6 @@ class SceneAcquisition:
     scr: Any
     transmittance: Any
     snr: Any
-    detection: Any
-    recognition: Any
-    identification: Any
-
-    @property
-    def effect(self) -> Any:
-        """``P_effect`` of Eq. (2.5)."""
-        return effect_probability(self.detection, self.recognition, self.identification)
 
 
 def scene_acquisition(
@@ -183,7 +178,10 @@ def scene_acquisition(
     arrays = xp.broadcast_arrays(
         n, contrast, _arrays.as_float(scr_out, xp), *_arrays.arrays(tau, snr)[1], det, rec, ide
     )
-    return SceneAcquisition(*(_arrays.result(a) for a in arrays))
+    names = ("cycles", "contrast", "scr", "transmittance", "snr", *_TASKS)
+    return SceneAcquisition(
+        **{name: _arrays.result(a) for name, a in zip(names, arrays, strict=True)}
+    )
 
 
 def _emitted(emissivity: Any, temperature: Any, band: Any, name: str) -> Any:

@@ -146,10 +146,20 @@ def test_bad_atmosphere_input(call, match):
 
 @given(st.floats(0.0, 50.0))
 def test_snr_from_optical_depth_equals_snr_from_transmittance(depth):
+    # Where 1 − τ is well conditioned (d > 1e-6: 1 − τ keeps 10 digits); below that the
+    # transmittance form loses digits to cancellation and the depth form is the accurate one.
+    assume(depth > 1e-6)
     tau = math.exp(-depth)
-    assume(tau < 1.0)  # where exp(−d) rounds to 1, only the depth form still has an answer
     assert atmosphere.snr_from_optical_depth(depth) == pytest.approx(
         ta.snr_from_transmittance(tau), rel=1e-9, abs=1e-9
     )
     assert atmosphere.snr_from_optical_depth(0.0) == math.inf
     assert atmosphere.snr_from_optical_depth(math.inf) == -math.inf
+
+
+def test_snr_from_a_tiny_optical_depth():
+    # −20 log10(e^d − 1) = −20 log10(d (1 + d/2 + ...)) → 240 dB at d = 1e-12.
+    d = 1e-12
+    assert atmosphere.snr_from_optical_depth(d) == pytest.approx(
+        -20 * math.log10(d + d * d / 2), rel=1e-12
+    )

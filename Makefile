@@ -19,6 +19,7 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
 	touch $@
 
 run: $(VENV)/.installed
+	$(BIN)/targetacq dri --example
 	$(BIN)/targetacq evaluate
 
 lint: $(VENV)/.installed-test

@@ -163,3 +163,23 @@ def test_snr_from_a_tiny_optical_depth():
     assert atmosphere.snr_from_optical_depth(d) == pytest.approx(
         -20 * math.log10(d + d * d / 2), rel=1e-12
     )
+
+
+def test_foliage_is_a_transmittance_that_lowers_the_probabilities():
+    assert atmosphere.foliage_transmittance(0.0, 0.5) == 1.0
+    assert atmosphere.foliage_transmittance(4.0, 0.25) == pytest.approx(math.exp(-1.0))
+    open_field = ta.scene_acquisition(1500.0, 2.3, 2e-4, "lwir", 305.0, 295.0, extinction=1e-4)
+    in_forest = ta.scene_acquisition(
+        1500.0,
+        2.3,
+        2e-4,
+        "lwir",
+        305.0,
+        295.0,
+        extinction=1e-4,
+        foliage=atmosphere.foliage_transmittance(4.0, 0.25),
+    )
+    assert in_forest.transmittance == pytest.approx(open_field.transmittance * math.exp(-1.0))
+    assert in_forest.detection < open_field.detection
+    with pytest.raises(ValueError, match="depth must be >= 0"):
+        atmosphere.foliage_transmittance(-1.0, 0.1)

@@ -31,6 +31,7 @@ __all__ = [
     "db_per_km_to_np_per_km",
     "extinction_from_visibility",
     "extinction_term",
+    "foliage_transmittance",
     "np_per_km_to_db_per_km",
     "obscurant_extinction",
     "path_transmittance",
@@ -127,6 +128,29 @@ def cloud_transmittance(
     _arrays.require_nonnegative("cloud_extinction", gc, xp, "Np/m")
     _arrays.require_nonnegative("cloud_length", lc, xp, "m")
     return _arrays.result(xp.exp(-g * r - gc * xp.minimum(lc, r)))
+
+
+def foliage_transmittance(depth: Any, extinction: Any) -> Any:
+    """Transmittance through foliage in front of a target (§6.8), ``τ_f = exp(−κ d)``.
+
+    The thesis proposes modelling occlusion by trees and leaves as a transmittance that depends
+    on the kind of forest and how deep in it the target stands, without numbers. This is the
+    Beer–Lambert form of that idea: ``κ`` is the foliage's extinction per metre of line of sight
+    (its leaf area density times the leaves' projection, a property of the forest type) and ``d``
+    the path length through the foliage. It multiplies the atmosphere's transmittance, and so
+    lowers the SNR of Eq. (7.7).
+
+    Parameters
+    ----------
+    depth : array_like
+        Line-of-sight length through foliage [m], >= 0.
+    extinction : array_like
+        κ [Np/m], >= 0.
+    """
+    xp, (d, k) = _arrays.arrays(depth, extinction)
+    _arrays.require_nonnegative("depth", d, xp, "m")
+    _arrays.require_nonnegative("extinction", k, xp, "Np/m")
+    return _arrays.result(xp.exp(-k * d))
 
 
 def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:

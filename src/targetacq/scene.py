@@ -68,6 +68,7 @@ def scene_acquisition(
     scr: Any = None,
     clutter_region: str | None = None,
     extinction: Any = 0.0,
+    foliage: Any = 1.0,
     quantisation_step: Any = None,
     criterion: Any = "johnson",
     transform: str = "ttpf",
@@ -108,6 +109,9 @@ def scene_acquisition(
         The Table 3.5 region, when only that is known.
     extinction : array_like
         γ of the path [Np/m], >= 0; 0 for no atmosphere.
+    foliage : array_like
+        Transmittance of foliage in front of the target, in [0, 1]
+        (:func:`targetacq.atmosphere.foliage_transmittance`); 1 for none.
     quantisation_step : array_like, optional
         Smallest contrast the detector resolves [W/m²]
         (:func:`targetacq.radiometry.quantisation_step`); a smaller contrast gives probability 0
@@ -152,7 +156,9 @@ def scene_acquisition(
         scr_value = scr
     else:
         scr_value = None
-    tau = atmosphere.transmittance(extinction, range)
+    xp_f, (tau_f,) = _arrays.arrays(foliage)
+    _arrays.require_unit_interval("foliage", tau_f, xp_f)
+    tau = atmosphere.transmittance(extinction, range) * tau_f
     snr = atmosphere.snr_from_transmittance(tau)
     acq = acquisition_probabilities(
         n,

@@ -370,6 +370,45 @@ class ModelChain:
             ds[name].attrs["units"] = unit
         return ds
 
+    def range_cases(self, time: float | None = None) -> dict[str, dict[str, Any]]:
+        """Every sensor–target pair as a case of :func:`targetacq.ranges.range_performance`.
+
+        The critical dimension is the target's outline seen from the sensor at ``time``
+        (default: the scenario's start); the path is the base extinction of each sensor's band
+        (segments and local clouds depend on where the target stands, so they are left out of
+        range curves); the clutter, criterion and transform are the scenario's.
+        """
+        t = self.scenario.time.start if time is None else float(time)
+        seen = self.compute([t])["critical_dimension"][..., 0]
+        atm = self.scenario.atmosphere
+        present = (
+            atm.extinction is not None or atm.obscurant is not None or atm.visibility is not None
+        )
+        cases: dict[str, dict[str, Any]] = {}
+        for s, sensor in enumerate(self.scenario.sensors):
+            for g, target in enumerate(self.scenario.targets):
+                case: dict[str, Any] = {
+                    "critical_dimension": float(seen[s, g]),
+                    "ifov": sensor.pixel_ifov,
+                    "criterion": self.criteria[g],
+                    "transform": self.scenario.model.transform,
+                    "noise_model": self.scenario.model.noise_model,
+                    "hot_spot": target.hot_spot,
+                    "moving": target.moving,
+                    "options": dict(self.options),
+                }
+                if present:
+                    case["extinction"] = float(self.extinction[s])
+                if sensor.aperture is not None:
+                    case["aperture"] = sensor.aperture
+                    case["wavelength"] = sum(sensor.limits) / 2
+                if self.scr is not None:
+                    case["scr"] = float(self.scr[s, g])
+                elif self.scenario.background.clutter is not None:
+                    case["region"] = self.scenario.background.clutter
+                cases[f"{sensor.name} → {target.name}"] = case
+        return cases
+
     def evaluate(self, times: Any = None) -> Results:
         """Evaluate every sensor × target × time (default: the scenario's time grid)."""
         t = self.scenario.time.times() if times is None else np.atleast_1d(np.asarray(times, float))

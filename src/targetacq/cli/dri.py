@@ -1,0 +1,623 @@
+"""The `dri` and `atmosphere` commands: ranges for a sensor and a target; a path."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import re
+from dataclasses import dataclass
+from typing import Annotated, Any
+
+import typer
+import typer.main
+
+from targetacq import atmosphere, optics, radiometry, ranges
+from targetacq import clutter as clutter_module
+from targetacq.atmosphere import (
+    EXTINCTION_LEVELS,
+    OBSCURANTS,
+    VISIBILITY_CONVENTIONS,
+    np_per_km_to_db_per_km,
+)
+from targetacq.bands import BANDS, band_limits, band_name
+from targetacq.cli import (
+    _SI_SUFFIX,
+    FORMATS,
+    BandOption,
+    ConventionOption,
+    ExtinctionOption,
+    FormatOption,
+    ObscurantOption,
+    VisibilityOption,
+    _choice,
+    app,
+)
+from targetacq.criteria import CRITERIA, Criterion, get_criterion
+from targetacq.noise import NOISE_MODELS
+from targetacq.tables import load_table
+from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
+from targetacq.units import parse_quantity
+
+
+def _example_camera() -> dict[str, str]:
+    table = load_table("example_camera")
+    return {
+        quantity: f"{value} {unit}".strip()
+        for quantity, value, unit in zip(
+            table.column("quantity"), table.column("value"), table.column("unit"), strict=True
+        )
+    }
+
+
+def _probabilities(text: str) -> list[float]:
+    values = []
+    for part in text.split(","):
+        try:
+            p = float(part)
+        except ValueError as error:
+            raise ValueError(f"--probability: {part!r} is not a number in (0, 1)") from error
+        if not 0 < p < 1:
+            raise ValueError(f"--probability must be in the open interval (0, 1); got {part}")
+        values.append(p)
+    return values
+
+
+def _user_criterion(text: str) -> Criterion:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles), e.g. 1,4,6.4; got {text!r}")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError as error:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles); got {text!r}") from error
+    if not all(math.isfinite(v) and v > 0 for v in values):
+        raise ValueError(f"--n50 values must be finite and > 0 cycles; got {text!r}")
+    return get_criterion(
+        dict(zip(("detection", "recognition", "identification"), values, strict=True))
+    )
+
+
+def _sensor_ifov(
+    pitch: str | None,
+    focal_length: str | None,
+    ifov: str | None,
+    hfov: str | None,
+    pixels: int | None,
+) -> tuple[float, dict[str, float]]:
+    ways = [
+        pitch is not None or focal_length is not None,
+        ifov is not None,
+        hfov is not None or pixels is not None,
+    ]
+    if sum(ways) != 1:
+        raise ValueError(
+            "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
+            "--hfov and --pixels (or --example)"
+        )
+    if ways[0]:
+        if pitch is None or focal_length is None:
+            raise ValueError("--pitch and --focal-length go together")
+        p = parse_quantity(pitch, "length", "--pitch")
+        f = parse_quantity(focal_length, "length", "--focal-length")
+        return float(optics.ifov(p, f)), {"pitch_m": p, "focal_length_m": f}
+    if ways[1]:
+        assert ifov is not None
+        value = parse_quantity(ifov, "angle", "--ifov")
+        if not value > 0:
+            raise ValueError(f"--ifov must be > 0; got {ifov!r}")
+        return value, {}
+    if hfov is None or pixels is None:
+        raise ValueError("--hfov and --pixels go together")
+    fov = parse_quantity(hfov, "angle", "--hfov")
+    value = float(optics.ifov_from_field_of_view(fov, pixels))
+    return value, {"hfov_rad": fov, "pixels": float(pixels)}
+
+
+def _band(text: str) -> tuple[float, float]:
+    """A named band, or "8-12um"-style limits, as (λ1, λ2) [m]."""
+    if text in BANDS:
+        return BANDS[text]
+    match = re.fullmatch(r"\s*([\d.]+)\s*-\s*([\d.]+)\s*([A-Za-zµ]+)\s*", text)
+    if match is None:
+        raise ValueError(f"--band must be one of {', '.join(BANDS)} or like 8-12um; got {text!r}")
+    low, high, unit = match.groups()
+    limits = (
+        parse_quantity(f"{low} {unit}", "length", "--band"),
+        parse_quantity(f"{high} {unit}", "length", "--band"),
+    )
+    return band_limits(limits)
+
+
+def _path(
+    extinction: str | None,
+    obscurant: str | None,
+    visibility: str | None,
+    convention: str | None,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """The path's extinction from one of --extinction, --obscurant, --visibility ({} if none)."""
+    given = [v is not None for v in (extinction, obscurant, visibility)]
+    if sum(given) > 1:
+        raise ValueError("give one of --extinction, --obscurant and --visibility")
+    if convention is not None and visibility is None:
+        raise ValueError("--visibility-convention goes with --visibility")
+    if extinction is not None:
+        gamma = parse_quantity(extinction, "extinction", "--extinction")
+        if not gamma >= 0:
+            raise ValueError(f"--extinction must be >= 0; got {extinction!r}")
+        info: dict[str, Any] = {"source": f"--extinction {extinction}"}
+    elif obscurant is not None:
+        if band is None:
+            raise ValueError("--obscurant needs --band (Table 7.1 depends on the band)")
+        name, _, level = obscurant.partition(":")
+        _choice(name, OBSCURANTS, "--obscurant")
+        level = level or "nominal"
+        _choice(level, EXTINCTION_LEVELS, "--obscurant level")
+        gamma = atmosphere.obscurant_extinction(name, band, level)
+        info = {"source": f"Table 7.1: {name}, {level}, {band_name(band)}"}
+    elif visibility is not None:
+        if band is not None and band_name_or_none(band) != "visible":
+            raise ValueError(
+                "--visibility gives the visible-band extinction; for an infrared --band give "
+                "--extinction or --obscurant"
+            )
+        if convention is None:
+            raise ValueError(
+                "--visibility needs --visibility-convention koschmieder (2 % contrast, 3.912/V) "
+                "or mor (5 %, 2.996/V)"
+            )
+        _choice(convention, VISIBILITY_CONVENTIONS, "--visibility-convention")
+        v = parse_quantity(visibility, "length", "--visibility")
+        gamma = float(atmosphere.extinction_from_visibility(v, convention))
+        info = {"source": f"visibility {visibility} ({convention})"}
+    else:
+        return {}
+    term, visual_range = atmosphere.extinction_term(gamma)
+    return {
+        "extinction_np_per_m": gamma,
+        "extinction_np_per_km": gamma * 1e3,
+        "term": term,
+        "visual_range": visual_range,
+        **info,
+    }
+
+
+def band_name_or_none(band: tuple[float, float]) -> str | None:
+    try:
+        return band_name(band)
+    except ValueError:
+        return None
+
+
+def _clutter(
+    scr: float | None,
+    region: str | None,
+    clutter_std: str | None,
+    target_temperature: str | None,
+    background_temperature: str | None,
+    emissivity: float,
+    background_emissivity: float,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
+    if sum(v is not None for v in (scr, region, clutter_std)) > 1:
+        raise ValueError("give one of --scr, --clutter and --clutter-std")
+    temperatures = (target_temperature, background_temperature)
+    if any(t is not None for t in temperatures) and None in temperatures:
+        raise ValueError("--target-temperature and --background-temperature go together")
+    if scr is not None:
+        if not scr >= 0:
+            raise ValueError(f"--scr must be >= 0; got {scr}")
+        return {"scr": scr}
+    if region is not None:
+        return {"region": _choice(region, CLUTTER_REGIONS, "--clutter")}
+    info: dict[str, Any] = {}
+    if target_temperature is not None and background_temperature is not None:
+        if band is None:
+            raise ValueError("temperatures need --band to compute the band exitance")
+        t_t = parse_quantity(target_temperature, "temperature", "--target-temperature")
+        t_b = parse_quantity(background_temperature, "temperature", "--background-temperature")
+        for name, eps in (
+            ("--emissivity", emissivity),
+            ("--background-emissivity", background_emissivity),
+        ):
+            if not 0 <= eps <= 1:
+                raise ValueError(f"{name} must be in [0, 1]; got {eps}")
+        m_t = emissivity * float(radiometry.band_exitance(t_t, band))
+        m_b = background_emissivity * float(radiometry.band_exitance(t_b, band))
+        info = {
+            "target_temperature_k": t_t,
+            "background_temperature_k": t_b,
+            "contrast_w_per_m2": abs(m_t - m_b),
+        }
+        if clutter_std is not None:
+            sigma_t = parse_quantity(clutter_std, "temperature difference", "--clutter-std")
+            if not sigma_t >= 0:
+                raise ValueError(f"--clutter-std must be >= 0; got {clutter_std!r}")
+            sigma_m = (
+                background_emissivity
+                * float(radiometry.band_exitance_derivative(t_b, band))
+                * sigma_t
+            )
+            info["clutter_w_per_m2"] = sigma_m
+            info["scr"] = float(clutter_module.signal_to_clutter_ratio(m_t, m_b, sigma_m))
+    elif clutter_std is not None:
+        raise ValueError("--clutter-std needs --target-temperature and --background-temperature")
+    return info
+
+
+@app.command()
+def dri(
+    pitch: Annotated[str | None, typer.Option(help="Pixel pitch, e.g. 17um.")] = None,
+    focal_length: Annotated[str | None, typer.Option(help="Focal length, e.g. 75mm.")] = None,
+    ifov: Annotated[str | None, typer.Option(help="Pixel IFOV, e.g. 0.227mrad.")] = None,
+    hfov: Annotated[str | None, typer.Option(help="Horizontal field of view, e.g. 12deg.")] = None,
+    pixels: Annotated[int | None, typer.Option(help="Pixels across --hfov, e.g. 640.")] = None,
+    aperture: Annotated[
+        str | None, typer.Option(help="Lens aperture diameter for diffraction, e.g. 75mm.")
+    ] = None,
+    wavelength: Annotated[
+        str | None, typer.Option(help="Wavelength for diffraction, e.g. 10um.")
+    ] = None,
+    blur: Annotated[
+        str | None, typer.Option(help="Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.")
+    ] = None,
+    critical_dimension: Annotated[
+        str | None, typer.Option(help="Target critical dimension, e.g. 2.3m.")
+    ] = None,
+    criterion: Annotated[
+        str, typer.Option(help=f"Criteria set: {', '.join(CRITERIA)}.")
+    ] = "johnson",
+    n50: Annotated[
+        str | None,
+        typer.Option(help="User-defined N50 cycles for detection,recognition,identification."),
+    ] = None,
+    transform: Annotated[str, typer.Option(help=f"Transform: {', '.join(TRANSFORMS)}.")] = "ttpf",
+    bound: Annotated[
+        str | None, typer.Option(help=f"c2nveo bound: {', '.join(C2NVEO_BOUNDS)}.")
+    ] = None,
+    scr: Annotated[
+        float | None, typer.Option(help="Signal-to-clutter ratio (schmieder-weathersby).")
+    ] = None,
+    clutter: Annotated[
+        str | None,
+        typer.Option(help=f"Clutter region (schmieder-weathersby): {', '.join(CLUTTER_REGIONS)}."),
+    ] = None,
+    band: BandOption = None,
+    target_temperature: Annotated[
+        str | None, typer.Option(help="Target temperature, e.g. 305K or 32degC.")
+    ] = None,
+    background_temperature: Annotated[
+        str | None, typer.Option(help="Background temperature, e.g. 295K.")
+    ] = None,
+    emissivity: Annotated[float, typer.Option(help="Target emissivity in [0, 1].")] = 1.0,
+    background_emissivity: Annotated[
+        float, typer.Option(help="Background emissivity in [0, 1].")
+    ] = 1.0,
+    clutter_std: Annotated[
+        str | None,
+        typer.Option(help="Background temperature spread (clutter), e.g. 2K; gives the SCR."),
+    ] = None,
+    extinction: ExtinctionOption = None,
+    obscurant: ObscurantOption = None,
+    visibility: VisibilityOption = None,
+    visibility_convention: ConventionOption = None,
+    noise_model: Annotated[
+        str, typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)}.")
+    ] = "variance-sum",
+    probability: Annotated[
+        str, typer.Option(help="Probability, or several separated by commas, e.g. 0.5,0.8.")
+    ] = "0.5",
+    output_format: FormatOption = "table",
+    example: Annotated[
+        bool, typer.Option("--example", help="Use the bundled example camera and target.")
+    ] = False,
+) -> None:
+    """Ranges at which each task (detection, recognition, identification) reaches a probability."""
+    _choice(output_format, FORMATS, "--format")
+    params = dict(locals())
+    params.pop("output_format")
+    setup = _setup(**params)
+    typer.echo(_render(_dri_report(setup), output_format), nl=False)
+
+
+@dataclass(frozen=True)
+class _Setup:
+    """Everything the dri, plot and report commands read from the sensor/target/path options."""
+
+    critical_dimension: float
+    ifov: float
+    sensor: dict[str, float]
+    optics: dict[str, Any]
+    criterion: Criterion
+    transform: str
+    options: dict[str, Any]
+    path: dict[str, Any]
+    scene: dict[str, Any]
+    noise_model: str
+    probabilities: list[float]
+
+    @property
+    def clutter(self) -> dict[str, Any]:
+        return {k: self.scene[k] for k in ("scr", "region") if self.scene.get(k) is not None}
+
+    @property
+    def cycle(self) -> float:
+        return float(optics.resolvable_cycle_angle(self.ifov, **self.optics))
+
+    def case(self) -> dict[str, Any]:
+        """The setup as a case of :func:`targetacq.ranges.range_performance`."""
+        return {
+            "critical_dimension": self.critical_dimension,
+            "ifov": self.ifov,
+            "criterion": self.criterion,
+            "transform": self.transform,
+            "extinction": self.path.get("extinction_np_per_m"),
+            "noise_model": self.noise_model,
+            "options": self.options,
+            **self.optics,
+            **self.clutter,
+        }
+
+
+def _setup(
+    pitch: str | None,
+    focal_length: str | None,
+    ifov: str | None,
+    hfov: str | None,
+    pixels: int | None,
+    aperture: str | None,
+    wavelength: str | None,
+    blur: str | None,
+    critical_dimension: str | None,
+    criterion: str,
+    n50: str | None,
+    transform: str,
+    bound: str | None,
+    scr: float | None,
+    clutter: str | None,
+    band: str | None,
+    target_temperature: str | None,
+    background_temperature: str | None,
+    emissivity: float,
+    background_emissivity: float,
+    clutter_std: str | None,
+    extinction: str | None,
+    obscurant: str | None,
+    visibility: str | None,
+    visibility_convention: str | None,
+    noise_model: str,
+    probability: str,
+    example: bool,
+) -> _Setup:
+    _choice(transform, TRANSFORMS, "--transform")
+    if example:
+        camera = _example_camera()
+        if ifov is None and hfov is None and pixels is None:
+            pitch = pitch or camera["pitch"]
+            focal_length = focal_length or camera["focal_length"]
+        if blur is None:
+            aperture = aperture or camera["aperture"]
+            wavelength = wavelength or camera["wavelength"]
+        critical_dimension = critical_dimension or camera["critical_dimension"]
+    if critical_dimension is None:
+        raise ValueError("--critical-dimension is required (e.g. 2.3m), or use --example")
+    d = parse_quantity(critical_dimension, "length", "--critical-dimension")
+    if not d > 0:
+        raise ValueError(f"--critical-dimension must be > 0; got {critical_dimension!r}")
+    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels)
+    optics_kw: dict[str, Any] = {}
+    if (aperture is None) != (wavelength is None):
+        raise ValueError("--aperture and --wavelength go together (diffraction limit)")
+    if aperture is not None and wavelength is not None:
+        optics_kw["aperture"] = parse_quantity(aperture, "length", "--aperture")
+        optics_kw["wavelength"] = parse_quantity(wavelength, "length", "--wavelength")
+    if blur is not None:
+        optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
+    if n50 is not None and criterion != "johnson":
+        raise ValueError("give either --criterion or --n50, not both")
+    crit = (
+        _user_criterion(n50)
+        if n50 is not None
+        else get_criterion(_choice(criterion, CRITERIA, "--criterion"))
+    )
+    options: dict[str, Any] = {}
+    if bound is not None:
+        options["bound"] = _choice(bound, C2NVEO_BOUNDS, "--bound")
+    band_limits_m = _band(band) if band is not None else None
+    path = _path(extinction, obscurant, visibility, visibility_convention, band_limits_m)
+    scene = _clutter(
+        scr,
+        clutter,
+        clutter_std,
+        target_temperature,
+        background_temperature,
+        emissivity,
+        background_emissivity,
+        band_limits_m,
+    )
+    _choice(noise_model, NOISE_MODELS, "--noise-model")
+    return _Setup(
+        critical_dimension=d,
+        ifov=ifov_rad,
+        sensor=sensor,
+        optics=optics_kw,
+        criterion=crit,
+        transform=transform,
+        options=options,
+        path=path,
+        scene=scene,
+        noise_model=noise_model,
+        probabilities=_probabilities(probability),
+    )
+
+
+def _dri_report(setup: _Setup) -> dict[str, Any]:
+    crit = setup.criterion
+
+    rows = []
+    for p in setup.probabilities:
+        found = ranges.dri_ranges(
+            setup.critical_dimension,
+            setup.ifov,
+            crit,
+            probability=p,
+            transform=setup.transform,
+            extinction=setup.path.get("extinction_np_per_m"),
+            noise_model=setup.noise_model,
+            **setup.optics,
+            **setup.clutter,
+            **setup.options,
+        )
+        for task, r in found.items():
+            value = float(r)
+            rows.append(
+                {
+                    "task": task,
+                    "probability": p if crit.gives_probabilities else None,
+                    "threshold": crit.threshold(task),
+                    "threshold_unit": "cycles" if crit.gives_probabilities else "pixels/m",
+                    "range_m": value if math.isfinite(value) else None,
+                    "reached": not math.isnan(value),
+                }
+            )
+        if not crit.gives_probabilities:
+            break
+    return {
+        "sensor": {
+            "ifov_rad": setup.ifov,
+            "cycle_rad": setup.cycle,
+            **setup.sensor,
+            **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in setup.optics.items()},
+        },
+        "target": {"critical_dimension_m": setup.critical_dimension, **setup.scene},
+        "path": setup.path,
+        "criterion": crit.name,
+        "criterion_kind": crit.kind,
+        "transform": setup.transform if crit.gives_probabilities else None,
+        "options": setup.options,
+        "noise_model": setup.noise_model if setup.path else None,
+        "ranges": rows,
+    }
+
+
+@app.command("atmosphere")
+def atmosphere_command(
+    range_: Annotated[
+        str, typer.Option("--range", help="Path length(s), comma-separated, e.g. 1km,2km,5km.")
+    ],
+    band: BandOption = None,
+    extinction: ExtinctionOption = None,
+    obscurant: ObscurantOption = None,
+    visibility: VisibilityOption = None,
+    visibility_convention: ConventionOption = None,
+    output_format: FormatOption = "table",
+) -> None:
+    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path."""
+    _choice(output_format, FORMATS, "--format")
+    lengths = [parse_quantity(part, "length", "--range") for part in range_.split(",")]
+    if not all(r >= 0 for r in lengths):
+        raise ValueError(f"--range must be >= 0; got {range_!r}")
+    path = _path(
+        extinction, obscurant, visibility, visibility_convention, _band(band) if band else None
+    )
+    if not path:
+        raise ValueError("give the path's extinction: --extinction, --obscurant or --visibility")
+    gamma = path["extinction_np_per_m"]
+    rows = []
+    for r in lengths:
+        tau = float(atmosphere.transmittance(gamma, r))
+        snr = float(atmosphere.snr_from_transmittance(tau))
+        rows.append(
+            {
+                "range_m": r,
+                "transmittance": tau,
+                "snr_db": snr if math.isfinite(snr) else None,
+                "snr": "+inf"
+                if snr == math.inf
+                else ("-inf" if snr == -math.inf else f"{snr:.4g}"),
+            }
+        )
+    report = {"path": path, "rows": rows}
+    if output_format == "json":
+        typer.echo(json.dumps(report, indent=2))
+        return
+    if output_format == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(
+            buffer,
+            fieldnames=["range_m", "transmittance", "snr_db"],
+            lineterminator="\n",
+            extrasaction="ignore",
+        )
+        writer.writeheader()
+        writer.writerows(rows)
+        typer.echo(buffer.getvalue(), nl=False)
+        return
+    lines = [
+        f"extinction {path['extinction_np_per_km']:.4g} Np/km "
+        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): {path['term']}, "
+        f"visual range {path['visual_range']} (Table 7.2); {path['source']}",
+        "",
+        f"{'range [m]':>12}  {'τ':>10}  {'SNR [dB]':>10}",
+    ]
+    lines += [
+        f"{row['range_m']:>12,.0f}  {row['transmittance']:>10.4g}  {row['snr']:>10}" for row in rows
+    ]
+    typer.echo("\n".join(lines))
+
+
+def _render(report: dict[str, Any], output_format: str) -> str:
+    rows = report["ranges"]
+    if output_format == "json":
+        return json.dumps(report, indent=2) + "\n"
+    if output_format == "csv":
+        buffer = io.StringIO()
+        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+        return buffer.getvalue()
+    sensor = report["sensor"]
+    limit = "sampling" if math.isclose(sensor["cycle_rad"], 2 * sensor["ifov_rad"]) else "optics"
+    lines = [
+        f"criterion {report['criterion']}"
+        + (f", transform {report['transform']}" if report["transform"] else "")
+        + "".join(f", {k} {v}" for k, v in report["options"].items()),
+        f"sensor: IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
+        f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
+        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+        + _scene_line(report["target"]),
+    ]
+    if report["path"]:
+        path = report["path"]
+        lines.append(
+            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['term']}, visual "
+            f"range {path['visual_range']}; {path['source']}), noise model {report['noise_model']}"
+        )
+    lines.append("")
+    unit = rows[0]["threshold_unit"]
+    header = f"{'task':<16}{'P':>6}  {'N50 [' + unit + ']':>18}  {'range [m]':>12}"
+    lines += [header, "-" * len(header)]
+    for row in rows:
+        p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
+        if not row["reached"]:
+            r = "not reached"
+        elif row["range_m"] is None:
+            r = "any"
+        else:
+            r = f"{row['range_m']:,.0f}"
+        lines.append(f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {r:>12}")
+    return "\n".join(lines) + "\n"
+
+
+def _scene_line(target: dict[str, Any]) -> str:
+    parts = []
+    if "contrast_w_per_m2" in target:
+        parts.append(f"contrast {target['contrast_w_per_m2']:.4g} W/m²")
+    if "scr" in target:
+        parts.append(f"SCR {target['scr']:.4g}")
+    if "region" in target:
+        parts.append(f"{target['region']} clutter")
+    return "; " + ", ".join(parts) if parts else ""

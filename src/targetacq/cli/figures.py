@@ -1,0 +1,235 @@
+"""The `plot` and `report` commands: figures and the HTML report."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any
+
+import typer
+import typer.main
+
+from targetacq import __version__, ranges
+from targetacq.atmosphere import (
+    EXTINCTION_LEVELS,
+)
+from targetacq.bands import BANDS
+from targetacq.cli import (
+    _choice,
+    app,
+)
+from targetacq.cli.dri import _band, _Setup, _setup, _user_criterion
+from targetacq.criteria import CRITERIA, get_criterion
+from targetacq.noise import NOISE_MODELS
+from targetacq.plots import (
+    PLOT_KINDS,
+    plot_atmosphere,
+    plot_range_performance,
+    plot_transforms,
+    save_figure,
+)
+from targetacq.report import render_report, write_report
+from targetacq.transforms import TRANSFORMS
+from targetacq.units import parse_quantity
+
+_PASS_THROUGH = {"allow_extra_args": True, "ignore_unknown_options": True}
+
+
+def _dri_params(args: list[str]) -> tuple[dict[str, Any], set[str]]:
+    """Parse sensor/target/path options with the `dri` command's own parser.
+
+    Returns the parameters and the names of those given on the command line.
+    """
+    group = typer.main.get_command(app)
+    command = group.commands["dri"]  # type: ignore[attr-defined]
+    context = command.make_context("dri", list(args))
+    defaults = {p.name: p.default for p in command.params}
+    given = {name for name, value in context.params.items() if value != defaults.get(name)}
+    return dict(context.params), given
+
+
+def _title(setup: _Setup) -> str:
+    sensor = setup.sensor
+    if "pitch_m" in sensor:
+        pitch_um, focal_mm = sensor["pitch_m"] * 1e6, sensor["focal_length_m"] * 1e3
+        optics_text = f"{pitch_um:.3g} µm pitch, {focal_mm:.4g} mm focal length"
+    elif "hfov_rad" in sensor:
+        optics_text = f"{math.degrees(sensor['hfov_rad']):.3g}° over {sensor['pixels']:.0f} pixels"
+    else:
+        optics_text = "IFOV given"
+    return (
+        f"IFOV {setup.ifov * 1e3:.4g} mrad ({optics_text}) — target critical dimension "
+        f"{setup.critical_dimension:.3g} m"
+    )
+
+
+def _performance(setup: _Setup, max_range: str | None, probabilities: list[float]) -> Any:
+    if max_range is not None:
+        r_max = parse_quantity(max_range, "length", "--max-range")
+        if not r_max > 0:
+            raise ValueError(f"--max-range must be > 0; got {max_range!r}")
+    else:
+        reach = ranges.dri_ranges(
+            setup.critical_dimension,
+            setup.ifov,
+            setup.criterion,
+            probability=min(probabilities),
+            transform=setup.transform,
+            **setup.optics,
+            **setup.clutter,
+            **setup.options,
+        )
+        finite = [float(r) for r in reach.values() if math.isfinite(float(r))]
+        r_max = 1.3 * max(finite) if finite else 10e3
+    grid = [r_max * (k + 1) / 400 for k in range(400)]
+    return ranges.range_performance(grid, {"this sensor": setup.case()}, probabilities)
+
+
+@app.command(context_settings=_PASS_THROUGH)
+def plot(
+    context: typer.Context,
+    kind: Annotated[str, typer.Argument(help=f"Figure: {', '.join(PLOT_KINDS)}.")],
+    out: Annotated[str, typer.Option(help="Output file, .png or .svg.")],
+    max_range: Annotated[
+        str | None, typer.Option(help="Largest range on the axis, e.g. 8km (default: automatic).")
+    ] = None,
+    level: Annotated[
+        str, typer.Option(help="atmosphere: Table 7.1 level, low|nominal|high.")
+    ] = "nominal",
+    title: Annotated[str | None, typer.Option(help="Figure title.")] = None,
+) -> None:
+    """Draw a figure. `curves` takes every sensor, target and path option of `targetacq dri`
+    (and --probability for the marked DRI points); `transforms` takes --criterion or --n50;
+    `atmosphere` takes --band."""
+    _choice(kind, PLOT_KINDS, "plot kind")
+    params, given = _dri_params(context.args)
+    allowed = {
+        "curves": None,
+        "transforms": {"criterion", "n50"},
+        "atmosphere": {"band"},
+    }[kind]
+    if allowed is not None and given - allowed:
+        unused = ", ".join("--" + name.replace("_", "-") for name in sorted(given - allowed))
+        raise ValueError(f"plot {kind} does not use {unused}")
+    if kind == "curves":
+        if "probability" not in given:
+            params["probability"] = "0.5,0.8,0.95"
+        setup = _setup(**{k: v for k, v in params.items() if k != "output_format"})
+        performance = _performance(setup, max_range, setup.probabilities)
+        fig = plot_range_performance(performance, title=title or _title(setup))
+    elif kind == "transforms":
+        crit = (
+            _user_criterion(params["n50"])
+            if params["n50"]
+            else get_criterion(_choice(params["criterion"], CRITERIA, "--criterion"))
+        )
+        fig = plot_transforms(crit, title=title)
+    else:
+        r_max = 10e3 if max_range is None else parse_quantity(max_range, "length", "--max-range")
+        _choice(level, EXTINCTION_LEVELS, "--level")
+        band_value = _band(params["band"]) if params["band"] else BANDS["lwir"]
+        fig = plot_atmosphere(band_value, r_max, level, title=title)
+    written = save_figure(fig, out)
+    typer.echo(f"wrote {written}")
+
+
+@app.command(context_settings=_PASS_THROUGH)
+def report(
+    context: typer.Context,
+    out: Annotated[str, typer.Option(help="Output file, .html.")],
+    max_range: Annotated[
+        str | None, typer.Option(help="Largest range of the curves, e.g. 8km (default: automatic).")
+    ] = None,
+    title: Annotated[str | None, typer.Option(help="Report title.")] = None,
+) -> None:
+    """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
+    50 / 80 / 95 % and the figures. Takes every sensor, target and path option of
+    `targetacq dri`."""
+    params, given = _dri_params(context.args)
+    if "probability" not in given:
+        params["probability"] = "0.5,0.8,0.95"
+    params.pop("output_format")
+    setup = _setup(**params)
+    if not setup.criterion.gives_probabilities:
+        raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
+    performance = _performance(setup, max_range, setup.probabilities)
+    heading = title or _title(setup)
+    figures = {"Range performance": plot_range_performance(performance, title=heading)}
+    figures["Transforms"] = plot_transforms(setup.criterion)
+    if setup.path and params["band"]:
+        figures["Atmosphere"] = plot_atmosphere(_band(params["band"]))
+    page = render_report(
+        performance, _report_sections(setup), figures, title=heading, version=__version__
+    )
+    written = write_report(out, page)
+    typer.echo(f"wrote {written}")
+
+
+def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
+    crit = setup.criterion
+    sensor = {
+        "IFOV": f"{setup.ifov * 1e3:.4g} mrad",
+        "resolvable cycle": f"{setup.cycle * 1e3:.4g} mrad "
+        "(max of 2·IFOV and the optics, Eqs. (5.3), (5.2); Fig. 3.3)",
+    }
+    labels = {
+        "pitch_m": ("pixel pitch", 1e6, "µm"),
+        "focal_length_m": ("focal length", 1e3, "mm"),
+        "hfov_rad": ("horizontal field of view", 180 / math.pi, "°"),
+        "pixels": ("pixels across the field", 1, ""),
+    }
+    for key, value in setup.sensor.items():
+        name, scale, unit = labels[key]
+        sensor[name] = f"{value * scale:.4g} {unit}".strip()
+    optics_labels = {
+        "aperture": ("aperture diameter", 1e3, "mm"),
+        "wavelength": ("wavelength for diffraction", 1e6, "µm"),
+        "blur_sigma": ("optics blur σ", 1e3, "mrad"),
+    }
+    for key, value in setup.optics.items():
+        name, scale, unit = optics_labels[key]
+        sensor[name] = f"{value * scale:.4g} {unit}"
+    target = {"critical dimension": f"{setup.critical_dimension:.4g} m (smallest side seen, §3.2)"}
+    scene_labels = {
+        "target_temperature_k": ("target temperature", "K"),
+        "background_temperature_k": ("background temperature", "K"),
+        "contrast_w_per_m2": ("band exitance contrast", "W/m² (Eq. (6.12))"),
+        "clutter_w_per_m2": ("clutter", "W/m² (background temperature spread × dM/dT)"),
+        "scr": ("signal-to-clutter ratio", "(Eq. (6.9))"),
+        "region": ("clutter region", "(Table 3.5)"),
+    }
+    for key, value in setup.scene.items():
+        name, unit = scene_labels[key]
+        text = f"{value:.4g}" if isinstance(value, float) else str(value)
+        target[name] = f"{text} {unit}"
+    path = (
+        {
+            "extinction": f"{setup.path['extinction_np_per_km']:.4g} Np/km "
+            f"({setup.path['source']})",
+            "description": f"{setup.path['term']}, visual range {setup.path['visual_range']} "
+            "(Table 7.2)",
+            "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
+            "noise model": f"{setup.noise_model}: {NOISE_MODELS[setup.noise_model].source}",
+        }
+        if setup.path
+        else {"atmosphere": "none (geometry, clutter and optics only)"}
+    )
+    n50s = ", ".join(f"{task} {crit.threshold(task):g}" for task in crit.tasks)
+    model = {
+        "criterion": f"{crit.name}: N50 {n50s} cycles ({crit.source})",
+        "transform": f"{setup.transform}: {TRANSFORMS[setup.transform].source}"
+        + "".join(f"; {k} = {v}" for k, v in setup.options.items()),
+        "clutter": "detection from Table 3.5 (Schmieder–Weathersby) by SCR region; recognition "
+        "and identification do not depend on clutter (§3.8)"
+        if setup.clutter
+        else "none given: detection uses the transform",
+        "cycles on target": "N = (d / R) / cycle, small angle (Fig. 3.3)",
+        "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
+        "sources": "Sonesson (2004), A Probabilistic Approach to Conceptual Sensor Modeling, "
+        "LiTH-ISY-EX-3428; errata and open points as in targetacq's MODEL.md",
+    }
+    return {
+        "Sensor": sensor,
+        "Target": target,
+        "Path": path,
+        "Model choices and sources": model,
+    }

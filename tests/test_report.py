@@ -4,6 +4,7 @@ import re
 import shutil
 import subprocess
 from html.parser import HTMLParser
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -104,3 +105,16 @@ def test_report_renders_in_headless_chromium(report_file, tmp_path):
     assert np.mean(image.sum(axis=-1) < 600) > 0.01
     detection_blue = np.array([0x1F, 0x77, 0xB4])
     assert np.sum(np.all(np.abs(image - detection_blue) < 20, axis=-1)) > 200
+
+
+def test_report_of_a_scenario(tmp_path):
+    out = tmp_path / "scenario.html"
+    scenario = str(Path(__file__).parents[1] / "examples" / "two_sensors_fused.toml")
+    with pytest.raises(SystemExit) as done:
+        main(["report", scenario, "--out", str(out)])
+    assert done.value.code == 0
+    page = out.read_text()
+    for case in ("tv → truck", "thermal → soldier"):
+        assert case in page
+    assert "Table 7.1 haze" in page
+    assert page.count("data:image/png;base64,") == 3

@@ -19,6 +19,7 @@ from targetacq.cli import (
 )
 from targetacq.cli.dri import _band, _Setup, _setup, _user_criterion
 from targetacq.criteria import CRITERIA, get_criterion
+from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.plots import (
     PLOT_KINDS,
@@ -28,6 +29,7 @@ from targetacq.plots import (
     save_figure,
 )
 from targetacq.report import render_report, write_report
+from targetacq.scenario import load_scenario
 from targetacq.transforms import TRANSFORMS
 from targetacq.units import parse_quantity
 
@@ -142,9 +144,19 @@ def report(
     title: Annotated[str | None, typer.Option(help="Report title.")] = None,
 ) -> None:
     """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
-    50 / 80 / 95 % and the figures. Takes every sensor, target and path option of
-    `targetacq dri`."""
-    params, given = _dri_params(context.args)
+    50 / 80 / 95 % and the figures. Give a scenario file (every sensor-target pair becomes a
+    case), or every sensor, target and path option of `targetacq dri`."""
+    args = list(context.args)
+    if args and not args[0].startswith("-"):
+        if len(args) > 1:
+            raise ValueError(
+                f"a scenario report takes no sensor or target options; got {' '.join(args[1:])}"
+            )
+        heading, performance, sections, figures = _scenario_report(args[0], max_range, title)
+        page = render_report(performance, sections, figures, title=heading, version=__version__)
+        typer.echo(f"wrote {write_report(out, page)}")
+        return
+    params, given = _dri_params(args)
     if "probability" not in given:
         params["probability"] = "0.5,0.8,0.95"
     params.pop("output_format")
@@ -162,6 +174,101 @@ def report(
     )
     written = write_report(out, page)
     typer.echo(f"wrote {written}")
+
+
+def _scenario_report(path: str, max_range: str | None, title: str | None) -> tuple[Any, ...]:
+    """Heading, range performance, sections and figures of a scenario's report."""
+    scenario = load_scenario(path)
+    chain = ModelChain(scenario)
+    cases = chain.range_cases()
+    probabilities = [0.5, 0.8, 0.95]
+    if max_range is not None:
+        r_max = parse_quantity(max_range, "length", "--max-range")
+        if not r_max > 0:
+            raise ValueError(f"--max-range must be > 0; got {max_range!r}")
+    else:
+        # The 50 % ranges of every case and task, with the path's noise: the curves' extent.
+        own = ("critical_dimension", "ifov", "criterion", "options")
+        reach = [
+            float(r)
+            for case in cases.values()
+            for r in ranges.dri_ranges(
+                case["critical_dimension"],
+                case["ifov"],
+                case["criterion"],
+                probability=0.5,
+                **{k: v for k, v in case.items() if k not in own},
+                **case["options"],
+            ).values()
+        ]
+        finite = [r for r in reach if math.isfinite(r)]
+        r_max = 1.3 * max(finite) if finite else 10e3
+    grid = [r_max * (k + 1) / 400 for k in range(400)]
+    performance = ranges.range_performance(grid, cases, probabilities)
+    heading = title or (scenario.name or path)
+    model = scenario.model
+    sensors = {
+        s.name: f"{s.type}, band {s.limits[0] * 1e6:g}–{s.limits[1] * 1e6:g} µm, IFOV "
+        f"{s.pixel_ifov * 1e3:.4g} mrad"
+        + (f", aperture {s.aperture * 1e3:g} mm" if s.aperture else "")
+        for s in scenario.sensors
+    }
+    targets = {
+        t.name: f"{' × '.join(f'{d:g}' for d in t.dimensions)} m, criterion "
+        f"{chain.criteria[g].name}"
+        + (f", {t.temperature:g} K" if t.temperature is not None else "")
+        + (", moving" if t.moving else "")
+        + (", hot spot" if t.hot_spot else "")
+        for g, t in enumerate(scenario.targets)
+    }
+    atm = scenario.atmosphere
+    sections = {
+        "Scenario": {
+            "file": path,
+            "name": scenario.name or "(unnamed)",
+            "cases": "every sensor–target pair, critical dimension as seen at the start",
+        },
+        "Sensors": sensors,
+        "Targets": targets,
+        "Background and path": {
+            "clutter": _clutter_text(scenario.background),
+            "atmosphere": _atmosphere_text(atm),
+            "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7); noise model "
+            f"{model.noise_model}: {NOISE_MODELS[model.noise_model].source}",
+        },
+        "Model choices and sources": {
+            "transform": f"{model.transform}: {TRANSFORMS[model.transform].source}",
+            "criteria": "; ".join(dict.fromkeys(f"{c.name} ({c.source})" for c in chain.criteria)),
+            "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
+            "sources": "Sonesson (2004), A Probabilistic Approach to Conceptual Sensor Modeling, "
+            "LiTH-ISY-EX-3428; errata and open points as in targetacq's MODEL.md",
+        },
+    }
+    figures = {"Range performance": plot_range_performance(performance, title=heading)}
+    figures["Transforms"] = plot_transforms(scenario.model.criterion)
+    if atm.obscurant is not None:
+        figures["Atmosphere"] = plot_atmosphere(scenario.sensors[0].limits)
+    return heading, performance, sections, figures
+
+
+def _clutter_text(background: Any) -> str:
+    if background.clutter is not None:
+        return f"region {background.clutter} (Table 3.5)"
+    if background.scr is not None:
+        return f"SCR {background.scr:g}"
+    if background.clutter_std is not None:
+        return f"temperature spread {background.clutter_std:g} K → SCR per pair (Eq. (6.9))"
+    return "none given: detection uses the transform"
+
+
+def _atmosphere_text(atm: Any) -> str:
+    if atm.extinction is not None:
+        return f"extinction {atm.extinction * 1e3:g} Np/km"
+    if atm.obscurant is not None:
+        return f"Table 7.1 {atm.obscurant}, per sensor band"
+    if atm.visibility is not None:
+        return f"visibility {atm.visibility / 1e3:g} km ({atm.visibility_convention})"
+    return "none"
 
 
 def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:

@@ -156,3 +156,94 @@ def test_bad_output_leaves_nothing(tmp_path):
     with pytest.raises(ValueError, match="does not exist"):
         results.write(tmp_path / "missing" / "results.csv")
     assert list(tmp_path.iterdir()) == []
+
+
+def _clutter_scene(background, boxes=None):
+    targets = [
+        {
+            "name": "a",
+            "dimensions": ["6 m", "3 m", "2.5 m"],
+            "temperature": "305 K",
+            "position": ["1 km", "0 m", "0 m"],
+        },
+        {
+            "name": "b",
+            "dimensions": ["6 m", "3 m", "2.5 m"],
+            "temperature": "300 K",
+            "position": ["2 km", "15 m", "0 m"],
+        },
+    ]
+    if boxes:
+        for target, box in zip(targets, boxes):
+            target["image_box"] = box
+    return parse_scenario(
+        {
+            "sensors": [
+                {
+                    "name": "s",
+                    "band": "lwir",
+                    "ifov": "0.2 mrad",
+                    "position": ["0 m", "0 m", "10 m"],
+                }
+            ],
+            "targets": targets,
+            "background": {"temperature": "295 K", **background},
+        }
+    )
+
+
+def test_scr_measured_in_a_background_image():
+    from targetacq.clutter import image_clutter
+    from targetacq.images import read_image
+
+    image = str(Path(__file__).parent / "data" / "camera.png")
+    boxes = [(412, 118, 20, 20), (228, 470, 24, 24)]
+    ds = evaluate(_clutter_scene({"image": image}, boxes)).dataset
+    expected = image_clutter(read_image(image), boxes).scr
+    np.testing.assert_allclose(ds["scr"].values[0], expected)
+    with pytest.raises(ValueError, match="needs an image_box for every target"):
+        _clutter_scene({"image": image}, [boxes[0], None])
+
+
+def test_terrain_clutter_per_triple(tmp_path):
+    grid = tmp_path / "map.csv"
+    np.savetxt(grid, np.array([[0, 0, 1, 1]] * 4), fmt="%d", delimiter=",")
+    terrain = {
+        "map": str(grid),
+        "cell_size": "1 km",
+        "origin": ["0 m", "-2 km"],
+        "classes": [
+            {
+                "name": "grass",
+                "temperature": "293 K",
+                "temperature_std": "1 K",
+                "resolution": "0.1 m",
+            },
+            {
+                "name": "forest",
+                "temperature": "290 K",
+                "temperature_std": "3 K",
+                "resolution": "0.5 m",
+            },
+        ],
+    }
+    chain = ModelChain(_clutter_scene({"terrain": terrain}))
+    ds = chain.evaluate().dataset
+    # Target a (x = 1 km, window 15 m) stands in grass; b (x = 2 km) on the class boundary.
+    m_t = ta.band_exitance(305.0, "lwir")
+    grass_mean = ta.band_exitance(293.0, "lwir")
+    grass_sigma = band_exitance_derivative(293.0, "lwir") * 1.0
+    footprint = float(ds["range"][0, 0, 0]) * 2e-4
+    sigma = grass_sigma * min(1.0, 0.1 / footprint)
+    assert float(ds["scr"][0, 0, 0]) == pytest.approx(abs(m_t - grass_mean) / sigma, rel=1e-9)
+    m_b = ta.band_exitance(300.0, "lwir")
+    forest_mean = ta.band_exitance(290.0, "lwir")
+    forest_sigma = band_exitance_derivative(290.0, "lwir") * 3.0
+    foot_b = float(ds["range"][0, 1, 0]) * 2e-4
+    var = (
+        0.5 * (grass_sigma * min(1, 0.1 / foot_b)) ** 2
+        + 0.5 * (forest_sigma * min(1, 0.5 / foot_b)) ** 2
+    )
+    mean = 0.5 * (grass_mean + forest_mean)
+    assert float(ds["scr"][0, 1, 0]) == pytest.approx(abs(m_b - mean) / math.sqrt(var), rel=1e-9)
+    assert "scr" in chain.evaluate().to_dataframe().columns

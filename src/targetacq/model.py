@@ -67,7 +67,8 @@ class Results:
             name for name in ds.data_vars if ds[name].dims == ("sensor", "target", "time")
         ]
         frame = ds[per_triple].to_dataframe().reset_index()
-        pairs = ds[["contrast", "scr"]].to_dataframe().reset_index()
+        pairs = ds[[n for n in ds.data_vars if ds[n].dims == ("sensor", "target")]]
+        pairs = pairs.to_dataframe().reset_index()
         fused = ds[[f"fused_{t}" for t in _TASKS]].to_dataframe().reset_index()
         return frame.merge(pairs, on=["sensor", "target"]).merge(fused, on=["target", "time"])
 
@@ -136,7 +137,9 @@ class ModelChain:
                 for s in sensors
             ]
         )
+        self.ifov = np.array([s.pixel_ifov for s in sensors])
         self.contrast, self.scr = self._contrast_and_scr()
+        self._terrain_data = self._terrain()
         self.extinction = np.array([self._extinction(s) for s in sensors])
         segments = scenario.atmosphere.segments
         self.segment_lengths = np.array([seg.length for seg in segments])
@@ -171,6 +174,8 @@ class ModelChain:
         sc = self.scenario
         bg = sc.background
         contrast = np.empty((len(sc.sensors), len(sc.targets)))
+        target_exitance = np.empty_like(contrast)
+        self.target_exitance = target_exitance
         clutter = np.full(contrast.shape, np.nan)
         for i, s in enumerate(sc.sensors):
             band = s.limits
@@ -189,11 +194,71 @@ class ModelChain:
                     slope = float(radiometry.band_exitance_derivative(bg.temperature, band))
                     clutter[i] = eps_b * slope * bg.clutter_std
             contrast[i] = np.abs(m_t - m_b)
+            target_exitance[i] = m_t
         if bg.scr is not None:
             return contrast, np.full(contrast.shape, bg.scr)
+        if bg.image is not None:
+            return contrast, np.broadcast_to(self._image_scr(), contrast.shape).copy()
         if bg.clutter_std is not None:
             return contrast, np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
         return contrast, None
+
+    def _image_scr(self) -> np.ndarray:
+        """SCR of each target measured in the background image (Eqs. (3.12)–(3.15))."""
+        from targetacq.clutter import gray, image_clutter
+        from targetacq.images import read_image
+
+        bg = self.scenario.background
+        assert bg.image is not None
+        pixels = gray(read_image(bg.image), bg.channel)
+        boxes = [t.image_box for t in self.scenario.targets]
+        return np.asarray(image_clutter(pixels, boxes).scr)
+
+    def _terrain(self) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray] | None:
+        """The terrain map and, per sensor and class, intensity, variance and resolution."""
+        from targetacq.terrain import TerrainClass, TerrainMap
+
+        bg = self.scenario.background
+        if bg.terrain is None:
+            return None
+        spec = bg.terrain
+        try:
+            grid = np.loadtxt(spec.map, delimiter=",", dtype=np.int64, ndmin=2)
+        except (OSError, ValueError) as error:
+            raise ValueError(f"background.terrain.map: cannot read {spec.map!r}: {error}") from None
+        classes = [TerrainClass(c.name, 0.0, 0.0, c.resolution) for c in spec.classes]
+        terrain = TerrainMap(classes, grid, spec.cell_size, spec.origin)
+        intensity = np.empty((len(self.sensor_names), len(spec.classes)))
+        variance = np.empty_like(intensity)
+        for s, sensor in enumerate(self.scenario.sensors):
+            eps = self._emissivity(bg, sensor.limits)
+            temps = np.array([c.temperature for c in spec.classes])
+            spread = np.array([c.temperature_std for c in spec.classes])
+            intensity[s] = eps * np.asarray(radiometry.band_exitance(temps, sensor.limits))
+            slope = np.asarray(radiometry.band_exitance_derivative(temps, sensor.limits))
+            variance[s] = (eps * slope * spread) ** 2
+        resolution = np.array([c.resolution for c in spec.classes])
+        return terrain, intensity, variance, resolution
+
+    def _terrain_scr(
+        self, rng: np.ndarray, target_pos: np.ndarray, targets: slice, m_target: np.ndarray
+    ) -> np.ndarray:
+        """(n_s, n_g, n_t) SCR from the terrain map at the sensors' footprints (6.10), (6.9)."""
+        from targetacq.terrain import resolution_variance
+
+        assert self._terrain_data is not None
+        terrain, intensity, variance, resolution = self._terrain_data
+        items = self.scenario.targets[targets]
+        # Window: the 3 x 3 cells of twice the target's minimum dimension (Fig. 3.6).
+        window = np.array([6.0 * min(t.dimensions) for t in items]).reshape(-1, 1)
+        k = terrain.weights(target_pos[..., 0], target_pos[..., 1], window)  # (n_g, n_t, K)
+        footprint = rng * self.ifov.reshape(-1, 1, 1)  # (n_s, n_g, n_t)
+        seen = resolution_variance(
+            variance[:, None, None, :], resolution, footprint[..., None]
+        )  # (n_s, n_g, n_t, K)
+        clutter = np.sqrt(np.sum(k[None] * seen, axis=-1))
+        mean = np.sum(k[None] * intensity[:, None, None, :], axis=-1)
+        return np.asarray(signal_to_clutter_ratio(m_target[..., None], mean, clutter))
 
     def _extinction(self, sensor: Any) -> float:
         atm = self.scenario.atmosphere
@@ -309,6 +374,8 @@ class ModelChain:
         probabilities = {task: np.zeros(rng.shape) for task in _TASKS}
         bg = sc.background
         scr = None if self.scr is None else self.scr[:, chosen][..., None]
+        if self._terrain_data is not None:
+            scr = self._terrain_scr(rng, target_pos, chosen, self.target_exitance[:, chosen])
         groups: dict[tuple[Any, bool, bool], list[int]] = {}
         for g, (target, crit) in enumerate(zip(items, self.criteria[chosen], strict=True)):
             groups.setdefault((crit.name, target.hot_spot, target.moving), []).append(g)
@@ -329,6 +396,7 @@ class ModelChain:
             for task in _TASKS:
                 probabilities[task][:, idx] = np.where(in_view[:, idx], getattr(acq, task), 0.0)
         out = {
+            **({} if self._terrain_data is None else {"scr": scr}),
             "range": rng,
             "critical_dimension": critical,
             "cycles": cycles,
@@ -355,8 +423,9 @@ class ModelChain:
             else:
                 variables[name] = (("sensor", "target", "time"), value)
         variables["contrast"] = (("sensor", "target"), self.contrast[:, targets])
-        scr = np.full(self.contrast.shape, np.inf) if self.scr is None else self.scr
-        variables["scr"] = (("sensor", "target"), scr[:, targets])
+        if "scr" not in arrays:
+            scr = np.full(self.contrast.shape, np.inf) if self.scr is None else self.scr
+            variables["scr"] = (("sensor", "target"), scr[:, targets])
         ds = xr.Dataset(variables, coords=coords)
         units = {
             "range": "m",

@@ -48,6 +48,8 @@ __all__ = [
     "Segment",
     "Sensor",
     "Target",
+    "Terrain",
+    "TerrainClassSpec",
     "TimeGrid",
     "Waypoint",
     "load_scenario",
@@ -239,6 +241,7 @@ class Target(_Strict):
     moving: bool = False
     visible_fraction: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
     hot_spot: bool = False
+    image_box: tuple[int, int, int, int] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Target:
@@ -256,9 +259,44 @@ class Target(_Strict):
         return self
 
 
+class TerrainClassSpec(_Strict):
+    """A terrain class of a thermal scene: its mean temperature and its temperature spread at a
+    stated ground resolution (§6.7)."""
+
+    name: str
+    temperature: Temperature
+    temperature_std: TemperatureDifference
+    resolution: Length
+
+    @model_validator(mode="after")
+    def _check(self) -> TerrainClassSpec:
+        if not self.temperature_std >= 0:
+            raise ValueError("temperature_std must be >= 0")
+        if not self.resolution > 0:
+            raise ValueError("resolution must be > 0")
+        return self
+
+
+class Terrain(_Strict):
+    """A terrain map (Eqs. (6.10)–(6.11)): ``map`` a CSV file of class indices (rows northward
+    from ``origin``, columns eastward), ``cell_size`` per map cell, and the ``classes``."""
+
+    map: str
+    cell_size: Length
+    origin: tuple[Length, Length] = (0.0, 0.0)
+    classes: Annotated[list[TerrainClassSpec], Field(min_length=1)]
+
+    @model_validator(mode="after")
+    def _check(self) -> Terrain:
+        if not self.cell_size > 0:
+            raise ValueError("cell_size must be > 0")
+        return self
+
+
 class Background(_Strict):
     """The background: its temperature and emissivity (thermal) or reflectance and the
-    irradiance (TV), and the clutter as a Table 3.5 region, an SCR, or a temperature spread."""
+    irradiance (TV), and the clutter as a Table 3.5 region, an SCR, a temperature spread, an
+    image (``image`` with each target's ``image_box``) or a terrain map (thermal sensors)."""
 
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
@@ -268,11 +306,15 @@ class Background(_Strict):
     clutter: Literal["low", "medium", "high"] | None = None
     scr: Annotated[float, Field(ge=0.0)] | None = None
     clutter_std: TemperatureDifference | None = None
+    image: str | None = None
+    channel: Literal["luminance", "red", "green", "blue"] | None = None
+    terrain: Terrain | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Background:
-        if sum(v is not None for v in (self.clutter, self.scr, self.clutter_std)) > 1:
-            raise ValueError("give one of clutter, scr and clutter_std")
+        ways = (self.clutter, self.scr, self.clutter_std, self.image, self.terrain)
+        if sum(v is not None for v in ways) > 1:
+            raise ValueError("give one of clutter, scr, clutter_std, image and terrain")
         if self.material is not None and self.material not in MATERIALS:
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.clutter_std is not None and not self.clutter_std >= 0:
@@ -463,6 +505,15 @@ class Scenario(_Strict):
                 raise ValueError(
                     "clutter_std is a temperature spread; for TV sensors give clutter or scr"
                 )
+        if self.background.image is not None:
+            missing = [t.name for t in self.targets if t.image_box is None]
+            if missing:
+                raise ValueError(
+                    f"background.image needs an image_box for every target; missing: "
+                    f"{', '.join(missing)}"
+                )
+        if self.background.terrain is not None and tv:
+            raise ValueError("terrain clutter is given by class temperatures: thermal sensors only")
         if self.atmosphere.visibility is not None and thermal:
             raise ValueError(
                 "visibility gives the visible-band extinction; with thermal sensors give "
@@ -555,4 +606,15 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{source}: malformed TOML: {error}") from None
     except UnicodeDecodeError:
         raise ScenarioError(f"{source}: not a text (UTF-8) file") from None
-    return parse_scenario(data, str(source))
+    scenario = parse_scenario(data, str(source))
+    bg = scenario.background
+    update: dict[str, Any] = {}
+    if bg.image is not None and not Path(bg.image).is_absolute():
+        update["image"] = str(source.parent / bg.image)
+    if bg.terrain is not None and not Path(bg.terrain.map).is_absolute():
+        update["terrain"] = bg.terrain.model_copy(
+            update={"map": str(source.parent / bg.terrain.map)}
+        )
+    if update:
+        scenario = scenario.model_copy(update={"background": bg.model_copy(update=update)})
+    return scenario

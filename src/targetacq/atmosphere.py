@@ -239,18 +239,11 @@ def visibility_from_extinction(extinction: Any, convention: str | None = None) -
 
 
 @functools.cache
-def _extinction_table() -> dict[tuple[str, str], tuple[float, float]]:
-    table = load_table("extinction")
-    return {
-        (o, b): (lo / 1000.0, hi / 1000.0)  # Np/km → Np/m
-        for o, b, lo, hi in zip(
-            table.column("obscurant"),
-            table.column("band"),
-            table.numbers("low_np_per_km"),
-            table.numbers("high_np_per_km"),
-            strict=True,
-        )
-    }
+def _extinction_table() -> dict[tuple[str, ...], tuple[float, float]]:
+    # Np/km in the table, Np/m inside.
+    return load_table("extinction").keyed_ranges(
+        ("obscurant", "band"), "low_np_per_km", "high_np_per_km", scale=1e-3
+    )
 
 
 OBSCURANTS: tuple[str, ...] = tuple(dict.fromkeys(o for o, _ in _extinction_table()))

@@ -304,18 +304,11 @@ def emissivity_from_reflectance(reflectance: Any, transmittance: Any = 0.0) -> A
 
 
 @functools.cache
-def _reflectance_table() -> dict[tuple[str, str], tuple[float, float]]:
-    table = load_table("reflectance")
-    return {
-        (m, b): (lo / 100.0, hi / 100.0)
-        for m, b, lo, hi in zip(
-            table.column("material"),
-            table.column("band"),
-            table.numbers("low_percent"),
-            table.numbers("high_percent"),
-            strict=True,
-        )
-    }
+def _reflectance_table() -> dict[tuple[str, ...], tuple[float, float]]:
+    # Percent in the table, fractions inside.
+    return load_table("reflectance").keyed_ranges(
+        ("material", "band"), "low_percent", "high_percent", scale=1e-2
+    )
 
 
 MATERIALS: tuple[str, ...] = tuple(dict.fromkeys(m for m, _ in _reflectance_table()))

@@ -45,6 +45,21 @@ class Table:
         index = self.columns.index(name)
         return tuple(row[index] for row in self.rows)
 
+    def keyed_ranges(
+        self, keys: tuple[str, ...], low: str, high: str, scale: float = 1.0
+    ) -> dict[tuple[str, ...], tuple[float, float]]:
+        """Cells printed as ranges "low-high", by the text of the key columns, times ``scale``.
+
+        An empty cell (not given in the source) becomes NaN.
+        """
+        key_columns = [self.column(k) for k in keys]
+        return {
+            tuple(parts): (lo * scale, hi * scale)
+            for *parts, lo, hi in zip(
+                *key_columns, self.numbers(low), self.numbers(high), strict=True
+            )
+        }
+
     def numbers(self, name: str) -> tuple[float, ...]:
         """One column as floats; an empty cell ("not given" in the source) becomes NaN."""
         return tuple(float(cell) if cell.strip() else math.nan for cell in self.column(name))

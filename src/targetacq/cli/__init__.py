@@ -80,16 +80,23 @@ def _json_number(value: Any) -> Any:
     return value
 
 
+def _csv(rows: list[dict[str, Any]], fieldnames: list[str] | None = None) -> str:
+    """Rows as CSV text with a header (only ``fieldnames`` when given)."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(
+        buffer, fieldnames=fieldnames or list(rows[0]), lineterminator="\n", extrasaction="ignore"
+    )
+    writer.writeheader()
+    writer.writerows(rows)
+    return buffer.getvalue()
+
+
 def _render_rows(rows: list[dict[str, Any]], output_format: str) -> str:
     if output_format == "json":
         clean = [{k: _json_number(v) for k, v in row.items()} for row in rows]
         return json.dumps({"targets": clean}, indent=2) + "\n"
     if output_format == "csv":
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-        return buffer.getvalue()
+        return _csv(rows)
     header = (
         f"{'#':>3} {'box x,y,w,h':<18}{'clutter':>9}{'SCR+':>8}{'SCR-':>8} {'region':<7}"
         f"{'cycles':>7}{'P(det)':>8}{'aspect':>7}{'σ/mean':>8}{'edges':>7}{'contrast':>9}"

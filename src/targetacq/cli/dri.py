@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import io
 import json
 import math
 import re
@@ -32,6 +30,7 @@ from targetacq.cli import (
     ObscurantOption,
     VisibilityOption,
     _choice,
+    _csv,
     app,
 )
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
@@ -545,16 +544,7 @@ def atmosphere_command(
         typer.echo(json.dumps(report, indent=2))
         return
     if output_format == "csv":
-        buffer = io.StringIO()
-        writer = csv.DictWriter(
-            buffer,
-            fieldnames=["range_m", "transmittance", "snr_db"],
-            lineterminator="\n",
-            extrasaction="ignore",
-        )
-        writer.writeheader()
-        writer.writerows(rows)
-        typer.echo(buffer.getvalue(), nl=False)
+        typer.echo(_csv(rows, ["range_m", "transmittance", "snr_db"]), nl=False)
         return
     lines = [
         f"extinction {path['extinction_np_per_km']:.4g} Np/km "
@@ -574,11 +564,7 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     if output_format == "json":
         return json.dumps(report, indent=2) + "\n"
     if output_format == "csv":
-        buffer = io.StringIO()
-        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-        return buffer.getvalue()
+        return _csv(rows)
     sensor = report["sensor"]
     limit = "sampling" if math.isclose(sensor["cycle_rad"], 2 * sensor["ifov_rad"]) else "optics"
     lines = [

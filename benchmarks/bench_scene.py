@@ -1,12 +1,9 @@
-"""Throughput of the signal and atmosphere layer.
+"""Throughput of ``scene_acquisition``, physics to probabilities, for ``N`` sensor–target pairs.
 
-1. ``band_exitance`` for ``N`` temperatures (8–12 µm), closed-form series, against the roofline
-   of reading one array and writing one.
-2. ``scene_acquisition``, physics to probabilities, for ``N`` sensor–target pairs (each its own
-   range and target temperature; clutter as a temperature spread and haze on the path), against
-   the roofline of reading the two input arrays and writing the eight output arrays (cycles,
-   contrast, SCR, τ, SNR, three probabilities). Also the ratio to the core kernel
-   (cycles → three probabilities) measured in the same run.
+Each pair has its own range and target temperature; clutter is a temperature spread and haze is
+on the path. The roofline is NumPy reading the two input arrays and writing the eight output
+arrays (cycles, contrast, SCR, τ, SNR, three probabilities); the ratio to the core kernel
+(cycles → three probabilities, bench_core.py) is measured in the same run too.
 
 Single-threaded, best of several repeats; the last line printed is one JSON object.
 """
@@ -32,9 +29,6 @@ def main() -> None:
     gamma = ta.obscurant_extinction("haze", "lwir", "high")
     clutter_std = float(2.0 * ta.radiometry.band_exitance_derivative(295.0, "lwir"))
 
-    def exitance():
-        return ta.band_exitance(temperatures, "lwir")
-
     def scene():
         return ta.scene_acquisition(
             ranges,
@@ -51,26 +45,17 @@ def main() -> None:
         return ta.acquisition_probabilities(cycles)
 
     scene()
-    t_exitance = best_of(exitance)
-    t_exitance_roof = best_of(roofline([temperatures], outputs=1))
     t_scene = best_of(scene)
     t_scene_roof = best_of(roofline([ranges, temperatures], outputs=8))
     t_core = best_of(core)
     result = {
-        "benchmark": "physics: band_exitance and scene_acquisition",
+        "benchmark": "physics: scene_acquisition",
         "n": N,
         "repeats": REPEATS,
-        "band_exitance_per_second": N / t_exitance,
-        "band_exitance_roofline_ratio": t_exitance / t_exitance_roof,
-        "scene_pairs_per_second": N / t_scene,
-        "scene_roofline_ratio": t_scene / t_scene_roof,
+        "pairs_per_second": N / t_scene,
         "scene_over_core_kernel": t_scene / t_core,
         "roofline_ratio": t_scene / t_scene_roof,
     }
-    print(
-        f"band_exitance: {N / t_exitance / 1e6:.1f} M temperatures/s, "
-        f"{t_exitance / t_exitance_roof:.1f} x roofline"
-    )
     print(
         f"scene_acquisition: {N / t_scene / 1e6:.2f} M pairs/s, {t_scene / t_scene_roof:.1f} x "
         f"roofline, {t_scene / t_core:.1f} x the core kernel's time"

@@ -7,6 +7,8 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.outputs import output_path, write_atomically
+
 __all__ = ["read_image", "save_clutter_overlay"]
 
 
@@ -55,11 +57,7 @@ def save_clutter_overlay(image: Any, result: Any, boxes: Any, path: str | Path) 
     """
     from PIL import Image, ImageDraw
 
-    out = Path(path)
-    if out.suffix.lower() != ".png":
-        raise ValueError(f"the overlay file must end in .png; got {str(out)!r}")
-    if not out.parent.is_dir():
-        raise ValueError(f"the folder of {str(out)!r} does not exist")
+    out, _ = output_path(path, ("png",), "the overlay file")
     values = np.asarray(image, dtype=np.float64)
     low, high = np.nanpercentile(values, [0.5, 99.5])
     scale = 255.0 / (high - low) if high > low else 0.0
@@ -73,5 +71,4 @@ def save_clutter_overlay(image: Any, result: Any, boxes: Any, path: str | Path) 
     for k, (x, y, w, h) in enumerate(np.asarray(boxes, dtype=int).reshape(-1, 4)):
         draw.rectangle([x, y, x + w - 1, y + h - 1], outline=(255, 0, 0), width=2)
         draw.text((x, max(0, y - 11)), str(k), fill=(255, 0, 0))
-    canvas.save(out)
-    return out
+    return write_atomically(out, lambda p: canvas.save(p, format="PNG"))

@@ -22,8 +22,6 @@ over 10⁸ triples or more stays in bounded memory.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +34,7 @@ from targetacq.acquisition import acquisition_probabilities
 from targetacq.clutter import signal_to_clutter_ratio
 from targetacq.criteria import get_criterion
 from targetacq.fusion import fuse
+from targetacq.outputs import output_path, write_atomically
 from targetacq.scenario import Scenario
 
 __all__ = ["ModelChain", "Results", "evaluate"]
@@ -75,27 +74,14 @@ class Results:
     def write(self, path: str | Path) -> Path:
         """Write the table as CSV, JSON (records) or Parquet, by suffix; atomically, so a failed
         write leaves nothing half-written."""
-        out = Path(path)
-        kind = out.suffix.lower().lstrip(".")
-        if kind not in OUTPUT_FORMATS:
-            raise ValueError(f"output must end in .csv, .json or .parquet; got {str(out)!r}")
-        if not out.parent.is_dir():
-            raise ValueError(f"the folder of {str(out)!r} does not exist")
+        out, kind = output_path(path, OUTPUT_FORMATS, "output")
         frame = self.to_dataframe()
-        handle, temporary = tempfile.mkstemp(dir=out.parent, prefix=".", suffix=out.suffix)
-        os.close(handle)
-        try:
-            if kind == "csv":
-                frame.to_csv(temporary, index=False)
-            elif kind == "json":
-                frame.to_json(temporary, orient="records", indent=1, double_precision=15)
-            else:
-                frame.to_parquet(temporary, index=False)
-            os.replace(temporary, out)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
-        return out
+        writers = {
+            "csv": lambda p: frame.to_csv(p, index=False),
+            "json": lambda p: frame.to_json(p, orient="records", indent=1, double_precision=15),
+            "parquet": lambda p: frame.to_parquet(p, index=False),
+        }
+        return write_atomically(out, writers[kind])
 
 
 def _path_arrays(items: list[Any], times: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:

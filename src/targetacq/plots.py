@@ -19,6 +19,7 @@ from matplotlib.figure import Figure
 from targetacq import atmosphere, transforms
 from targetacq.bands import band_limits, band_name
 from targetacq.criteria import get_criterion
+from targetacq.outputs import output_path, write_atomically
 
 __all__ = [
     "FIGURE_FORMATS",
@@ -222,14 +223,8 @@ def save_figure(fig: Figure, path: str | Path) -> Path:
     ValueError
         If the folder does not exist or the suffix is not .png or .svg.
     """
-    out = Path(path)
-    suffix = out.suffix.lower().lstrip(".")
-    if suffix not in FIGURE_FORMATS:
-        raise ValueError(f"figure file must end in .png or .svg; got {str(out)!r}")
-    if not out.parent.is_dir():
-        raise ValueError(f"the folder of {str(out)!r} does not exist")
-    fig.savefig(out, format=suffix)
-    return out
+    out, kind = output_path(path, FIGURE_FORMATS, "figure file")
+    return write_atomically(out, lambda p: fig.savefig(p, format=kind))
 
 
 PLOT_KINDS: Mapping[str, Callable[..., Figure]] = MappingProxyType(

@@ -17,6 +17,8 @@ from typing import Any
 
 from matplotlib.figure import Figure
 
+from targetacq.outputs import output_path, write_atomically
+
 __all__ = ["render_report", "write_report"]
 
 _STYLE = """
@@ -122,10 +124,5 @@ def render_report(
 
 def write_report(path: str | Path, page: str) -> Path:
     """Write the report; ``ValueError`` if the folder does not exist or the suffix is not .html."""
-    out = Path(path)
-    if out.suffix.lower() not in (".html", ".htm"):
-        raise ValueError(f"the report file must end in .html; got {str(out)!r}")
-    if not out.parent.is_dir():
-        raise ValueError(f"the folder of {str(out)!r} does not exist")
-    out.write_text(page, encoding="utf-8")
-    return out
+    out, _ = output_path(path, ("html", "htm"), "the report file")
+    return write_atomically(out, lambda p: p.write_text(page, encoding="utf-8"))

@@ -66,7 +66,11 @@ def test_user_defined_mapping():
 @pytest.mark.parametrize(
     ("criterion", "error", "match"),
     [
-        ("johnsen", ValueError, "unknown criterion 'johnsen'; valid criteria: johnson"),
+        (
+            "johnsen",
+            ValueError,
+            r"unknown criterion 'johnsen' \(did you mean 'johnson'\?\); valid: johnson, ",
+        ),
         ({"detect": 1.0}, ValueError, "unknown task"),
         ({"detection": -1.0}, ValueError, "must be a finite number > 0"),
         ({"detection": math.nan}, ValueError, "must be a finite number > 0"),

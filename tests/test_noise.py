@@ -95,7 +95,9 @@ def test_user_noise_model_multiplies_every_n50():
 
 
 def test_bad_noise_models():
-    with pytest.raises(ValueError, match="unknown noise model 'gaussian'; valid noise models"):
+    with pytest.raises(
+        ValueError, match="unknown noise model 'gaussian'; valid: variance-sum, none"
+    ):
         ta.acquisition_probabilities(1.0, snr=3.0, noise_model="gaussian")
     with pytest.raises(ValueError, match="below 1"):
         ta.acquisition_probabilities(1.0, snr=3.0, noise_model=lambda s: 0.5)

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Literal
 
+from targetacq.registry import lookup
 from targetacq.tables import load_table
 
 __all__ = ["CRITERIA", "TASKS", "Criterion", "get_criterion"]
@@ -187,11 +188,7 @@ def get_criterion(criterion: str | Criterion | Mapping[str, float]) -> Criterion
     if isinstance(criterion, Criterion):
         return criterion
     if isinstance(criterion, str):
-        if criterion not in CRITERIA:
-            raise ValueError(
-                f"unknown criterion {criterion!r}; valid criteria: {', '.join(CRITERIA)}"
-            )
-        return CRITERIA[criterion]
+        return lookup(CRITERIA, criterion, "criterion")
     if isinstance(criterion, Mapping):
         unknown = [task for task in criterion if task not in TASKS]
         if unknown:

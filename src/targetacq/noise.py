@@ -41,6 +41,7 @@ from types import MappingProxyType
 from typing import Any
 
 from targetacq import _arrays
+from targetacq.registry import lookup
 from targetacq.transforms import _sw_high_anchor, clutter_n50
 
 __all__ = [
@@ -164,12 +165,7 @@ def get_noise_model(noise_model: str | NoiseModel | Callable[[Any], Any]) -> Noi
     if isinstance(noise_model, NoiseModel):
         return noise_model
     if isinstance(noise_model, str):
-        if noise_model not in NOISE_MODELS:
-            raise ValueError(
-                f"unknown noise model {noise_model!r}; "
-                f"valid noise models: {', '.join(NOISE_MODELS)}"
-            )
-        return NOISE_MODELS[noise_model]
+        return lookup(NOISE_MODELS, noise_model, "noise model")
     if callable(noise_model):
         return NoiseModel(getattr(noise_model, "__name__", "user"), noise_model, source="user")
     raise TypeError(f"noise_model must be a name, a NoiseModel or a function, got {noise_model!r}")

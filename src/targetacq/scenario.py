@@ -35,6 +35,7 @@ from targetacq.bands import BANDS, band_limits
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
 from targetacq.radiometry import MATERIALS
+from targetacq.registry import lookup, unknown_name
 from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import parse_quantity
 
@@ -248,10 +249,8 @@ class Target(_Strict):
         if any(not d > 0 for d in self.dimensions):
             raise ValueError("dimensions must be > 0")
         _one_place(self.position, self.waypoints, "target")
-        if self.criterion is not None and self.criterion not in CRITERIA:
-            close = get_close_matches(self.criterion, list(CRITERIA), 1)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise ValueError(f"unknown criterion {self.criterion!r}{hint}")
+        if self.criterion is not None:
+            lookup(CRITERIA, self.criterion, "criterion")
         if self.material is not None and self.material not in MATERIALS:
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.emissivity is not None and self.material is not None:
@@ -360,11 +359,7 @@ def _check_obscurant(text: str | None) -> None:
         return
     name, _, level = text.partition(":")
     if name not in _atmosphere.OBSCURANTS:
-        close = get_close_matches(name, list(_atmosphere.OBSCURANTS), 1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        raise ValueError(
-            f"unknown obscurant {name!r}{hint}; obscurants: {', '.join(_atmosphere.OBSCURANTS)}"
-        )
+        raise unknown_name(name, _atmosphere.OBSCURANTS, "obscurant")
     if level and level not in _atmosphere.EXTINCTION_LEVELS:
         raise ValueError(
             f"obscurant level must be one of {', '.join(_atmosphere.EXTINCTION_LEVELS)}"
@@ -426,16 +421,9 @@ class ModelChoices(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> ModelChoices:
-        for name, registry in (
-            ("criterion", CRITERIA),
-            ("transform", TRANSFORMS),
-            ("noise_model", NOISE_MODELS),
-        ):
-            value = getattr(self, name)
-            if value not in registry:
-                close = get_close_matches(value, list(registry), 1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
-                raise ValueError(f"unknown {name} {value!r}{hint}; valid: {', '.join(registry)}")
+        lookup(CRITERIA, self.criterion, "criterion")
+        lookup(TRANSFORMS, self.transform, "transform")
+        lookup(NOISE_MODELS, self.noise_model, "noise model")
         if self.bound is not None and self.bound not in C2NVEO_BOUNDS:
             raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
         if not self.search_time > 0:

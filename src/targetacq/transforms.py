@@ -53,6 +53,7 @@ import numpy as np
 
 from targetacq import _arrays
 from targetacq._arrays import Array
+from targetacq.registry import lookup
 from targetacq.tables import load_table
 
 __all__ = [
@@ -599,9 +600,7 @@ def get_transform(method: str | Transform) -> Transform:
     """Resolve a transform by name; ``ValueError`` listing the valid names if unknown."""
     if isinstance(method, Transform):
         return method
-    if method not in TRANSFORMS:
-        raise ValueError(f"unknown transform {method!r}; valid transforms: {', '.join(TRANSFORMS)}")
-    return TRANSFORMS[method]
+    return lookup(TRANSFORMS, method, "transform")
 
 
 def transform(

@@ -258,6 +258,10 @@ def _clutter_text(background: Any) -> str:
         return f"SCR {background.scr:g}"
     if background.clutter_std is not None:
         return f"temperature spread {background.clutter_std:g} K → SCR per pair (Eq. (6.9))"
+    if background.image is not None:
+        return f"measured in {background.image} around each target (Eqs. (3.12)–(3.15))"
+    if background.terrain is not None:
+        return "terrain map (Eqs. (6.10)–(6.11)); not in the range curves, which need one SCR"
     return "none given: detection uses the transform"
 
 

@@ -21,7 +21,9 @@ from targetacq.cli.dri import _band, _Setup, _setup, _user_criterion
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
+from targetacq.outputs import output_path
 from targetacq.plots import (
+    FIGURE_FORMATS,
     PLOT_KINDS,
     plot_atmosphere,
     plot_range_performance,
@@ -103,6 +105,7 @@ def plot(
     (and --probability for the marked DRI points); `transforms` takes --criterion or --n50;
     `atmosphere` takes --band."""
     _choice(kind, PLOT_KINDS, "plot kind")
+    output_path(out, FIGURE_FORMATS, "figure file")  # before any work
     params, given = _dri_params(context.args)
     allowed = {
         "curves": None,
@@ -146,6 +149,7 @@ def report(
     """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
     50 / 80 / 95 % and the figures. Give a scenario file (every sensor-target pair becomes a
     case), or every sensor, target and path option of `targetacq dri`."""
+    output_path(out, ("html", "htm"), "the report file")  # before any work
     args = list(context.args)
     if args and not args[0].startswith("-"):
         if len(args) > 1:

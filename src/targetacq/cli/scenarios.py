@@ -18,7 +18,8 @@ from targetacq.cli import (
     _render_rows,
     app,
 )
-from targetacq.model import ModelChain
+from targetacq.model import OUTPUT_FORMATS, ModelChain
+from targetacq.outputs import output_path
 from targetacq.scenario import load_scenario
 from targetacq.search import simulate as simulate_runs
 from targetacq.units import parse_quantity
@@ -60,6 +61,8 @@ def evaluate(
     """Evaluate all sensors x targets x times of a scenario; print the peak fused
     probabilities per target (and write the full table with --out)."""
     _choice(output_format, FORMATS, "--format")
+    if out is not None:
+        output_path(out, OUTPUT_FORMATS, "output")  # before any work
     loaded = _scenario_path(scenario)
     results = ModelChain(loaded).evaluate()
     if out is not None:

@@ -230,15 +230,19 @@ def box_extents_seen(
     rho = np.hypot(x, y)
     rng = np.hypot(rho, z)
     sin_h, cos_h = np.sin(heading), np.cos(heading)
-    flat = rho > 0
-    safe_rho = np.where(flat, rho, 1.0)
-    cos_a = np.where(flat, np.abs(x * sin_h + y * cos_h) / safe_rho, 0.0)
-    sin_a = np.where(flat, np.abs(x * cos_h - y * sin_h) / safe_rho, 1.0)
-    safe_rng = np.where(rng > 0, rng, 1.0)
-    sin_e = np.abs(z) / safe_rng
-    cos_e = np.where(rng > 0, rho / safe_rng, 1.0)
-    horizontal = length * sin_a + width * cos_a
-    vertical = height * cos_e + (length * cos_a + width * sin_a) * sin_e
+    along = np.abs(x * sin_h + y * cos_h)  # ρ |cos a|
+    across = np.abs(x * cos_h - y * sin_h)  # ρ |sin a|
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse_rho = 1.0 / rho
+        horizontal = (length * across + width * along) * inverse_rho
+        vertical = (
+            height * rho + (length * along + width * across) * inverse_rho * np.abs(z)
+        ) / rng
+    flat = rho == 0
+    if np.any(flat):  # straight down or up: the top, length across and width up the image
+        top = np.broadcast_to(length, flat.shape), np.broadcast_to(width, flat.shape)
+        horizontal = np.where(flat, top[0], horizontal)
+        vertical = np.where(flat, np.where(rng > 0, top[1], height), vertical)
     return rng, horizontal, vertical
 
 

@@ -174,3 +174,16 @@ def test_leaving_the_view_resets_and_bad_arguments():
         args = {"duration": 10.0, "step": 0.1, "runs": 1, "seed": 0, **kwargs}
         with pytest.raises(ValueError, match=match):
             simulate(chain, **args)
+
+
+def test_summary_quantiles_over_all_runs():
+    chain = ModelChain(_scene(distance="5 km"))
+    result = simulate(chain, 5.0, 0.5, runs=200, seed=2)
+    summary = result.summary().set_index("task")
+    det = result.fused["detection"][:, 0]
+    assert summary.loc["detection", "fraction"] == pytest.approx(np.isfinite(det).mean())
+    # The median is the 100th smallest of 200 times; +inf (never) when fewer than half got there.
+    assert summary.loc["detection", "t50_s"] == np.sort(det)[99]
+    rare = summary.loc["identification"]
+    assert rare["fraction"] < 0.5  # at 5 km identification is rare
+    assert rare["t50_s"] == np.inf

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
 from targetacq.tables import load_table
 
-__all__ = ["BANDS", "band_limits", "band_name"]
+__all__ = ["BANDS", "band_limits", "band_name", "parse_band"]
 
 
 @functools.cache
@@ -54,6 +55,30 @@ def band_limits(band: Any) -> tuple[float, float]:
     if math.isnan(low) or math.isnan(high) or not 0 <= low < high:
         raise ValueError(f"band must satisfy 0 <= λ1 < λ2 [m]; got ({low:g}, {high:g})")
     return low, high
+
+
+def parse_band(text: str, name: str = "band") -> tuple[float, float]:
+    """(λ1, λ2) [m] from a band's name or text like "8-12um" or "8-12 um" (CLI, scenarios).
+
+    Raises
+    ------
+    ValueError
+        Naming the input (``name``), the named bands and the form expected.
+    """
+    from targetacq.units import parse_quantity
+
+    if text in BANDS:
+        return BANDS[text]
+    match = re.fullmatch(r"\s*([\d.]+)\s*-\s*([\d.]+)\s*([A-Za-zµ]+)\s*", text)
+    if match is None:
+        raise ValueError(f"{name} must be one of {', '.join(BANDS)} or like 8-12um; got {text!r}")
+    low, high, unit = match.groups()
+    return band_limits(
+        (
+            parse_quantity(f"{low} {unit}", "length", name),
+            parse_quantity(f"{high} {unit}", "length", name),
+        )
+    )
 
 
 def band_name(band: Any) -> str:

@@ -31,7 +31,7 @@ from pydantic import (
 )
 
 from targetacq import atmosphere as _atmosphere
-from targetacq.bands import BANDS, band_limits
+from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
 from targetacq.radiometry import MATERIALS
@@ -186,22 +186,7 @@ class Sensor(_Strict):
         """The band (λ1, λ2) [m]; the visible band for a TV sensor without one."""
         if self.band is None:
             return BANDS["visible"]
-        text = self.band
-        if text in BANDS:
-            return BANDS[text]
-        low, _, rest = text.partition("-")
-        parts = rest.split()
-        if not low or len(parts) != 2:
-            raise ValueError(
-                f"band must be one of {', '.join(BANDS)} or like '8-12 um'; got {text!r}"
-            )
-        unit = parts[1]
-        return band_limits(
-            (
-                parse_quantity(f"{low} {unit}", "length", "band"),
-                parse_quantity(f"{parts[0]} {unit}", "length", "band"),
-            )
-        )
+        return parse_band(self.band)
 
     @property
     def pixel_ifov(self) -> float:

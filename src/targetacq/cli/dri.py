@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 from dataclasses import dataclass
 from typing import Annotated, Any
 
@@ -19,7 +18,7 @@ from targetacq.atmosphere import (
     VISIBILITY_CONVENTIONS,
     np_per_km_to_db_per_km,
 )
-from targetacq.bands import BANDS, band_limits, band_name
+from targetacq.bands import band_name, parse_band
 from targetacq.cli import (
     _SI_SUFFIX,
     FORMATS,
@@ -116,17 +115,7 @@ def _sensor_ifov(
 
 def _band(text: str) -> tuple[float, float]:
     """A named band, or "8-12um"-style limits, as (λ1, λ2) [m]."""
-    if text in BANDS:
-        return BANDS[text]
-    match = re.fullmatch(r"\s*([\d.]+)\s*-\s*([\d.]+)\s*([A-Za-zµ]+)\s*", text)
-    if match is None:
-        raise ValueError(f"--band must be one of {', '.join(BANDS)} or like 8-12um; got {text!r}")
-    low, high, unit = match.groups()
-    limits = (
-        parse_quantity(f"{low} {unit}", "length", "--band"),
-        parse_quantity(f"{high} {unit}", "length", "--band"),
-    )
-    return band_limits(limits)
+    return parse_band(text, "--band")
 
 
 def _path(

@@ -105,13 +105,17 @@ def _tail_large(x: Any, xp: Any) -> Any:
     return ((finite * s1 + 3.0 * s2) * finite + 6.0 * s3) * finite + 6.0 * s4
 
 
-def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
-    """c2 / (λ T), +inf (capped) where λT = 0, 0 where λ = inf."""
-    if math.isinf(wavelength):
-        return xp.zeros_like(t)
-    lam_t = wavelength * t
+def _x_from(lam_t: Any, xp: Any) -> Any:
+    """x = c2 / (λT), capped at _X_CAP (also where λT = 0), without division warnings."""
     safe = xp.where(lam_t > 0, lam_t, 1.0)
     return xp.where(lam_t > 0, xp.minimum(SECOND_RADIATION_CONSTANT / safe, _X_CAP), _X_CAP)
+
+
+def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
+    """c2 / (λ T) for a band edge: capped where λT = 0, 0 where λ = inf."""
+    if math.isinf(wavelength):
+        return xp.zeros_like(t)
+    return _x_from(wavelength * t, xp)
 
 
 def _band_integral_planck(x_short: Any, x_long: Any, xp: Any) -> Any:
@@ -163,9 +167,7 @@ def spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     xp, (lam, t) = _arrays.arrays(wavelength, temperature)
     _arrays.require_positive("wavelength", lam, xp, "m")
     _arrays.require_nonnegative("temperature", t, xp, "K")
-    lam_t = lam * t
-    x = xp.where(lam_t > 0, SECOND_RADIATION_CONSTANT / xp.where(lam_t > 0, lam_t, 1.0), _X_CAP)
-    x = xp.minimum(x, _X_CAP)
+    x = _x_from(lam * t, xp)
     # e^{-x} / (1 − e^{-x}) = 1 / (e^x − 1), without overflow at short λT.
     planck = xp.exp(-x) / -xp.expm1(-x)
     return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * planck)
@@ -179,9 +181,7 @@ def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     xp, (lam, t) = _arrays.arrays(wavelength, temperature)
     _arrays.require_positive("wavelength", lam, xp, "m")
     _arrays.require_nonnegative("temperature", t, xp, "K")
-    lam_t = lam * t
-    x = xp.where(lam_t > 0, SECOND_RADIATION_CONSTANT / xp.where(lam_t > 0, lam_t, 1.0), _X_CAP)
-    return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * xp.exp(-xp.minimum(x, _X_CAP)))
+    return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * xp.exp(-_x_from(lam * t, xp)))
 
 
 def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:

@@ -84,17 +84,19 @@ class Results:
         return write_atomically(out, writers[kind])
 
 
-def _path_arrays(items: list[Any], times: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
-    """(n, n_t, 3) positions and, for targets, nothing else: headings are separate."""
+def _waypoints(item: Any) -> tuple[list[float], list[tuple[float, float, float]]]:
+    return [w.time for w in item.waypoints], [w.position for w in item.waypoints]
+
+
+def _path_arrays(items: list[Any], times: np.ndarray) -> np.ndarray:
+    """(n, n_t, 3) positions of sensors or targets at the times."""
     out = np.empty((len(items), times.size, 3))
     for k, item in enumerate(items):
         if item.waypoints is None:
             out[k] = np.asarray(item.position)
         else:
-            wt = [w.time for w in item.waypoints]
-            wp = [w.position for w in item.waypoints]
-            out[k] = geometry.positions_at(times, wt, wp)
-    return out, None
+            out[k] = geometry.positions_at(times, *_waypoints(item))
+    return out
 
 
 class ModelChain:
@@ -269,17 +271,15 @@ class ModelChain:
 
     def _positions(self, times: np.ndarray, targets: slice) -> tuple[np.ndarray, ...]:
         sc = self.scenario
-        sensor_pos, _ = _path_arrays(sc.sensors, times)
+        sensor_pos = _path_arrays(sc.sensors, times)
         chosen = sc.targets[targets]
-        target_pos, _ = _path_arrays(chosen, times)
+        target_pos = _path_arrays(chosen, times)
         heading = np.empty((len(chosen), times.size))
         for k, t in enumerate(chosen):
             if t.waypoints is None:
                 heading[k] = t.heading
             else:
-                wt = [w.time for w in t.waypoints]
-                wp = [w.position for w in t.waypoints]
-                heading[k] = geometry.heading_along(times, wt, wp, t.heading)
+                heading[k] = geometry.heading_along(times, *_waypoints(t), t.heading)
         return sensor_pos, target_pos, heading
 
     def _in_view(self, los: np.ndarray, sensor_pos: np.ndarray) -> np.ndarray:

@@ -66,26 +66,33 @@ def _title(setup: _Setup) -> str:
     )
 
 
-def _performance(setup: _Setup, max_range: str | None, probabilities: list[float]) -> Any:
+def _performance(
+    cases: dict[str, dict[str, Any]], max_range: str | None, probabilities: list[float]
+) -> Any:
+    """Range performance of the cases on 400 ranges out to --max-range, or by default 1.3 times
+    the longest range at which any case's task reaches the smallest probability."""
     if max_range is not None:
         r_max = parse_quantity(max_range, "length", "--max-range")
         if not r_max > 0:
             raise ValueError(f"--max-range must be > 0; got {max_range!r}")
     else:
-        reach = ranges.dri_ranges(
-            setup.critical_dimension,
-            setup.ifov,
-            setup.criterion,
-            probability=min(probabilities),
-            transform=setup.transform,
-            **setup.optics,
-            **setup.clutter,
-            **setup.options,
-        )
-        finite = [float(r) for r in reach.values() if math.isfinite(float(r))]
+        own = ("critical_dimension", "ifov", "criterion", "options")
+        reach = [
+            float(r)
+            for case in cases.values()
+            for r in ranges.dri_ranges(
+                case["critical_dimension"],
+                case["ifov"],
+                case["criterion"],
+                probability=min(probabilities),
+                **{k: v for k, v in case.items() if k not in own},
+                **case["options"],
+            ).values()
+        ]
+        finite = [r for r in reach if math.isfinite(r)]
         r_max = 1.3 * max(finite) if finite else 10e3
     grid = [r_max * (k + 1) / 400 for k in range(400)]
-    return ranges.range_performance(grid, {"this sensor": setup.case()}, probabilities)
+    return ranges.range_performance(grid, cases, probabilities)
 
 
 @app.command(context_settings=_PASS_THROUGH)
@@ -119,7 +126,7 @@ def plot(
         if "probability" not in given:
             params["probability"] = "0.5,0.8,0.95"
         setup = _setup(**{k: v for k, v in params.items() if k != "output_format"})
-        performance = _performance(setup, max_range, setup.probabilities)
+        performance = _performance({"this sensor": setup.case()}, max_range, setup.probabilities)
         fig = plot_range_performance(performance, title=title or _title(setup))
     elif kind == "transforms":
         crit = (
@@ -167,7 +174,7 @@ def report(
     setup = _setup(**params)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
-    performance = _performance(setup, max_range, setup.probabilities)
+    performance = _performance({"this sensor": setup.case()}, max_range, setup.probabilities)
     heading = title or _title(setup)
     figures = {"Range performance": plot_range_performance(performance, title=heading)}
     figures["Transforms"] = plot_transforms(setup.criterion)
@@ -185,30 +192,7 @@ def _scenario_report(path: str, max_range: str | None, title: str | None) -> tup
     scenario = load_scenario(path)
     chain = ModelChain(scenario)
     cases = chain.range_cases()
-    probabilities = [0.5, 0.8, 0.95]
-    if max_range is not None:
-        r_max = parse_quantity(max_range, "length", "--max-range")
-        if not r_max > 0:
-            raise ValueError(f"--max-range must be > 0; got {max_range!r}")
-    else:
-        # The 50 % ranges of every case and task, with the path's noise: the curves' extent.
-        own = ("critical_dimension", "ifov", "criterion", "options")
-        reach = [
-            float(r)
-            for case in cases.values()
-            for r in ranges.dri_ranges(
-                case["critical_dimension"],
-                case["ifov"],
-                case["criterion"],
-                probability=0.5,
-                **{k: v for k, v in case.items() if k not in own},
-                **case["options"],
-            ).values()
-        ]
-        finite = [r for r in reach if math.isfinite(r)]
-        r_max = 1.3 * max(finite) if finite else 10e3
-    grid = [r_max * (k + 1) / 400 for k in range(400)]
-    performance = ranges.range_performance(grid, cases, probabilities)
+    performance = _performance(cases, max_range, [0.5, 0.8, 0.95])
     heading = title or (scenario.name or path)
     model = scenario.model
     sensors = {

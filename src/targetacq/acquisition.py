@@ -125,11 +125,6 @@ def probability(
     chosen = _transforms.get_transform(transform)
     cond = _conditions(scr, region, hot_spot, moving, snr, noise_model)
     chosen.check(task, options)
-    if chosen.name == "schmieder-weathersby" and not cond.clutter_given:
-        raise ValueError(
-            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
-            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
-        )
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
     n_noisy = _noisy(n, cond, xp)

@@ -233,11 +233,9 @@ def box_extents_seen(
     along = np.abs(x * sin_h + y * cos_h)  # ρ |cos a|
     across = np.abs(x * cos_h - y * sin_h)  # ρ |sin a|
     with np.errstate(divide="ignore", invalid="ignore"):
-        inverse_rho = 1.0 / rho
-        horizontal = (length * across + width * along) * inverse_rho
-        vertical = (
-            height * rho + (length * along + width * across) * inverse_rho * np.abs(z)
-        ) / rng
+        # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
+        horizontal = (length * across + width * along) / rho
+        vertical = (height * rho + (length * along + width * across) / rho * np.abs(z)) / rng
     flat = rho == 0
     if np.any(flat):  # straight down or up: the top, length across and width up the image
         top = np.broadcast_to(length, flat.shape), np.broadcast_to(width, flat.shape)

@@ -1,0 +1,25 @@
+"""Write the golden numbers of ModelChain.evaluate for the golden scenarios.
+
+Run once, at commit 2d5239a (the version before the array core), from the repository root:
+``python tests/data/golden/generate.py``. The golden test compares every later version with
+these files; regenerate them only for a deliberate change of the model, and say so in the
+commit.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from targetacq.model import ModelChain
+from targetacq.scenario import load_scenario
+
+HERE = Path(__file__).parent
+ROOT = HERE.parents[2]
+SCENARIOS = sorted((ROOT / "examples").glob("*.toml")) + sorted(HERE.glob("*.toml"))
+
+for path in SCENARIOS:
+    ds = ModelChain(load_scenario(path)).evaluate().dataset
+    arrays = {name: np.asarray(ds[name].values) for name in ds.data_vars}
+    arrays["time"] = ds["time"].values
+    np.savez_compressed(HERE / f"{path.stem}.npz", **arrays)
+    print(path.stem, sorted(arrays))

@@ -10,6 +10,13 @@ Checks follow one rule: a bad scalar raises ``ValueError`` naming the input and 
 inside an array, NaN propagates as NaN (a batch never fails half-way for a missing value), but
 values that are out of range (negative lengths, probabilities above one) raise for the whole
 batch before anything is computed.
+
+Validation policy under tracing. A check needs the values on the host, which a function traced by
+``jax.jit``, ``vmap`` or ``grad`` does not have. The checks below therefore run only on concrete
+arrays: called on a tracer they do nothing, and the kernel's NaN-masking carries a bad value
+through as NaN. The public entry points (scenario compilation, the step API, the CLI) check
+their inputs on the host before anything is traced, so the clear ``ValueError`` stays where a
+user meets it.
 """
 
 from __future__ import annotations
@@ -74,6 +81,17 @@ def chunked_elementwise(function: Any, value: Array, chunk: int = 1 << 14) -> Ar
     return out.reshape(value.shape)
 
 
+def is_traced(value: object) -> bool:
+    """Whether ``value`` is an abstract JAX tracer (inside ``jit``, ``vmap`` or ``grad``).
+
+    JAX is never imported here: a value can only be a tracer once JAX has been imported.
+    """
+    import sys
+
+    jax = sys.modules.get("jax")
+    return jax is not None and isinstance(value, jax.core.Tracer)
+
+
 def _describe(value: Array, xp: Any, mask: Array) -> str:
     bad = value[mask] if value.ndim else value
     first = float(xp.reshape(bad, (-1,))[0]) if value.ndim else float(value)
@@ -81,6 +99,8 @@ def _describe(value: Array, xp: Any, mask: Array) -> str:
 
 
 def _check_scalar_nan(name: str, value: Array, xp: Any, valid: str) -> None:
+    if is_traced(value):
+        return
     if value.ndim == 0 and bool(xp.isnan(value)):
         raise ValueError(f"{name} must be {valid}, got NaN")
 
@@ -89,6 +109,8 @@ def require_positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
     """Raise ``ValueError`` unless every non-NaN element is > 0 (a scalar NaN also raises)."""
     valid = f"> 0{' ' + unit if unit else ''}"
     _check_scalar_nan(name, value, xp, valid)
+    if is_traced(value):
+        return
     mask = value <= 0
     if bool(xp.any(mask)):
         raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
@@ -98,6 +120,8 @@ def require_nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> Non
     """Raise ``ValueError`` unless every non-NaN element is >= 0 (a scalar NaN also raises)."""
     valid = f">= 0{' ' + unit if unit else ''}"
     _check_scalar_nan(name, value, xp, valid)
+    if is_traced(value):
+        return
     mask = value < 0
     if bool(xp.any(mask)):
         raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
@@ -106,6 +130,8 @@ def require_nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> Non
 def require_unit_interval(name: str, value: Array, xp: Any) -> None:
     """Raise ``ValueError`` unless every non-NaN element lies in [0, 1]."""
     _check_scalar_nan(name, value, xp, "in [0, 1]")
+    if is_traced(value):
+        return
     mask = (value < 0) | (value > 1)
     if bool(xp.any(mask)):
         raise ValueError(f"{name} must be in [0, 1], got {_describe(value, xp, mask)}")
@@ -114,6 +140,8 @@ def require_unit_interval(name: str, value: Array, xp: Any) -> None:
 def require_open_unit_interval(name: str, value: Array, xp: Any) -> None:
     """Raise ``ValueError`` unless every non-NaN element lies in the open interval (0, 1)."""
     _check_scalar_nan(name, value, xp, "in the open interval (0, 1)")
+    if is_traced(value):
+        return
     mask = (value <= 0) | (value >= 1)
     if bool(xp.any(mask)):
         raise ValueError(

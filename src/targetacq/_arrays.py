@@ -6,6 +6,14 @@ inputs from :func:`array_api_compat.array_namespace`, so NumPy arrays stay NumPy
 NumPy float64 arrays unless another input fixes the namespace. A 0-d NumPy result is returned
 as a NumPy scalar, so scalar in gives scalar out.
 
+Units. The kernels take bare SI numbers (m, rad, K, s, ...). A pint ``Quantity`` given to a
+kernel is converted to its magnitude in SI base units by :func:`as_float` and :func:`arrays`
+(:func:`targetacq.units.si_magnitude`): ``ifov(17 * ureg.um, 75 * ureg.mm)`` is 17e-6 / 75e-3,
+a temperature in degC becomes kelvin, an angle in degrees radians, and a dimensionless quantity
+its plain number. The kernel does not know which dimension it expects, so a quantity of the
+wrong dimension is not caught here: pass the dimension the parameter documents. pint is never
+imported for this: a value can only be a quantity once pint has been imported.
+
 Checks follow one rule: a bad scalar raises ``ValueError`` naming the input and the valid range;
 inside an array, NaN propagates as NaN (a batch never fails half-way for a missing value), but
 values that are out of range (negative lengths, probabilities above one) raise for the whole
@@ -26,6 +34,8 @@ from typing import Any
 import array_api_compat
 import numpy as np
 
+from targetacq.units import is_quantity, si_magnitude
+
 Array = Any  # an array of any array-API namespace
 
 
@@ -42,7 +52,12 @@ def namespace(*values: object) -> Any:
 
 
 def as_float(value: object, xp: Any) -> Array:
-    """``value`` as a floating array of namespace ``xp`` (float64 for non-float input)."""
+    """``value`` as a floating array of namespace ``xp`` (float64 for non-float input).
+
+    A pint ``Quantity`` becomes its magnitude in SI base units (see the module docstring).
+    """
+    if is_quantity(value):
+        value = si_magnitude(value)
     if _is_array(value):
         dtype = getattr(value, "dtype", None)
         if dtype is not None and xp.isdtype(dtype, "real floating"):
@@ -54,7 +69,11 @@ def as_float(value: object, xp: Any) -> Array:
 
 
 def arrays(*values: object) -> tuple[Any, list[Array]]:
-    """The common namespace and each value as a floating array of it."""
+    """The common namespace and each value as a floating array of it.
+
+    pint quantities are first replaced by their SI magnitudes, whose arrays fix the namespace.
+    """
+    values = tuple(si_magnitude(v) if is_quantity(v) else v for v in values)
     xp = namespace(*values)
     return xp, [as_float(v, xp) for v in values]
 

@@ -1,17 +1,22 @@
-"""Quantities with units at the boundary (CLI options, files), parsed once with pint.
+"""Quantities with units at the boundary (CLI options, files, Python calls), parsed once with pint.
 
 Inside the library everything is a bare SI float; this module is the only place that knows
-about units. A bare number where a unit is needed is an error that says which unit to add.
+about units. Text must carry its unit (``"17 um"``): a bare number where a unit is needed is an
+error that says which unit to add. From Python, a pint ``Quantity`` of any registry is converted
+to SI (:func:`si_magnitude`, :func:`to_si`); pint is imported only once a quantity or a unit
+outside the plain ones needs it.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import numbers
 import re
+import sys
 from typing import Any
 
-__all__ = ["DIMENSIONS", "parse_quantity"]
+__all__ = ["DIMENSIONS", "is_quantity", "parse_quantity", "si_magnitude", "to_si"]
 
 DIMENSIONS: dict[str, tuple[str, str]] = {
     # kind: (SI unit it is converted to, an example for error messages)
@@ -35,6 +40,17 @@ _PLAIN_UNITS: dict[str, dict[str, float]] = {
     "extinction": {"/m": 1.0, "/km": 1e-3, "1/m": 1.0, "1/km": 1e-3},
     "time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0},
     "irradiance": {"W/m^2": 1.0, "W/m**2": 1.0},
+}
+
+# The SI unit of each pint base dimension, for converting any quantity to SI base units.
+_SI_BASE: dict[str, str] = {
+    "[length]": "meter",
+    "[mass]": "kilogram",
+    "[time]": "second",
+    "[temperature]": "kelvin",
+    "[current]": "ampere",
+    "[substance]": "mole",
+    "[luminosity]": "candela",
 }
 
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
@@ -101,3 +117,120 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
         raise ValueError(
             f"{name}: {text!r} is not a {kind} (e.g. {example}); its unit is {quantity.units}"
         ) from error
+
+
+def is_quantity(value: object) -> bool:
+    """Whether ``value`` is a pint ``Quantity`` (of any registry).
+
+    pint is not imported here: a value can only be a quantity once pint has been imported.
+    """
+    pint = sys.modules.get("pint")
+    return pint is not None and isinstance(value, pint.Quantity)
+
+
+def si_magnitude(quantity: Any) -> Any:
+    """The magnitude of a pint ``Quantity`` in SI base units (m, kg, s, K, A, mol, cd).
+
+    The conversion is explicit, not ``to_base_units()``, whose result depends on the registry's
+    unit system (an imperial registry gives yards). Offset temperatures convert as
+    temperatures (``20 degC`` -> 293.15 K); a dimensionless quantity, an angle included (pint's
+    radian is dimensionless), becomes its plain number (``1 deg`` -> 0.01745).
+
+    Parameters
+    ----------
+    quantity : pint.Quantity
+        A scalar or an array quantity.
+
+    Returns
+    -------
+    float or array
+        The magnitude in SI base units, of the quantity's magnitude type.
+
+    Raises
+    ------
+    ValueError
+        If the quantity has a dimension outside the SI base dimensions (e.g. bits), or pint
+        cannot convert it.
+    """
+    dimensions = dict(quantity.dimensionality)
+    other = [d for d in dimensions if d not in _SI_BASE]
+    if other:
+        raise ValueError(
+            f"cannot convert {quantity} to SI base units: its dimension {', '.join(other)} is "
+            f"none of {', '.join(_SI_BASE)}"
+        )
+    unit = " * ".join(f"{_SI_BASE[d]} ** {e}" for d, e in dimensions.items()) or "dimensionless"
+    try:
+        return quantity.to(unit).magnitude
+    except Exception as error:  # pint's offset-unit errors share no useful base class
+        raise ValueError(f"cannot convert {quantity} to SI base units ({unit}): {error}") from None
+
+
+def _quantity_to(value: Any, kind: str, name: str) -> Any:
+    si_unit, example = DIMENSIONS[kind]
+    if kind == "temperature difference":
+        value = value - type(value)(0, value.units)  # 2 degC as a difference is 2 K, as in text
+    try:
+        return value.to(si_unit).magnitude
+    except Exception as error:  # pint raises DimensionalityError or offset-unit errors
+        expected = value._REGISTRY.get_dimensionality(si_unit)
+        raise ValueError(
+            f"{name}: {value} is not a {kind}: expected dimension {expected} ({si_unit}, e.g. "
+            f"{example}), got {value.dimensionality}"
+        ) from error
+
+
+def to_si(value: Any, kind: str, name: str, *, strict: bool = False) -> float:
+    """One quantity, given as text, a pint ``Quantity`` or an SI number, as a float in SI units.
+
+    Parameters
+    ----------
+    value : str, pint.Quantity or float
+        Text with a unit (``"17 um"``, see :func:`parse_quantity`), a scalar pint quantity of
+        the dimension of ``kind`` (``17 * ureg.um``; a temperature difference in degC counts as
+        a difference), or, unless ``strict``, a real number already in the SI unit of ``kind``.
+    kind : str
+        A key of :data:`DIMENSIONS`.
+    name : str
+        The input's name for error messages (e.g. ``"pitch"``).
+    strict : bool
+        Reject a bare number (a scenario file, where every quantity carries its unit).
+
+    Returns
+    -------
+    float
+        The finite value in the SI unit of ``kind`` (m, rad, K, Np/m, s, W/m²).
+
+    Raises
+    ------
+    ValueError
+        Naming the input: a bare number when ``strict`` (saying which unit to add), a quantity
+        of another dimension, text that is not a quantity of ``kind``, a non-finite value, or a
+        value of another type.
+    """
+    if kind not in DIMENSIONS:
+        raise ValueError(f"kind must be one of {', '.join(DIMENSIONS)}; got {kind!r}")
+    si_unit, example = DIMENSIONS[kind]
+    if isinstance(value, str):
+        result = parse_quantity(value, kind, name)
+    elif is_quantity(value):
+        magnitude = _quantity_to(value, kind, name)
+        zero_dim = getattr(magnitude, "ndim", None) == 0 and magnitude.dtype.kind in "iuf"
+        if not (zero_dim or isinstance(magnitude, numbers.Real)) or isinstance(magnitude, bool):
+            raise ValueError(f"{name}: expected one real {kind}, got {value}")
+        result = float(magnitude)
+    elif isinstance(value, numbers.Real) and not isinstance(value, bool):
+        if strict:
+            raise ValueError(
+                f"{name}: missing unit: got {value!r}; write the {kind} as a string with its "
+                f"unit, e.g. {example}"
+            )
+        result = float(value)
+    else:
+        how = "as a string with a unit" if strict else f"with a unit, or a number in {si_unit}"
+        raise ValueError(
+            f"{name}: expected a {kind} {how} (e.g. {example}); got {type(value).__name__}"
+        )
+    if not math.isfinite(result):
+        raise ValueError(f"{name} must be finite, got {result}")
+    return result

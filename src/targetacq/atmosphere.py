@@ -29,14 +29,17 @@ __all__ = [
     "band_transmittance",
     "cloud_transmittance",
     "db_per_km_to_np_per_km",
+    "extinction_for_band",
     "extinction_from_visibility",
     "extinction_term",
     "foliage_transmittance",
     "np_per_km_to_db_per_km",
     "obscurant_extinction",
     "path_transmittance",
+    "segmented_optical_depth",
     "snr_from_optical_depth",
     "snr_from_transmittance",
+    "sphere_chord_length",
     "transmittance",
     "visibility_from_extinction",
 ]
@@ -377,21 +380,113 @@ def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
         (3,) sphere centre [m].
     radius : float
         [m], > 0.
-    """
-    import numpy as np
 
-    a = np.asarray(start, dtype=float)
-    b = np.asarray(end, dtype=float)
-    c = np.asarray(center, dtype=float)
+    Examples
+    --------
+    >>> float(sphere_chord_length([0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [5.0, 0.0, 0.0], 2.0))
+    4.0
+    """
+    xp, (a, b, c, rad) = _arrays.arrays(start, end, center, radius)
     d = b - a
-    length = np.linalg.norm(d, axis=-1)
-    safe = np.where(length > 0, length, 1.0)
+    length = xp.sqrt(xp.sum(d * d, axis=-1))
+    safe = xp.where(length > 0, length, 1.0)
     u = d / safe[..., None]
     m = a - c
-    bq = np.sum(m * u, axis=-1)
-    cq = np.sum(m * m, axis=-1) - radius * radius
+    bq = xp.sum(m * u, axis=-1)
+    cq = xp.sum(m * m, axis=-1) - rad * rad
     disc = bq * bq - cq
-    root = np.sqrt(np.maximum(disc, 0.0))
-    t0 = np.clip(-bq - root, 0.0, length)
-    t1 = np.clip(-bq + root, 0.0, length)
-    return np.where((disc > 0) & (length > 0), t1 - t0, 0.0)
+    root = xp.sqrt(xp.maximum(disc, 0.0))
+    t0 = xp.clip(-bq - root, 0.0, length)
+    t1 = xp.clip(-bq + root, 0.0, length)
+    chord = xp.where((disc > 0) & (length > 0), t1 - t0, 0.0 * length)
+    return _arrays.result(xp.where(xp.isnan(length), length, chord))
+
+
+def segmented_optical_depth(
+    range: Any, extinction: Any, segment_lengths: Any = (), segment_extinctions: Any = ()
+) -> Any:
+    """Optical depth of a line of sight through stretches of different extinction (§7.8).
+
+    The path is ``extinction`` everywhere except the ``segments`` laid one after the other from
+    the sensor outward: ``d = γ R + Σ_j (γ_j − γ) · clip(R − s_j, 0, L_j)`` with ``s_j`` the
+    start of segment ``j`` (the sum of the lengths before it). A segment beyond the target adds
+    nothing. ``τ = exp(−d)`` is Eq. (7.3) over a path of several regions.
+
+    Parameters
+    ----------
+    range : array_like
+        R [m], >= 0.
+    extinction : array_like
+        γ outside the segments [Np/m], >= 0, broadcasting with ``range``.
+    segment_lengths : sequence of float
+        L_j [m], >= 0.
+    segment_extinctions : sequence of array_like
+        γ_j [Np/m], one per segment, each broadcasting with ``range``.
+
+    Returns
+    -------
+    array_like
+        d >= 0 [Np].
+
+    Examples
+    --------
+    >>> float(segmented_optical_depth(1000.0, 1e-4, [200.0], [1e-3]))  # 0.1 + 0.9e-3 · 200
+    0.28
+    """
+    xp, (r, g) = _arrays.arrays(range, extinction)
+    depth = g * r
+    start = 0.0
+    for length, gamma in zip(segment_lengths, segment_extinctions, strict=True):
+        inside = xp.clip(r - start, 0.0, length)
+        depth = depth + (_arrays.as_float(gamma, xp) - g) * inside
+        start += float(length)
+    return _arrays.result(depth)
+
+
+def extinction_for_band(
+    band: Any,
+    *,
+    extinction: Any = None,
+    obscurant: str | None = None,
+    visibility: Any = None,
+    convention: str | None = None,
+) -> float:
+    """The path's extinction in a band from one description of the weather.
+
+    One of: ``extinction`` itself; an ``obscurant`` of Table 7.1 as ``"name"`` or
+    ``"name:level"`` (level low, nominal, high), read for the band; or a ``visibility`` with its
+    ``convention`` (:func:`extinction_from_visibility`; the visible band's extinction). None of
+    them: a clear path, 0.
+
+    Parameters
+    ----------
+    band : str or (float, float)
+        The sensor's band (name or limits [m]).
+    extinction : float, optional
+        γ [Np/m], >= 0.
+    obscurant : str, optional
+    visibility : float, optional
+        [m], > 0.
+    convention : {"koschmieder", "mor"}, optional
+
+    Returns
+    -------
+    float
+        γ [Np/m].
+
+    Examples
+    --------
+    >>> round(extinction_for_band("lwir", obscurant="haze:high") * 1e3, 6)  # Np/km
+    0.4
+    """
+    given = [v is not None for v in (extinction, obscurant, visibility)]
+    if sum(given) > 1:
+        raise ValueError("give one of extinction, obscurant and visibility")
+    if extinction is not None:
+        return float(extinction)
+    if obscurant is not None:
+        name, _, level = obscurant.partition(":")
+        return obscurant_extinction(name, band, level or "nominal")
+    if visibility is not None:
+        return float(extinction_from_visibility(visibility, convention))
+    return 0.0

@@ -28,6 +28,7 @@ __all__ = [
     "gray",
     "image_clutter",
     "signal_to_clutter_ratio",
+    "temperature_spread_clutter",
     "terrain_clutter",
 ]
 
@@ -58,6 +59,47 @@ def signal_to_clutter_ratio(target_signal: Any, background_mean: Any, clutter: A
     ratio = contrast / xp.where(c > 0, c, 1.0)
     out = xp.where(c > 0, ratio, xp.where(contrast > 0, xp.inf, 0.0 * contrast))
     return _arrays.result(xp.where(xp.isnan(c), c, out))
+
+
+def temperature_spread_clutter(
+    emissivity: Any, temperature: Any, temperature_std: Any, band: Any
+) -> Any:
+    """Clutter of a thermal background given as a spread of temperatures [W/m²].
+
+    A background of mean temperature T whose temperature varies from place to place with the
+    standard deviation σ_T has, for spreads small against T, an exitance spread
+    ``clutter = ε · dM_band/dT · σ_T``: the linearised (6.12) over the band. This is the clutter
+    of (6.9)–(6.10) in the signal unit of the band exitance.
+
+    Parameters
+    ----------
+    emissivity : array_like
+        ε of the background, in [0, 1].
+    temperature : array_like
+        Mean background temperature T [K], >= 0.
+    temperature_std : array_like
+        σ_T [K], >= 0.
+    band : str or (float, float)
+        The sensor's band.
+
+    Returns
+    -------
+    array_like
+        Clutter [W/m²].
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import band_exitance_derivative
+    >>> slope = band_exitance_derivative(295.0, "lwir")
+    >>> bool(abs(temperature_spread_clutter(0.9, 295.0, 2.0, "lwir") - 0.9 * slope * 2.0) < 1e-12)
+    True
+    """
+    from targetacq.radiometry import band_exitance_derivative
+
+    xp, (eps, spread) = _arrays.arrays(emissivity, temperature_std)
+    _arrays.require_unit_interval("emissivity", eps, xp)
+    _arrays.require_nonnegative("temperature_std", spread, xp, "K")
+    return _arrays.result(eps * band_exitance_derivative(temperature, band) * spread)
 
 
 def terrain_clutter(weights: Any, variances: Any, axis: int = -1) -> Any:

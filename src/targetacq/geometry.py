@@ -10,15 +10,25 @@ from collections.abc import Callable
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 from targetacq._arrays import Array
 
 __all__ = [
     "CRITICAL_DIMENSION_METHODS",
+    "box_extents_seen",
+    "box_outline",
     "critical_dimension",
+    "critical_dimension_seen",
+    "heading_along",
+    "in_field_of_view",
+    "pointing_direction",
+    "positions_at",
     "projected_extents",
     "slant_range",
     "solid_angle",
+    "view_offsets",
 ]
 
 
@@ -197,10 +207,10 @@ def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, defa
     return np.where(still, default, np.arctan2(d[:, 0], d[:, 1]))
 
 
-def box_extents_seen(
-    line_of_sight: Any, heading: Any, length: Any, width: Any, height: Any
+def box_outline(
+    x: Any, y: Any, z: Any, heading: Any, length: Any, width: Any, height: Any
 ) -> tuple[Any, Any, Any]:
-    """Range and the outline of box targets seen along lines of sight, from the vectors.
+    """Range and the outline of box targets seen along lines of sight, from the components.
 
     The same outline as :func:`projected_extents`, with the aspect's and the depression's sines
     and cosines taken straight from the line-of-sight components instead of through angles (no
@@ -208,6 +218,59 @@ def box_extents_seen(
     ``|cos a| = |x sin h + y cos h| / ρ``, ``|sin a| = |x cos h − y sin h| / ρ``,
     ``sin e = |z| / R``, ``cos e = ρ / R``, with ``ρ = hypot(x, y)``. Straight down (ρ = 0) the
     outline is the box's top, length by width.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        Components of the vectors from sensor to target [m] (x east, y north, z up).
+    heading : array_like
+        Direction of the target's long axis, from north clockwise [rad].
+    length, width, height : array_like
+        Box dimensions [m]. All inputs broadcast together.
+
+    Returns
+    -------
+    range, horizontal, vertical : array_like
+        Slant range [m] and the sides of the outline [m]; NaN where a component is NaN.
+
+    Examples
+    --------
+    >>> rng, h, v = box_outline(0.0, 1000.0, 0.0, 1.5707963267948966, 6.0, 3.0, 2.5)
+    >>> float(rng), round(float(h), 9), float(v)  # broadside at eye level: the length, the height
+    (1000.0, 6.0, 2.5)
+    """
+    xp, (x, y, z, heading, length, width, height) = _arrays.arrays(
+        x, y, z, heading, length, width, height
+    )
+    rho = xp.sqrt(x * x + y * y)
+    rng = xp.sqrt(rho * rho + z * z)
+    sin_h, cos_h = xp.sin(heading), xp.cos(heading)
+    along = xp.abs(x * sin_h + y * cos_h)  # ρ |cos a|
+    across = xp.abs(x * cos_h - y * sin_h)  # ρ |sin a|
+    flat = rho == 0
+    numpy = isinstance(rho, np.ndarray)
+    # Straight down or up (ρ = 0): divide by 1 there, and take the box's top below.
+    safe = rho if numpy and not np.any(flat) else xp.where(flat, 1.0, rho)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
+        horizontal = (length * across + width * along) / safe
+        vertical = (height * rho + (length * along + width * across) / safe * xp.abs(z)) / xp.where(
+            rng > 0, rng, 1.0
+        )
+    if not numpy or np.any(flat):
+        top_h = length + 0.0 * flat
+        top_v = xp.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
+        horizontal = xp.where(flat, top_h, horizontal)
+        vertical = xp.where(flat, top_v, vertical)
+    return _arrays.result(rng), _arrays.result(horizontal), _arrays.result(vertical)
+
+
+def box_extents_seen(
+    line_of_sight: Any, heading: Any, length: Any, width: Any, height: Any
+) -> tuple[Any, Any, Any]:
+    """Range and the outline of box targets seen along lines of sight ``(..., 3)``.
+
+    :func:`box_outline` of the vectors' components; see there for the formula.
 
     Parameters
     ----------
@@ -220,36 +283,109 @@ def box_extents_seen(
 
     Returns
     -------
-    range, horizontal, vertical : numpy.ndarray
+    range, horizontal, vertical : array_like
         Slant range [m] and the sides of the outline [m].
     """
-    import numpy as np
+    _xp, (los,) = _arrays.arrays(line_of_sight)
+    return box_outline(los[..., 0], los[..., 1], los[..., 2], heading, length, width, height)
 
-    los = np.asarray(line_of_sight, dtype=float)
-    x, y, z = los[..., 0], los[..., 1], los[..., 2]
-    rho = np.hypot(x, y)
-    rng = np.hypot(rho, z)
-    sin_h, cos_h = np.sin(heading), np.cos(heading)
-    along = np.abs(x * sin_h + y * cos_h)  # ρ |cos a|
-    across = np.abs(x * cos_h - y * sin_h)  # ρ |sin a|
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
-        horizontal = (length * across + width * along) / rho
-        vertical = (height * rho + (length * along + width * across) / rho * np.abs(z)) / rng
-    flat = rho == 0
-    if np.any(flat):  # straight down or up: the top, length across and width up the image
-        top = np.broadcast_to(length, flat.shape), np.broadcast_to(width, flat.shape)
-        horizontal = np.where(flat, top[0], horizontal)
-        vertical = np.where(flat, np.where(rng > 0, top[1], height), vertical)
-    return rng, horizontal, vertical
+
+def critical_dimension_seen(horizontal: Any, vertical: Any, visible_fraction: Any = 1.0) -> Any:
+    """Critical dimension of a partly hidden target: ``min(horizontal, visible · vertical)``.
+
+    Johnson's cycles are counted across the smaller side of the outline (Sonesson 2004, §3.2 and
+    Fig. 3.3); a target partly hidden behind terrain or vegetation shows only the visible
+    fraction of its height (§3.10).
+
+    Parameters
+    ----------
+    horizontal, vertical : array_like
+        Sides of the outline seen [m] (:func:`box_outline`).
+    visible_fraction : array_like
+        Fraction of the height in view, in (0, 1].
+
+    Returns
+    -------
+    array_like
+        Critical dimension [m].
+
+    Examples
+    --------
+    >>> float(critical_dimension_seen(6.0, 2.5, 0.6))
+    1.5
+    """
+    xp, (h, v, f) = _arrays.arrays(horizontal, vertical, visible_fraction)
+    return _arrays.result(xp.minimum(h, v * f))
+
+
+def pointing_direction(azimuth: Any, depression: Any) -> tuple[Any, Any, Any]:
+    """Unit boresight vector of a sensor pointed at an azimuth and a depression.
+
+    ``(cos e sin a, cos e cos a, −sin e)`` in (east, north, up): azimuth ``a`` from north,
+    clockwise; depression ``e`` below the horizon (negative above).
+
+    Parameters
+    ----------
+    azimuth, depression : array_like
+        [rad], broadcasting together.
+
+    Returns
+    -------
+    (east, north, up) : tuple of array_like
+
+    Examples
+    --------
+    >>> [round(float(c), 12) for c in pointing_direction(1.5707963267948966, 0.0)]
+    [1.0, 0.0, -0.0]
+    """
+    xp, (a, e) = _arrays.arrays(azimuth, depression)
+    ce = xp.cos(e)
+    return (
+        _arrays.result(ce * xp.sin(a)),
+        _arrays.result(ce * xp.cos(a)),
+        _arrays.result(-xp.sin(e)),
+    )
+
+
+def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+    """Components of lines of sight in a sensor's frame: ahead, right and up.
+
+    The sensor frame: ``forward`` (the boresight, any length), ``right = forward × up``
+    (horizontal), ``up' = right × forward``; looking straight down or up, ``right`` is east.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        Line-of-sight components [m].
+    forward : (array_like, array_like, array_like)
+        Boresight components, broadcasting with ``x``.
+
+    Returns
+    -------
+    ahead, right, up : array_like
+        [m].
+    """
+    xp, (x, y, z, fx, fy, fz) = _arrays.arrays(x, y, z, *forward)
+    norm = xp.sqrt(fx * fx + fy * fy + fz * fz)
+    norm = xp.where(norm > 0, norm, 1.0)
+    fx, fy, fz = fx / norm, fy / norm, fz / norm
+    horizontal = xp.sqrt(fx * fx + fy * fy)
+    level = horizontal > 1e-12
+    safe = xp.where(level, horizontal, 1.0)
+    rx = xp.where(level, fy / safe, 1.0)  # forward × up, normalised
+    ry = xp.where(level, -fx / safe, 0.0)
+    ux, uy, uz = ry * fz, -rx * fz, rx * fy - ry * fx  # right × forward (right has no z)
+    ahead = x * fx + y * fy + z * fz
+    right = x * rx + y * ry
+    up = x * ux + y * uy + z * uz
+    return _arrays.result(ahead), _arrays.result(right), _arrays.result(up)
 
 
 def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any, Any]) -> Any:
     """Whether lines of sight fall inside sensors' rectangular fields of view.
 
-    The sensor frame: ``forward`` (the boresight), ``right`` = forward × up (horizontal),
-    ``up'`` = right × forward. A target is in view when it is in front and its horizontal and
-    vertical angles off the boresight are within half the fields of view.
+    A target is in view when it is in front and its horizontal and vertical angles off the
+    boresight are within half the fields of view (:func:`view_offsets` gives the frame).
 
     Parameters
     ----------
@@ -259,21 +395,15 @@ def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any,
         (..., 3) boresight directions (any length), broadcasting with ``line_of_sight``.
     half_tangents : (array_like, array_like)
         tan(FOV_h / 2) and tan(FOV_v / 2), broadcasting with ``line_of_sight[..., 0]``.
+
+    Returns
+    -------
+    array_like of bool
+        False where a component is NaN.
     """
-    import numpy as np
-
-    f = np.asarray(forward, dtype=float)
-    f = f / np.linalg.norm(f, axis=-1, keepdims=True)
-    right = np.stack([f[..., 1], -f[..., 0], np.zeros_like(f[..., 0])], axis=-1)  # f × z
-    norm = np.linalg.norm(right, axis=-1, keepdims=True)
-    # Looking straight down or up: any horizontal "right" will do.
-    right = np.where(norm > 1e-12, right / np.where(norm > 1e-12, norm, 1.0), [1.0, 0.0, 0.0])
-    up = np.cross(right, f)
-    los = np.asarray(line_of_sight, dtype=float)
-
-    def dot(axis: Any) -> Any:
-        return los[..., 0] * axis[..., 0] + los[..., 1] * axis[..., 1] + los[..., 2] * axis[..., 2]
-
-    ahead = dot(f)
+    xp, (los, f) = _arrays.arrays(line_of_sight, forward)
+    ahead, right, up = view_offsets(
+        los[..., 0], los[..., 1], los[..., 2], (f[..., 0], f[..., 1], f[..., 2])
+    )
     tan_h, tan_v = half_tangents
-    return (ahead > 0) & (np.abs(dot(right)) <= tan_h * ahead) & (np.abs(dot(up)) <= tan_v * ahead)
+    return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)

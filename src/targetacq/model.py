@@ -1,19 +1,25 @@
 """The orchestration object: a scenario evaluated for all sensors × targets × times at once.
 
-:class:`ModelChain` wires the topic modules together, like pvlib's ``ModelChain``; it holds no
-physics of its own (DESIGN.md §2). For each sensor–target–time triple:
+:class:`ModelChain` compiles the scenario once into the array core's records
+(:func:`targetacq.core.compile_scenario`) and runs named, swappable steps over them, like
+pvlib's ``ModelChain``; it holds no physics of its own (every formula is in a topic module, wired
+by :mod:`targetacq.core.evaluate`). The steps, in order:
 
-1. geometry: positions on their paths, line of sight, slant range, aspect and depression
-   (:mod:`targetacq.geometry`); the critical dimension is the smaller side of the target box as
-   seen, the vertical side shrunk by the visible fraction (a partly hidden target, §3.10);
-   a target outside the sensor's field of view has probability 0;
-2. optics: cycles on target ``N = d / (R · cycle)`` (:mod:`targetacq.optics`);
-3. radiometry and clutter: the contrast and SCR of each sensor–target pair
-   (:mod:`targetacq.radiometry`, :mod:`targetacq.clutter`);
-4. atmosphere: optical depth of the path (segments, local clouds), transmittance, SNR
-   (:mod:`targetacq.atmosphere`);
-5. transforms: ordered probabilities of detection, recognition and identification
-   (:func:`targetacq.acquisition_probabilities`), then sensor-level fusion over the sensors (8.4).
+``positions``
+    where the sensors and targets are at the times, and the targets' headings
+    (:func:`targetacq.core.scenario_positions`);
+``factors``
+    line of sight, range, critical dimension, cycles, field of view, the path's optical depth,
+    transmittance and SNR, and the SCR (:func:`targetacq.core.factors`);
+``clutter``
+    the SCR of a terrain map at each sensor's footprint, where the scenario has one
+    (:func:`targetacq.core.evaluate.footprint_scr`);
+``probabilities``
+    ordered probabilities of detection, recognition and identification, and their sensor-level
+    fusion (:func:`targetacq.core.probabilities`).
+
+Replace a step by name: ``ModelChain(scenario, steps={"clutter": my_clutter})``, where
+``my_clutter(chain, factors, target_positions)`` returns the factors to use.
 
 :meth:`ModelChain.evaluate_chunks` yields the results chunk by chunk (targets × times), so a run
 over 10⁸ triples or more stays in bounded memory.
@@ -21,23 +27,21 @@ over 10⁸ triples or more stays in bounded memory.
 
 from __future__ import annotations
 
-import math
-from collections.abc import Iterator
+import dataclasses
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from targetacq import atmosphere, geometry, optics, radiometry
-from targetacq.acquisition import acquisition_probabilities
-from targetacq.clutter import signal_to_clutter_ratio
-from targetacq.criteria import get_criterion
-from targetacq.fusion import fuse
+from targetacq import core
+from targetacq.core.evaluate import footprint_scr
 from targetacq.outputs import output_path, write_atomically
+from targetacq.registry import lookup
 from targetacq.scenario import Scenario
 
-__all__ = ["ModelChain", "Results", "evaluate"]
+__all__ = ["STEPS", "ModelChain", "Results", "evaluate"]
 
 _TASKS = ("detection", "recognition", "identification")
 OUTPUT_FORMATS = ("csv", "json", "parquet")
@@ -84,315 +88,124 @@ class Results:
         return write_atomically(out, writers[kind])
 
 
-def _waypoints(item: Any) -> tuple[list[float], list[tuple[float, float, float]]]:
-    return [w.time for w in item.waypoints], [w.position for w in item.waypoints]
+def _positions(
+    chain: ModelChain, times: np.ndarray, targets: slice
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return core.scenario_positions(chain.scenario, times, targets)
 
 
-def _path_arrays(items: list[Any], times: np.ndarray) -> np.ndarray:
-    """(n, n_t, 3) positions of sensors or targets at the times."""
-    out = np.empty((len(items), times.size, 3))
-    for k, item in enumerate(items):
-        if item.waypoints is None:
-            out[k] = np.asarray(item.position)
-        else:
-            out[k] = geometry.positions_at(times, *_waypoints(item))
-    return out
+def _factors(
+    chain: ModelChain,
+    scene: core.SceneArrays,
+    positions: tuple[np.ndarray, np.ndarray, np.ndarray],
+) -> core.Factors:
+    sensor_pos, target_pos, heading = positions
+    return core.factors(scene, sensor_pos, target_pos, heading)
+
+
+def _clutter(chain: ModelChain, found: core.Factors, target_positions: np.ndarray) -> core.Factors:
+    terrain = chain.compiled.terrain
+    if terrain is None:
+        return found
+    scr = footprint_scr(
+        terrain,
+        found.range,
+        target_positions,
+        chain.compiled.scene.signature.target[:, chain._chosen],
+        np.asarray(chain.compiled.scene.sensors.ifov),
+    )
+    return dataclasses.replace(found, scr=scr)
+
+
+def _probabilities(
+    chain: ModelChain, scene: core.SceneArrays, found: core.Factors
+) -> core.Probabilities:
+    return core.probabilities(scene, found)
+
+
+STEPS: Mapping[str, Callable[..., Any]] = {
+    "positions": _positions,
+    "factors": _factors,
+    "clutter": _clutter,
+    "probabilities": _probabilities,
+}
+"""The default steps of :class:`ModelChain`, in order (see the module docstring)."""
+
+
+def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
+    """The scene restricted to a slice of the targets."""
+    t, sig = scene.targets, scene.signature
+    return dataclasses.replace(
+        scene,
+        targets=core.TargetArrays(
+            dimensions=t.dimensions[targets],
+            visible_fraction=t.visible_fraction[targets],
+            heading=t.heading[targets],
+            n50=t.n50[targets],
+            names=t.names[targets],
+            hot_spot=t.hot_spot[targets],
+            moving=t.moving[targets],
+        ),
+        signature=core.SignatureArrays(
+            contrast=sig.contrast[:, targets],
+            target=sig.target[:, targets],
+            scr=None if sig.scr is None else sig.scr[:, targets],
+        ),
+    )
 
 
 class ModelChain:
-    """A scenario prepared for evaluation.
+    """A scenario compiled for evaluation, with named, swappable steps.
 
     Parameters
     ----------
     scenario : Scenario
         A validated scenario (:func:`targetacq.scenario.load_scenario`).
+    steps : mapping of str to callable, optional
+        Steps to replace, by name (:data:`STEPS`).
     """
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(
+        self, scenario: Scenario, steps: Mapping[str, Callable[..., Any]] | None = None
+    ) -> None:
         self.scenario = scenario
-        sensors, targets = scenario.sensors, scenario.targets
-        self.sensor_names = [s.name for s in sensors]
-        self.target_names = [t.name for t in targets]
-        self.cycle = np.array(
-            [
-                float(
-                    optics.resolvable_cycle_angle(
-                        s.pixel_ifov,
-                        wavelength=sum(s.limits) / 2 if s.aperture is not None else None,
-                        aperture=s.aperture,
-                    )
-                )
-                for s in sensors
-            ]
-        )
-        self.ifov = np.array([s.pixel_ifov for s in sensors])
-        self.contrast, self.scr = self._contrast_and_scr()
-        self._terrain_data = self._terrain()
-        self.extinction = np.array([self._extinction(s) for s in sensors])
-        segments = scenario.atmosphere.segments
-        self.segment_lengths = np.array([seg.length for seg in segments])
-        self.segment_extinction = np.array(
-            [[self._segment_extinction(seg, s) for seg in segments] for s in sensors]
-        ).reshape(len(sensors), len(segments))
-        model = scenario.model
-        self.criteria = [
-            get_criterion(
-                t.criterion
-                if t.criterion is not None
-                else (
-                    dict(zip(_TASKS, model.n50, strict=True))
-                    if model.n50 is not None
-                    else model.criterion
-                )
-            )
-            for t in targets
-        ]
-        self.options = {} if model.bound is None else {"bound": model.bound}
-
-    # -- per pair ------------------------------------------------------------------------------
-
-    def _emissivity(self, thing: Any, band: tuple[float, float]) -> float:
-        if thing.emissivity is not None:
-            return float(thing.emissivity)
-        if thing.material is not None:
-            return radiometry.material_emissivity(thing.material, band)
-        return 1.0
-
-    def _contrast_and_scr(self) -> tuple[np.ndarray, np.ndarray | None]:
-        sc = self.scenario
-        bg = sc.background
-        contrast = np.empty((len(sc.sensors), len(sc.targets)))
-        target_exitance = np.empty_like(contrast)
-        self.target_exitance = target_exitance
-        clutter = np.full(contrast.shape, np.nan)
-        for i, s in enumerate(sc.sensors):
-            band = s.limits
-            if s.type == "tv":
-                assert bg.irradiance is not None
-                assert bg.reflectance is not None
-                m_b = bg.reflectance * bg.irradiance
-                m_t = np.array([t.reflectance for t in sc.targets], dtype=float) * bg.irradiance
-            else:
-                eps_b = self._emissivity(bg, band)
-                m_b = eps_b * float(radiometry.band_exitance(bg.temperature, band))
-                eps_t = np.array([self._emissivity(t, band) for t in sc.targets])
-                temperatures = np.array([t.temperature for t in sc.targets], dtype=float)
-                m_t = eps_t * np.asarray(radiometry.band_exitance(temperatures, band))
-                if bg.clutter_std is not None:
-                    slope = float(radiometry.band_exitance_derivative(bg.temperature, band))
-                    clutter[i] = eps_b * slope * bg.clutter_std
-            contrast[i] = np.abs(m_t - m_b)
-            target_exitance[i] = m_t
-        if bg.scr is not None:
-            return contrast, np.full(contrast.shape, bg.scr)
-        if bg.image is not None:
-            return contrast, np.broadcast_to(self._image_scr(), contrast.shape).copy()
-        if bg.clutter_std is not None:
-            return contrast, np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
-        return contrast, None
-
-    def _image_scr(self) -> np.ndarray:
-        """SCR of each target measured in the background image (Eqs. (3.12)–(3.15))."""
-        from targetacq.clutter import gray, image_clutter
-        from targetacq.images import read_image
-
-        bg = self.scenario.background
-        assert bg.image is not None
-        pixels = gray(read_image(bg.image), bg.channel)
-        boxes = [t.image_box for t in self.scenario.targets]
-        return np.asarray(image_clutter(pixels, boxes).scr)
-
-    def _terrain(self) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray] | None:
-        """The terrain map and, per sensor and class, intensity, variance and resolution."""
-        from targetacq.terrain import TerrainClass, TerrainMap
-
-        bg = self.scenario.background
-        if bg.terrain is None:
-            return None
-        spec = bg.terrain
-        try:
-            grid = np.loadtxt(spec.map, delimiter=",", dtype=np.int64, ndmin=2)
-        except (OSError, ValueError) as error:
-            raise ValueError(f"background.terrain.map: cannot read {spec.map!r}: {error}") from None
-        classes = [TerrainClass(c.name, 0.0, 0.0, c.resolution) for c in spec.classes]
-        terrain = TerrainMap(classes, grid, spec.cell_size, spec.origin)
-        intensity = np.empty((len(self.sensor_names), len(spec.classes)))
-        variance = np.empty_like(intensity)
-        for s, sensor in enumerate(self.scenario.sensors):
-            eps = self._emissivity(bg, sensor.limits)
-            temps = np.array([c.temperature for c in spec.classes])
-            spread = np.array([c.temperature_std for c in spec.classes])
-            intensity[s] = eps * np.asarray(radiometry.band_exitance(temps, sensor.limits))
-            slope = np.asarray(radiometry.band_exitance_derivative(temps, sensor.limits))
-            variance[s] = (eps * slope * spread) ** 2
-        resolution = np.array([c.resolution for c in spec.classes])
-        return terrain, intensity, variance, resolution
-
-    def _terrain_scr(
-        self, rng: np.ndarray, target_pos: np.ndarray, targets: slice, m_target: np.ndarray
-    ) -> np.ndarray:
-        """(n_s, n_g, n_t) SCR from the terrain map at the sensors' footprints (6.10), (6.9)."""
-        from targetacq.terrain import resolution_variance
-
-        assert self._terrain_data is not None
-        terrain, intensity, variance, resolution = self._terrain_data
-        items = self.scenario.targets[targets]
-        # Window: the 3 x 3 cells of twice the target's minimum dimension (Fig. 3.6).
-        window = np.array([6.0 * min(t.dimensions) for t in items]).reshape(-1, 1)
-        k = terrain.weights(target_pos[..., 0], target_pos[..., 1], window)  # (n_g, n_t, K)
-        footprint = rng * self.ifov.reshape(-1, 1, 1)  # (n_s, n_g, n_t)
-        seen = resolution_variance(
-            variance[:, None, None, :], resolution, footprint[..., None]
-        )  # (n_s, n_g, n_t, K)
-        clutter = np.sqrt(np.sum(k[None] * seen, axis=-1))
-        mean = np.sum(k[None] * intensity[:, None, None, :], axis=-1)
-        return np.asarray(signal_to_clutter_ratio(m_target[..., None], mean, clutter))
-
-    def _extinction(self, sensor: Any) -> float:
-        atm = self.scenario.atmosphere
-        if atm.extinction is not None:
-            return atm.extinction
-        if atm.obscurant is not None:
-            name, _, level = atm.obscurant.partition(":")
-            return atmosphere.obscurant_extinction(name, sensor.limits, level or "nominal")
-        if atm.visibility is not None:
-            return float(
-                atmosphere.extinction_from_visibility(atm.visibility, atm.visibility_convention)
-            )
-        return 0.0
-
-    def _segment_extinction(self, segment: Any, sensor: Any) -> float:
-        if segment.extinction is not None:
-            return float(segment.extinction)
-        name, _, level = segment.obscurant.partition(":")
-        return atmosphere.obscurant_extinction(name, sensor.limits, level or "nominal")
-
-    # -- per triple ----------------------------------------------------------------------------
-
-    def _positions(self, times: np.ndarray, targets: slice) -> tuple[np.ndarray, ...]:
-        sc = self.scenario
-        sensor_pos = _path_arrays(sc.sensors, times)
-        chosen = sc.targets[targets]
-        target_pos = _path_arrays(chosen, times)
-        heading = np.empty((len(chosen), times.size))
-        for k, t in enumerate(chosen):
-            if t.waypoints is None:
-                heading[k] = t.heading
-            else:
-                heading[k] = geometry.heading_along(times, *_waypoints(t), t.heading)
-        return sensor_pos, target_pos, heading
-
-    def _in_view(self, los: np.ndarray, sensor_pos: np.ndarray) -> np.ndarray:
-        """(n_s, n_g, n_t) field-of-view test, all pointed sensors at once."""
-        forward = self._forward(sensor_pos)
-        pointed = [k for k, f in enumerate(forward) if f is not None]
-        in_view = np.ones(los.shape[:-1], dtype=bool)
-        if pointed:
-            directions = np.stack([f for f in forward if f is not None])[:, None]  # (p, 1, n_t, 3)
-            fov = np.array([self.scenario.sensors[k].field_of_view for k in pointed])
-            halves = np.tan(fov / 2.0).reshape(len(pointed), 2, 1, 1)
-            in_view[pointed] = geometry.in_field_of_view(
-                los[pointed], directions, (halves[:, 0], halves[:, 1])
-            )
-        return in_view
-
-    def _forward(self, sensor_pos: np.ndarray) -> list[np.ndarray | None]:
-        out: list[np.ndarray | None] = []
-        for k, s in enumerate(self.scenario.sensors):
-            if s.look_at is not None:
-                out.append(np.asarray(s.look_at) - sensor_pos[k])
-            elif s.azimuth is not None and s.depression is not None:
-                ce = math.cos(s.depression)
-                direction = [
-                    ce * math.sin(s.azimuth),
-                    ce * math.cos(s.azimuth),
-                    -math.sin(s.depression),
-                ]
-                out.append(np.broadcast_to(direction, sensor_pos[k].shape))
-            else:
-                out.append(None)
-        return out
-
-    def _optical_depth(
-        self, rng: np.ndarray, sensor_pos: np.ndarray, target_pos: np.ndarray
-    ) -> np.ndarray:
-        n_s = len(self.sensor_names)
-        gamma = self.extinction.reshape(n_s, 1, 1)
-        depth = gamma * rng
-        start = 0.0
-        for j, length in enumerate(self.segment_lengths):
-            inside = np.clip(rng - start, 0.0, length)
-            depth = depth + (self.segment_extinction[:, j].reshape(n_s, 1, 1) - gamma) * inside
-            start += length
-        for cloud in self.scenario.atmosphere.clouds:
-            chord = atmosphere.sphere_chord_length(
-                sensor_pos[:, None], target_pos[None], cloud.center, cloud.radius
-            )
-            depth = depth + cloud.extinction * chord
-        return depth
+        self.steps = dict(STEPS)
+        for name, step in (steps or {}).items():
+            lookup(STEPS, name, "step")
+            self.steps[name] = step
+        self.compiled = core.compile_scenario(scenario)
+        scene = self.compiled.scene
+        self.sensor_names = list(scene.sensors.names)
+        self.target_names = list(scene.targets.names)
+        self.criteria = np.array(self.compiled.criteria, dtype=object)
+        self.contrast = scene.signature.contrast
+        self.scr = scene.signature.scr
+        self._chosen = slice(None)
 
     def compute(self, times: Any, targets: slice | None = None) -> dict[str, np.ndarray]:
         """All variables for every sensor, the chosen targets and the times, as arrays."""
-        sc = self.scenario
         t = np.atleast_1d(np.asarray(times, dtype=float))
-        chosen = slice(None) if targets is None else targets
-        sensor_pos, target_pos, heading = self._positions(t, chosen)
-        # (n_s, n_g, n_t, 3), each component contiguous in memory (fast elementwise work).
-        los = np.moveaxis(
-            np.stack([target_pos[None, ..., k] - sensor_pos[:, None, :, k] for k in range(3)]),
-            0,
-            -1,
-        )
-        items = sc.targets[chosen]
-        dims = np.array([t_.dimensions for t_ in items]).reshape(1, -1, 1, 3)
-        rng, horizontal, vertical = geometry.box_extents_seen(
-            los, heading[None], dims[..., 0], dims[..., 1], dims[..., 2]
-        )
-        visible = np.array([t_.visible_fraction for t_ in items]).reshape(1, -1, 1)
-        critical = np.minimum(horizontal, vertical * visible)
-        with np.errstate(divide="ignore"):
-            cycles = critical / (np.maximum(rng, 1e-9) * self.cycle.reshape(-1, 1, 1))
-        in_view = self._in_view(los, sensor_pos)
-        depth = self._optical_depth(rng, sensor_pos, target_pos)
-        tau = np.exp(-depth)
-        snr = np.asarray(atmosphere.snr_from_optical_depth(depth))
-        noise = snr if sc.atmosphere.present else None
-        probabilities = {task: np.zeros(rng.shape) for task in _TASKS}
-        bg = sc.background
-        scr = None if self.scr is None else self.scr[:, chosen][..., None]
-        if self._terrain_data is not None:
-            scr = self._terrain_scr(rng, target_pos, chosen, self.target_exitance[:, chosen])
-        groups: dict[tuple[Any, bool, bool], list[int]] = {}
-        for g, (target, crit) in enumerate(zip(items, self.criteria[chosen], strict=True)):
-            groups.setdefault((crit.name, target.hot_spot, target.moving), []).append(g)
-        for (_, hot_spot, moving), members in groups.items():
-            idx = np.array(members)
-            acq = acquisition_probabilities(
-                cycles[:, idx],
-                self.criteria[chosen][members[0]],
-                sc.model.transform,
-                scr=None if scr is None else scr[:, idx],
-                region=bg.clutter,
-                hot_spot=hot_spot,
-                moving=moving,
-                snr=None if noise is None else noise[:, idx],
-                noise_model=sc.model.noise_model,
-                **self.options,
-            )
-            for task in _TASKS:
-                probabilities[task][:, idx] = np.where(in_view[:, idx], getattr(acq, task), 0.0)
+        self._chosen = slice(None) if targets is None else targets
+        scene = self.compiled.scene
+        if targets is not None:
+            scene = _subset(scene, targets)
+        positions = self.steps["positions"](self, t, self._chosen)
+        found = self.steps["factors"](self, scene, positions)
+        found = self.steps["clutter"](self, found, positions[1])
+        p = self.steps["probabilities"](self, scene, found)
         out = {
-            **({} if self._terrain_data is None else {"scr": scr}),
-            "range": rng,
-            "critical_dimension": critical,
-            "cycles": cycles,
-            "in_view": in_view,
-            "transmittance": tau,
-            "snr": snr,
-            **probabilities,
+            **({} if self.compiled.terrain is None else {"scr": found.scr}),
+            "range": found.range,
+            "critical_dimension": found.critical_dimension,
+            "cycles": found.cycles,
+            "in_view": found.in_view,
+            "transmittance": found.transmittance,
+            "snr": found.snr,
         }
         for task in _TASKS:
-            out[f"fused_{task}"] = np.asarray(fuse(probabilities[task], axis=0))
+            out[task] = getattr(p, task)
+        for task in _TASKS:
+            out[f"fused_{task}"] = getattr(p, f"fused_{task}")
         return out
 
     # -- results -------------------------------------------------------------------------------
@@ -439,6 +252,8 @@ class ModelChain:
         present = (
             atm.extinction is not None or atm.obscurant is not None or atm.visibility is not None
         )
+        extinction = self.compiled.scene.sensors.extinction
+        options = dict(self.compiled.scene.choices.options)
         cases: dict[str, dict[str, Any]] = {}
         for s, sensor in enumerate(self.scenario.sensors):
             for g, target in enumerate(self.scenario.targets):
@@ -450,10 +265,10 @@ class ModelChain:
                     "noise_model": self.scenario.model.noise_model,
                     "hot_spot": target.hot_spot,
                     "moving": target.moving,
-                    "options": dict(self.options),
+                    "options": dict(options),
                 }
                 if present:
-                    case["extinction"] = float(self.extinction[s])
+                    case["extinction"] = float(extinction[s])
                 if sensor.aperture is not None:
                     case["aperture"] = sensor.aperture
                     case["wavelength"] = sum(sensor.limits) / 2

@@ -190,6 +190,6 @@ def noise_n50_factor(
     model = get_noise_model(noise_model)
     factor = model.n50_factor(snr)
     xp, (f,) = _arrays.arrays(factor)
-    if bool(xp.any(f < 1)):
+    if not _arrays.is_traced(f) and bool(xp.any(f < 1)):
         raise ValueError(f"noise model {model.name!r} returned an N50 factor below 1")
     return _arrays.result(f)

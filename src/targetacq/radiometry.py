@@ -50,6 +50,7 @@ __all__ = [
     "diurnal_temperature",
     "emissivity",
     "emissivity_from_reflectance",
+    "grey_body_exitance",
     "irradiance_at_sensor",
     "lambert_intensity",
     "material_emissivity",
@@ -219,6 +220,33 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
         return _BAND_CONSTANT * t2 * t2 * integral
 
     return _arrays.result(_arrays.chunked_elementwise(kernel, t))
+
+
+def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
+    """Exitance of a grey body in a band, ``ε · M_band(T)`` [W/m²], Eqs. (6.4) and (6.12).
+
+    Parameters
+    ----------
+    emissivity : array_like
+        ε in [0, 1].
+    temperature : array_like
+        T [K], >= 0.
+    band : str or (float, float)
+        Band name or limits [m].
+
+    Returns
+    -------
+    array_like
+        [W/m²].
+
+    Examples
+    --------
+    >>> bool(grey_body_exitance(0.5, 300.0, "lwir") == 0.5 * band_exitance(300.0, "lwir"))
+    True
+    """
+    xp, (eps,) = _arrays.arrays(emissivity)
+    _arrays.require_unit_interval("emissivity", eps, xp)
+    return _arrays.result(eps * band_exitance(temperature, band))
 
 
 def band_exitance_derivative(temperature: Any, band: Any) -> Any:

@@ -1,0 +1,36 @@
+"""The array core: typed records, the scenario compiler and the pure evaluation.
+
+See :mod:`targetacq.core.records`, :mod:`targetacq.core.compile` and
+:mod:`targetacq.core.evaluate`. Every front-end (``ModelChain``, the step API
+:class:`targetacq.Simulation`, ranges, the CLI) computes through here.
+"""
+
+from targetacq.core.compile import CompiledScenario, compile_scenario, scenario_positions
+from targetacq.core.evaluate import Factors, Probabilities, evaluate, factors, probabilities
+from targetacq.core.records import (
+    ModelChoices,
+    PathArrays,
+    SceneArrays,
+    SensorArrays,
+    SignatureArrays,
+    TargetArrays,
+    register_pytrees,
+)
+
+__all__ = [
+    "CompiledScenario",
+    "Factors",
+    "ModelChoices",
+    "PathArrays",
+    "Probabilities",
+    "SceneArrays",
+    "SensorArrays",
+    "SignatureArrays",
+    "TargetArrays",
+    "compile_scenario",
+    "evaluate",
+    "factors",
+    "probabilities",
+    "register_pytrees",
+    "scenario_positions",
+]

@@ -1,0 +1,298 @@
+"""Compile a scenario, once, into the core's records.
+
+Everything that does not change with the positions is computed here: resolution per sensor
+(through its sensor type), field of view, the path's extinction in each sensor's band, the
+signature of each sensor-target pair (contrast, SCR from a clutter measure, an image or nothing)
+and each target's criterion. File reads (a background image, a terrain map) happen here and
+nowhere else. The scripted paths of a scenario are turned into positions by
+:func:`scenario_positions`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from targetacq import atmosphere, geometry
+from targetacq.clutter import signal_to_clutter_ratio
+from targetacq.core.records import (
+    ModelChoices,
+    PathArrays,
+    SceneArrays,
+    SensorArrays,
+    SignatureArrays,
+    TargetArrays,
+)
+from targetacq.criteria import Criterion, get_criterion
+from targetacq.sensors import get_sensor_type
+
+__all__ = ["CompiledScenario", "TerrainArrays", "compile_scenario", "scenario_positions"]
+
+TASKS = ("detection", "recognition", "identification")
+
+
+@dataclass(frozen=True)
+class TerrainArrays:
+    """A terrain map and its classes' signals per sensor (host-side, NumPy only).
+
+    Attributes
+    ----------
+    terrain : targetacq.terrain.TerrainMap
+    mean : numpy.ndarray (n_s, K)
+        Mean signal of each class in each sensor's band [W/m²].
+    variance : numpy.ndarray (n_s, K)
+        Signal variance of each class at its reference resolution [W²/m⁴].
+    resolution : numpy.ndarray (K,)
+        Reference resolution of each class's variance [m].
+    window : numpy.ndarray (n_g,)
+        Side of the window around each target [m]: the 3 × 3 cells of twice the target's
+        smallest dimension (Fig. 3.6).
+    """
+
+    terrain: Any
+    mean: Any
+    variance: Any
+    resolution: Any
+    window: Any
+
+
+@dataclass(frozen=True)
+class CompiledScenario:
+    """A scenario compiled into the core's records.
+
+    Attributes
+    ----------
+    scene : SceneArrays
+    criteria : tuple of Criterion
+        Each target's criterion.
+    terrain : TerrainArrays or None
+    """
+
+    scene: SceneArrays
+    criteria: tuple[Criterion, ...]
+    terrain: TerrainArrays | None
+
+
+def _criteria(scenario: Any) -> tuple[Criterion, ...]:
+    model = scenario.model
+    default = dict(zip(TASKS, model.n50, strict=True)) if model.n50 is not None else model.criterion
+    return tuple(
+        get_criterion(t.criterion if t.criterion is not None else default) for t in scenario.targets
+    )
+
+
+def _sensors(scenario: Any) -> SensorArrays:
+    sensors = scenario.sensors
+    atm = scenario.atmosphere
+    half = np.full((len(sensors), 2), np.nan)
+    look_at = np.full((len(sensors), 3), np.nan)
+    pointing = np.full((len(sensors), 2), np.nan)
+    for k, s in enumerate(sensors):
+        if s.field_of_view is not None:
+            half[k] = np.tan(np.asarray(s.field_of_view) / 2.0)
+        if s.look_at is not None:
+            look_at[k] = s.look_at
+        if s.azimuth is not None and s.depression is not None:
+            pointing[k] = s.azimuth, s.depression
+    extinction = np.array(
+        [
+            atmosphere.extinction_for_band(
+                s.limits,
+                extinction=atm.extinction,
+                obscurant=atm.obscurant,
+                visibility=atm.visibility,
+                convention=atm.visibility_convention,
+            )
+            for s in sensors
+        ]
+    )
+    segment_extinction = np.array(
+        [
+            [
+                atmosphere.extinction_for_band(
+                    s.limits, extinction=seg.extinction, obscurant=seg.obscurant
+                )
+                for seg in atm.segments
+            ]
+            for s in sensors
+        ]
+    ).reshape(len(sensors), len(atm.segments))
+    return SensorArrays(
+        cycle=np.array([get_sensor_type(s.type).cycle_angle(s) for s in sensors]),
+        ifov=np.array([s.pixel_ifov for s in sensors]),
+        half_tangents=half,
+        look_at=look_at,
+        pointing=pointing,
+        extinction=extinction,
+        segment_extinction=segment_extinction,
+        names=tuple(s.name for s in sensors),
+        types=tuple(s.type for s in sensors),
+        pointed=tuple(
+            s.look_at is not None or (s.azimuth is not None and s.depression is not None)
+            for s in sensors
+        ),
+    )
+
+
+def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
+    targets = scenario.targets
+    return TargetArrays(
+        dimensions=np.array([t.dimensions for t in targets], dtype=float).reshape(-1, 3),
+        visible_fraction=np.array([t.visible_fraction for t in targets], dtype=float),
+        heading=np.array([t.heading for t in targets], dtype=float),
+        n50=np.array([[c.n50(task) for task in TASKS] for c in criteria], dtype=float),
+        names=tuple(t.name for t in targets),
+        hot_spot=tuple(bool(t.hot_spot) for t in targets),
+        moving=tuple(bool(t.moving) for t in targets),
+    )
+
+
+def _path(scenario: Any) -> PathArrays:
+    atm = scenario.atmosphere
+    return PathArrays(
+        segment_length=np.array([seg.length for seg in atm.segments], dtype=float),
+        cloud_center=np.array([c.center for c in atm.clouds], dtype=float).reshape(-1, 3),
+        cloud_radius=np.array([c.radius for c in atm.clouds], dtype=float),
+        cloud_extinction=np.array([c.extinction for c in atm.clouds], dtype=float),
+        attenuates=bool(atm.present),
+    )
+
+
+def _image_scr(scenario: Any) -> np.ndarray:
+    """SCR of each target measured in the background image (Eqs. (3.12)-(3.15))."""
+    from targetacq.clutter import gray, image_clutter
+    from targetacq.images import read_image
+
+    bg = scenario.background
+    pixels = gray(read_image(bg.image), bg.channel)
+    return np.asarray(image_clutter(pixels, [t.image_box for t in scenario.targets]).scr)
+
+
+def _signature(scenario: Any) -> SignatureArrays:
+    bg = scenario.background
+    shape = (len(scenario.sensors), len(scenario.targets))
+    contrast, target = np.empty(shape), np.empty(shape)
+    clutter = np.full(shape, np.nan)
+    for k, s in enumerate(scenario.sensors):
+        seen = get_sensor_type(s.type).signature(s, bg, scenario.targets)
+        contrast[k] = np.abs(seen.target - seen.background)
+        target[k] = seen.target
+        if seen.clutter is not None:
+            clutter[k] = seen.clutter
+    scr = None
+    if bg.scr is not None:
+        scr = np.full(shape, bg.scr)
+    elif bg.image is not None:
+        scr = np.broadcast_to(_image_scr(scenario), shape).copy()
+    elif bg.clutter_std is not None:
+        scr = np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
+    return SignatureArrays(contrast=contrast, target=target, scr=scr)
+
+
+def _terrain(scenario: Any) -> TerrainArrays | None:
+    from targetacq.terrain import TerrainClass, TerrainMap
+
+    bg = scenario.background
+    if bg.terrain is None:
+        return None
+    spec = bg.terrain
+    try:
+        grid = np.loadtxt(spec.map, delimiter=",", dtype=np.int64, ndmin=2)
+    except (OSError, ValueError) as error:
+        raise ValueError(f"background.terrain.map: cannot read {spec.map!r}: {error}") from None
+    classes = [TerrainClass(c.name, 0.0, 0.0, c.resolution) for c in spec.classes]
+    terrain = TerrainMap(classes, grid, spec.cell_size, spec.origin)
+    mean = np.empty((len(scenario.sensors), len(spec.classes)))
+    variance = np.empty_like(mean)
+    for k, s in enumerate(scenario.sensors):
+        kind = get_sensor_type(s.type)
+        if kind.class_signature is None:
+            raise ValueError(f"sensors[{k}]: a {s.type} sensor cannot use a terrain map")
+        mean[k], variance[k] = kind.class_signature(s, bg, spec.classes)
+    return TerrainArrays(
+        terrain=terrain,
+        mean=mean,
+        variance=variance,
+        resolution=np.array([c.resolution for c in spec.classes]),
+        window=np.array([6.0 * min(t.dimensions) for t in scenario.targets]),
+    )
+
+
+def compile_scenario(scenario: Any) -> CompiledScenario:
+    """Compile a validated scenario into the core's records (once; reads image and map files).
+
+    Parameters
+    ----------
+    scenario : targetacq.scenario.Scenario
+
+    Returns
+    -------
+    CompiledScenario
+    """
+    criteria = _criteria(scenario)
+    model = scenario.model
+    choices = ModelChoices(
+        transform=model.transform,
+        options=() if model.bound is None else (("bound", model.bound),),
+        noise_model=model.noise_model,
+        region=scenario.background.clutter,
+        search_time=model.search_time,
+    )
+    scene = SceneArrays(
+        sensors=_sensors(scenario),
+        targets=_targets(scenario, criteria),
+        path=_path(scenario),
+        signature=_signature(scenario),
+        choices=choices,
+    )
+    return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario))
+
+
+def _path_positions(items: Any, times: np.ndarray) -> np.ndarray:
+    out = np.empty((len(items), times.size, 3))
+    for k, item in enumerate(items):
+        if item.waypoints is None:
+            out[k] = np.asarray(item.position)
+        else:
+            out[k] = geometry.positions_at(
+                times, [w.time for w in item.waypoints], [w.position for w in item.waypoints]
+            )
+    return out
+
+
+def scenario_positions(
+    scenario: Any, times: Any, targets: slice | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions and headings of a scenario's scripted paths at times.
+
+    Parameters
+    ----------
+    scenario : targetacq.scenario.Scenario
+    times : array_like
+        (n_t,) [s].
+    targets : slice, optional
+        The targets wanted (default all).
+
+    Returns
+    -------
+    sensor_positions : numpy.ndarray (n_s, n_t, 3) [m]
+    target_positions : numpy.ndarray (n_g, n_t, 3) [m]
+    headings : numpy.ndarray (n_g, n_t) [rad]
+        Along the path where the target moves, the scenario's heading where it stands still.
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    chosen = scenario.targets[slice(None) if targets is None else targets]
+    heading = np.empty((len(chosen), t.size))
+    for k, target in enumerate(chosen):
+        if target.waypoints is None:
+            heading[k] = target.heading
+        else:
+            heading[k] = geometry.heading_along(
+                t,
+                [w.time for w in target.waypoints],
+                [w.position for w in target.waypoints],
+                target.heading,
+            )
+    return _path_positions(scenario.sensors, t), _path_positions(chosen, t), heading

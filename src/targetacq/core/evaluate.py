@@ -1,0 +1,420 @@
+"""The pure core: positions, pointing and headings → factors → probabilities → fused.
+
+Every function here is a pure function of arrays and the records of
+:mod:`targetacq.core.records`: no scenario objects, no files, no writes into its inputs, no
+Python loops over sensors or targets. It is written against the array API, so NumPy arrays stay
+NumPy and JAX arrays stay JAX (under ``jax.jit``, ``vmap`` and ``grad``; see
+:mod:`targetacq._arrays` for the validation policy). The physics is in the topic modules; this
+module wires them together:
+
+1. geometry: line of sight, slant range, the outline seen and the critical dimension
+   (:func:`targetacq.geometry.box_outline`, :func:`targetacq.geometry.critical_dimension_seen`),
+   the field of view (:func:`targetacq.geometry.view_offsets`);
+2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type);
+3. path: optical depth with segments and local clouds
+   (:func:`targetacq.atmosphere.segmented_optical_depth`,
+   :func:`targetacq.atmosphere.sphere_chord_length`), transmittance and the SNR of Eq. (7.7);
+4. probabilities: the transforms with the noise model and, for detection in clutter, the
+   Schmieder–Weathersby transform (:func:`task_probabilities`), ordered
+   ``P_id <= P_rec <= P_det``, zero outside the field of view;
+5. sensor-level fusion (8.4).
+
+Shapes: ``sensor_positions`` (n_s, *batch, 3), ``target_positions`` (n_g, *batch, 3); every
+result is (n_s, n_g, *batch), the fused ones (n_g, *batch). ``batch`` is the time axis of
+:class:`targetacq.model.ModelChain` and empty for one step of :class:`targetacq.Simulation`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from targetacq import _arrays, atmosphere, geometry
+from targetacq import transforms as _transforms
+from targetacq.acquisition import _ttpf_three_numpy
+from targetacq.clutter import signal_to_clutter_ratio
+from targetacq.core.records import SceneArrays, SensorArrays
+from targetacq.fusion import fuse
+from targetacq.noise import effective_scr, get_noise_model, noise_n50_factor
+
+__all__ = [
+    "Factors",
+    "Probabilities",
+    "boresight",
+    "evaluate",
+    "factors",
+    "footprint_scr",
+    "probabilities",
+    "task_probabilities",
+]
+
+TASKS = ("detection", "recognition", "identification")
+
+
+@dataclass(frozen=True)
+class Factors:
+    """The descriptive factors of every sensor-target pair, (n_s, n_g, *batch) each.
+
+    Attributes
+    ----------
+    range : array
+        Slant range [m].
+    critical_dimension : array
+        [m].
+    cycles : array
+        N [cycles].
+    in_view : array of bool
+    optical_depth : array
+        [Np].
+    transmittance : array
+        τ [1].
+    snr : array
+        SNR of Eq. (7.7) [dB].
+    scr : array or None
+        Signal-to-clutter ratio, where a clutter measure is given.
+    """
+
+    range: Any
+    critical_dimension: Any
+    cycles: Any
+    in_view: Any
+    optical_depth: Any
+    transmittance: Any
+    snr: Any
+    scr: Any
+
+
+@dataclass(frozen=True)
+class Probabilities:
+    """Per-pair probabilities (n_s, n_g, *batch) and their sensor-level fusion (n_g, *batch)."""
+
+    detection: Any
+    recognition: Any
+    identification: Any
+    fused_detection: Any
+    fused_recognition: Any
+    fused_identification: Any
+
+
+def _per_sensor(value: Any, batch: int, xp: Any) -> Any:
+    return xp.reshape(value, (value.shape[0], 1) + (1,) * batch)
+
+
+def _per_target(value: Any, batch: int, xp: Any) -> Any:
+    return xp.reshape(value, (1, value.shape[0]) + (1,) * batch)
+
+
+def boresight(
+    sensor_positions: Any, sensors: SensorArrays, pointing: Any = None
+) -> tuple[tuple[Any, Any, Any], Any]:
+    """Boresight of each sensor and whether it is pointed.
+
+    A sensor points at its ``look_at`` point, or at its azimuth and depression
+    (:func:`targetacq.geometry.pointing_direction`); ``pointing`` (n_s, 2), where given and
+    finite, replaces both. A sensor pointed no way sees every target.
+
+    Parameters
+    ----------
+    sensor_positions : array (n_s, *batch, 3)
+        [m].
+    sensors : SensorArrays
+    pointing : array (n_s, 2), optional
+        Azimuth and depression [rad]; a NaN row keeps the sensor's own pointing.
+
+    Returns
+    -------
+    (east, north, up), pointed
+        Boresight components (n_s, *batch) and a bool array (n_s, 1, *[1]*batch) for the
+        field-of-view test.
+    """
+    xp, (pos, look_at, angles) = _arrays.arrays(sensor_positions, sensors.look_at, sensors.pointing)
+    batch = pos.ndim - 2
+    pointed = xp.asarray(np.asarray(sensors.pointed, dtype=bool))
+    if pointing is not None:
+        _, (given,) = _arrays.arrays(pointing)
+        chosen = xp.isfinite(given[:, 0]) & xp.isfinite(given[:, 1])
+        angles = xp.where(chosen[:, None], given, angles)
+        look_at = xp.where(chosen[:, None], xp.nan, look_at)
+        pointed = pointed | chosen
+    by_point = xp.isfinite(look_at[:, 0])
+    by_angles = xp.isfinite(angles[:, 0])
+    direction = geometry.pointing_direction(
+        xp.where(by_angles, angles[:, 0], 0.0), xp.where(by_angles, angles[:, 1], 0.0)
+    )
+
+    def alone(value: Any) -> Any:  # (n_s,) → (n_s, *[1]*batch), against the positions
+        return xp.reshape(value, (value.shape[0],) + (1,) * batch)
+
+    forward = []
+    for k in range(3):
+        toward = alone(xp.where(by_point, look_at[:, k], 0.0)) - pos[..., k]
+        fixed = alone(_arrays.as_float(direction[k], xp))
+        forward.append(xp.where(alone(by_point), toward, fixed))
+    has_view = xp.isfinite(_arrays.as_float(sensors.half_tangents, xp)[:, 0])
+    return (forward[0], forward[1], forward[2]), _per_sensor(pointed & has_view, batch, xp)
+
+
+def factors(
+    scene: SceneArrays,
+    sensor_positions: Any,
+    target_positions: Any,
+    headings: Any = None,
+    pointing: Any = None,
+    scr: Any = None,
+) -> Factors:
+    """Range, critical dimension, cycles, field of view, path and clutter of every pair.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    sensor_positions : array (n_s, *batch, 3)
+        [m] (east, north, up).
+    target_positions : array (n_g, *batch, 3)
+        [m].
+    headings : array (n_g, *batch), optional
+        Direction of each target's long axis [rad]; default the targets' own.
+    pointing : array (n_s, 2), optional
+        See :func:`boresight`.
+    scr : array (n_s, n_g, *batch), optional
+        SCR per pair, replacing the scene's (e.g. :func:`footprint_scr` of a terrain map).
+
+    Returns
+    -------
+    Factors
+    """
+    sensors, targets, path = scene.sensors, scene.targets, scene.path
+    xp, (s_pos, t_pos) = _arrays.arrays(sensor_positions, target_positions)
+    batch = s_pos.ndim - 2
+    # Components (n_s, n_g, *batch), each contiguous in memory.
+    x, y, z = (t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3))
+    heading = _per_target(targets.heading, batch, xp) if headings is None else headings[None]
+    dims = _arrays.as_float(targets.dimensions, xp)
+    rng, horizontal, vertical = geometry.box_outline(
+        x,
+        y,
+        z,
+        heading,
+        _per_target(dims[:, 0], batch, xp),
+        _per_target(dims[:, 1], batch, xp),
+        _per_target(dims[:, 2], batch, xp),
+    )
+    critical = geometry.critical_dimension_seen(
+        horizontal, vertical, _per_target(targets.visible_fraction, batch, xp)
+    )
+    with np.errstate(divide="ignore"):
+        cycles = critical / (xp.maximum(rng, 1e-9) * _per_sensor(sensors.cycle, batch, xp))
+
+    forward, pointed = boresight(s_pos, sensors, pointing)
+    ahead, right, up = geometry.view_offsets(x, y, z, tuple(f[:, None] for f in forward))
+    half = _arrays.as_float(sensors.half_tangents, xp)
+    in_fov = (
+        (ahead > 0)
+        & (xp.abs(right) <= _per_sensor(half[:, 0], batch, xp) * ahead)
+        & (xp.abs(up) <= _per_sensor(half[:, 1], batch, xp) * ahead)
+    )
+    in_view = xp.where(pointed, in_fov, True) & ~xp.isnan(rng)
+
+    segment = _arrays.as_float(sensors.segment_extinction, xp)
+    depth = atmosphere.segmented_optical_depth(
+        rng,
+        _per_sensor(sensors.extinction, batch, xp),
+        [float(v) for v in np.asarray(path.segment_length)],
+        [_per_sensor(segment[:, j], batch, xp) for j in range(segment.shape[1])],
+    )
+    centers = _arrays.as_float(path.cloud_center, xp)
+    for c in range(centers.shape[0]):
+        chord = atmosphere.sphere_chord_length(
+            s_pos[:, None], t_pos[None], centers[c], path.cloud_radius[c]
+        )
+        depth = depth + path.cloud_extinction[c] * chord
+    if scr is None and scene.signature.scr is not None:
+        scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
+    return Factors(
+        range=rng,
+        critical_dimension=critical,
+        cycles=cycles,
+        in_view=in_view,
+        optical_depth=depth,
+        transmittance=xp.exp(-depth),
+        snr=atmosphere.snr_from_optical_depth(depth),
+        scr=scr,
+    )
+
+
+def _noisy_cycles(cycles: Any, snr: Any, noise_model: str, xp: Any) -> Any:
+    """N / f: multiplying every N50 by the noise factor f is dividing N by it."""
+    factor = _arrays.as_float(noise_n50_factor(snr, noise_model), xp)
+    infinite = xp.isinf(factor)
+    return xp.where(infinite, 0.0 * cycles, cycles / xp.where(infinite, 1.0, factor))
+
+
+def _detection_in_clutter(
+    cycles: Any, noisy: Any, n50: Any, scr: Any, snr: Any, scene: SceneArrays, xp: Any
+) -> Any:
+    """Schmieder–Weathersby detection of each target (Table 3.5, §3.8-3.9).
+
+    With a noise model that combines with clutter and an SCR, the curve is read at the
+    effective ratio (:func:`targetacq.noise.effective_scr`) with the noise-free N; otherwise at
+    the SCR with the noisy N. Hot spots use the low-clutter curve; moving targets are detected.
+    """
+    choices, targets = scene.choices, scene.targets
+    noise = None if snr is None else get_noise_model(choices.noise_model)
+    n = noisy
+    if noise is not None and noise.combines_with_clutter and scr is not None:
+        scr, n = effective_scr(scr, snr), cycles
+    batch = cycles.ndim - 2
+    out = None
+    if scr is not None or choices.region is not None:
+        out = _transforms.schmieder_weathersby(n, n50, scr=scr, region=choices.region)
+    if any(targets.hot_spot):
+        hot = _transforms.schmieder_weathersby(n, n50, hot_spot=True)
+        mask = _per_target(xp.asarray(np.asarray(targets.hot_spot)), batch, xp)
+        out = hot if out is None else xp.where(mask, hot, out)
+    if any(targets.moving):
+        mask = _per_target(xp.asarray(np.asarray(targets.moving)), batch, xp)
+        seen = xp.where(xp.isnan(n), n, xp.ones_like(n))
+        out = seen if out is None else xp.where(mask, seen, out)
+    return out
+
+
+def _ttpf_by_criterion(cycles: np.ndarray, n50: np.ndarray) -> list[np.ndarray]:
+    """TTPF of the three tasks over a NumPy array (n_s, n_g, ...), fused per criterion.
+
+    The targets sharing an N50 triple go through :func:`targetacq.acquisition._ttpf_three_numpy`
+    together, so a target's numbers do not depend on which other targets are evaluated with it.
+    """
+    rows, group = np.unique(n50, axis=0, return_inverse=True)
+    if rows.shape[0] == 1:
+        return _ttpf_three_numpy(cycles, tuple(float(v) for v in rows[0]))
+    out = [np.empty(cycles.shape) for _ in TASKS]
+    for k, row in enumerate(rows):
+        members = np.flatnonzero(group.reshape(-1) == k)
+        values = _ttpf_three_numpy(
+            np.ascontiguousarray(cycles[:, members]), tuple(float(v) for v in row)
+        )
+        for target, value in zip(out, values, strict=True):
+            target[:, members] = value
+    return out
+
+
+def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> tuple[Any, Any, Any]:
+    """Ordered probabilities of detection, recognition and identification of every pair.
+
+    Recognition and identification come from the scene's transform with each target's N50;
+    detection too, unless the target is in clutter (an SCR, a clutter region, a hot spot or a
+    moving target), where it comes from :func:`_detection_in_clutter` (clutter acts on
+    detection only, §3.8). Noise (``snr`` [dB], None for none) multiplies the N50s by the noise
+    model's factor (:mod:`targetacq.noise`). Then ``P_rec <= P_det`` and ``P_id <= P_rec``.
+
+    Parameters
+    ----------
+    cycles : array (n_s, n_g, *batch)
+    snr : array or None
+    scr : array or None
+    scene : SceneArrays
+
+    Returns
+    -------
+    detection, recognition, identification : array
+    """
+    xp, (n,) = _arrays.arrays(cycles)
+    choices, targets = scene.choices, scene.targets
+    batch = n.ndim - 2
+    noisy = n if snr is None else _noisy_cycles(n, snr, choices.noise_model, xp)
+    transform = _transforms.get_transform(choices.transform)
+    options = dict(choices.options)
+    table = targets.n50
+    if isinstance(table, np.ndarray) and table.shape[0] > 0 and bool(np.all(table == table[0])):
+        n50: list[Any] = [float(v) for v in table[0]]  # one criterion: scalar N50s
+    else:
+        table_xp = _arrays.as_float(table, xp)
+        n50 = [_per_target(table_xp[:, k], batch, xp) for k in range(3)]
+    if transform.name == "ttpf" and isinstance(noisy, np.ndarray) and isinstance(table, np.ndarray):
+        det, rec, ide = _ttpf_by_criterion(noisy, table)  # the hot path, fused
+    else:
+        det, rec, ide = (
+            _arrays.as_float(transform.forward(noisy, n50[k], task, **options), xp)
+            for k, task in enumerate(TASKS)
+        )
+    cluttered = scr is not None or choices.region is not None
+    if cluttered or any(targets.hot_spot) or any(targets.moving):
+        in_clutter = _detection_in_clutter(n, noisy, n50[0], scr, snr, scene, xp)
+        if cluttered:
+            det = in_clutter
+        else:
+            flags = np.asarray(targets.hot_spot) | np.asarray(targets.moving)
+            det = xp.where(_per_target(xp.asarray(flags), batch, xp), in_clutter, det)
+    rec = xp.minimum(rec, det)
+    return det, rec, xp.minimum(ide, rec)
+
+
+def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
+    """Probabilities of every pair from its factors, zero outside the field of view, NaN where
+    the geometry is NaN, and their sensor-level fusion (8.4)."""
+    xp, (rng,) = _arrays.arrays(found.range)
+    snr = found.snr if scene.path.attenuates else None
+    tasks = task_probabilities(found.cycles, snr, found.scr, scene)
+    unknown = xp.isnan(rng)
+    out = [
+        xp.where(unknown, xp.nan, xp.where(found.in_view, _arrays.as_float(p, xp), 0.0))
+        for p in tasks
+    ]
+    fused = [fuse(p, axis=0) for p in out]
+    return Probabilities(*out, *fused)
+
+
+def evaluate(
+    scene: SceneArrays,
+    sensor_positions: Any,
+    target_positions: Any,
+    headings: Any = None,
+    pointing: Any = None,
+    scr: Any = None,
+) -> tuple[Factors, Probabilities]:
+    """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`)."""
+    found = factors(scene, sensor_positions, target_positions, headings, pointing, scr)
+    return found, probabilities(scene, found)
+
+
+def footprint_scr(
+    terrain: Any, range: Any, target_positions: Any, target_signal: Any, ifov: Any
+) -> Any:
+    """SCR of each pair from a terrain map at the sensor's ground footprint, (6.9)-(6.11).
+
+    The window around each target weighs the classes (:meth:`targetacq.terrain.TerrainMap.weights`);
+    each class's variance is seen at the footprint ``R · IFOV``
+    (:func:`targetacq.terrain.resolution_variance`); clutter and mean are the weighted sums.
+    NumPy only (the map lookup is a host operation).
+
+    Parameters
+    ----------
+    terrain : targetacq.core.compile.TerrainArrays
+    range : numpy.ndarray (n_s, n_g, *batch)
+        [m].
+    target_positions : numpy.ndarray (n_g, *batch, 3)
+        [m].
+    target_signal : numpy.ndarray (n_s, n_g)
+        [W/m²].
+    ifov : numpy.ndarray (n_s,)
+        [rad].
+
+    Returns
+    -------
+    numpy.ndarray (n_s, n_g, *batch)
+    """
+    from targetacq.terrain import resolution_variance
+
+    batch = range.ndim - 2
+    window = terrain.window.reshape((-1,) + (1,) * batch)
+    weights = terrain.terrain.weights(
+        target_positions[..., 0], target_positions[..., 1], window
+    )  # (n_g, *batch, K)
+    footprint = range * ifov.reshape((-1, 1) + (1,) * batch)
+    lead = (slice(None), None) + (None,) * batch
+    seen = resolution_variance(terrain.variance[lead], terrain.resolution, footprint[..., None])
+    clutter = np.sqrt(np.sum(weights[None] * seen, axis=-1))
+    mean = np.sum(weights[None] * terrain.mean[lead], axis=-1)
+    signal = target_signal.reshape(target_signal.shape + (1,) * batch)
+    return np.asarray(signal_to_clutter_ratio(signal, mean, clutter))

@@ -1,0 +1,106 @@
+"""Sensor types: a small protocol and the registry :data:`SENSOR_TYPES`.
+
+A sensor type says how a sensor of its kind turns a scene into the three factors of the model
+(Sonesson 2004 §9.3): the **resolution** (the angle of one resolvable cycle, hence the cycles on
+target), the **signature** (target and background signals in the sensor's band, their contrast
+and the clutter, hence the SCR) and the **path** (the noise the atmosphere adds, hence the SNR),
+and what it needs from a scenario. The scenario's ``type`` choices, its checks and the
+compilation into the array core all come from this registry, so a new sensor type is one module
+and one entry here.
+
+``thermal``
+    Emitted radiation in an infrared band (:mod:`targetacq.sensors.thermal`).
+``tv``
+    Reflected light in the visible band (:mod:`targetacq.sensors.tv`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+from targetacq.registry import lookup
+from targetacq.sensors import imaging, thermal, tv
+
+__all__ = ["SENSOR_TYPES", "SensorType", "Signature", "get_sensor_type"]
+
+
+@dataclass(frozen=True)
+class Signature:
+    """What one sensor sees of the targets and the background, in its band.
+
+    Attributes
+    ----------
+    target : numpy.ndarray
+        (n_targets,) target signals [W/m²] at the scene.
+    background : float
+        Mean background signal [W/m²].
+    clutter : float or None
+        Spread of the background signal [W/m²], where the scenario gives one.
+    """
+
+    target: Any
+    background: float
+    clutter: float | None
+
+
+@dataclass(frozen=True)
+class SensorType:
+    """A kind of sensor in the registry.
+
+    Attributes
+    ----------
+    name : str
+    description : str
+    signature : callable
+        ``signature(sensor, background, targets) -> Signature`` from the scenario's records.
+    requirements : callable
+        ``requirements(scenario) -> list of str``: what the scenario lacks for sensors of this
+        type (empty when nothing).
+    class_signature : callable or None
+        ``class_signature(sensor, background, classes) -> (mean, variance)`` of terrain classes
+        [W/m²], [W²/m⁴]; None where the type cannot use a terrain map.
+    cycle_angle : callable
+        ``cycle_angle(sensor) -> float`` [rad]: the resolution model.
+    source : str
+    """
+
+    name: str
+    description: str
+    signature: Callable[[Any, Any, Sequence[Any]], Signature]
+    requirements: Callable[[Any], list[str]]
+    class_signature: Callable[[Any, Any, Sequence[Any]], tuple[Any, Any]] | None
+    cycle_angle: Callable[[Any], float] = imaging.cycle_angle
+    source: str = ""
+
+
+SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
+    {
+        "thermal": SensorType(
+            "thermal",
+            "thermal imager: emitted radiation in an infrared band",
+            thermal.signature,
+            thermal.requirements,
+            thermal.class_signature,
+            source="Sonesson (2004) ch. 5-6",
+        ),
+        "tv": SensorType(
+            "tv",
+            "TV camera: reflected light in the visible band",
+            tv.signature,
+            tv.requirements,
+            None,
+            source="Sonesson (2004) §6.2, §9.4.1",
+        ),
+    }
+)
+"""Sensor types by name (read-only)."""
+
+
+def get_sensor_type(name: str | SensorType) -> SensorType:
+    """Resolve a sensor type by name; ``ValueError`` with "did you mean" if unknown."""
+    if isinstance(name, SensorType):
+        return name
+    return lookup(SENSOR_TYPES, name, "sensor type")

@@ -1,0 +1,58 @@
+"""Thermal imagers: emitted radiation in an infrared band (Sonesson 2004 ch. 5-6).
+
+Signature: grey-body band exitances ``ε · M_band(T)`` of target and background (6.4), (6.12);
+clutter from the background's temperature spread, ``ε · dM/dT · σ_T``
+(:func:`targetacq.clutter.temperature_spread_clutter`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from targetacq import clutter, radiometry
+from targetacq.sensors import imaging
+
+
+def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
+    """Band exitances of the targets and the background, and the clutter, for one sensor."""
+    from targetacq.sensors import Signature
+
+    band = sensor.limits
+    eps_b = imaging.emissivity(background, band)
+    m_b = float(radiometry.grey_body_exitance(eps_b, background.temperature, band))
+    eps_t = np.array([imaging.emissivity(t, band) for t in targets])
+    temperatures = np.array([t.temperature for t in targets], dtype=float)
+    m_t = np.asarray(radiometry.grey_body_exitance(eps_t, temperatures, band))
+    spread = None
+    if background.clutter_std is not None:
+        spread = float(
+            clutter.temperature_spread_clutter(
+                eps_b, background.temperature, background.clutter_std, band
+            )
+        )
+    return Signature(m_t, m_b, spread)
+
+
+def class_signature(sensor: Any, background: Any, classes: Sequence[Any]) -> tuple[Any, Any]:
+    """Mean exitance and exitance variance of each terrain class in the sensor's band (§6.7)."""
+    band = sensor.limits
+    eps = imaging.emissivity(background, band)
+    temperatures = np.array([c.temperature for c in classes])
+    spread = np.array([c.temperature_std for c in classes])
+    mean = np.asarray(radiometry.grey_body_exitance(eps, temperatures, band))
+    sigma = np.asarray(clutter.temperature_spread_clutter(eps, temperatures, spread, band))
+    return mean, sigma**2
+
+
+def requirements(scenario: Any) -> list[str]:
+    """What a scenario lacks for thermal sensors."""
+    problems = []
+    if scenario.background.temperature is None:
+        problems.append("background.temperature is needed for thermal sensors")
+    missing = [t.name for t in scenario.targets if t.temperature is None]
+    if missing:
+        problems.append(f"targets {', '.join(missing)} need a temperature (thermal sensors)")
+    return problems

@@ -1,0 +1,42 @@
+"""TV cameras: reflected light in the visible band (Sonesson 2004 §6.2, §9.4.1).
+
+Signature: reflected exitances ``r · E`` of target and background under the scene's
+irradiance E (:func:`targetacq.radiometry.reflected_exitance`). Clutter is given as a Table 3.5
+region, an SCR or an image; a temperature spread means nothing to a TV camera.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from targetacq import radiometry
+
+
+def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
+    """Reflected exitances of the targets and the background for one sensor."""
+    from targetacq.sensors import Signature
+
+    irradiance = background.irradiance
+    m_b = float(radiometry.reflected_exitance(background.reflectance, irradiance))
+    reflectance = np.array([t.reflectance for t in targets], dtype=float)
+    m_t = np.asarray(radiometry.reflected_exitance(reflectance, irradiance))
+    return Signature(m_t, m_b, None)
+
+
+def requirements(scenario: Any) -> list[str]:
+    """What a scenario lacks for TV sensors."""
+    problems = []
+    bg = scenario.background
+    if bg.irradiance is None or bg.reflectance is None:
+        problems.append("TV sensors need background.irradiance and background.reflectance")
+    missing = [t.name for t in scenario.targets if t.reflectance is None]
+    if missing:
+        problems.append(f"targets {', '.join(missing)} need a reflectance (TV sensors)")
+    if bg.clutter_std is not None:
+        problems.append("clutter_std is a temperature spread; for TV sensors give clutter or scr")
+    if bg.terrain is not None:
+        problems.append("terrain clutter is given by class temperatures: thermal sensors only")
+    return problems

@@ -2,9 +2,15 @@
 
 A scenario is written in TOML with a unit on every quantity (``"17 um"``, ``"3 km"``,
 ``"305 K"``) and validated here with pydantic; errors are located ("sensors[0].pitch: ...") and an
-unknown key gets a "did you mean". Python users build the same objects directly
-(:class:`Scenario`, :class:`Sensor`, ...), passing quantities as strings with units, exactly as in
-the file; inside, every quantity is a bare SI float.
+unknown key gets a "did you mean". A file is strict: a bare number where a unit is needed is an
+error saying which unit to add (:func:`load_scenario`, :func:`parse_scenario`).
+
+Python users build the same objects directly (:class:`Scenario`, :class:`Sensor`, ...), passing
+each quantity as a string with its unit, as a pint ``Quantity`` (``17 * ureg.um``; one of
+another dimension is an error naming the field) or as a plain number in SI units (``17e-6``).
+Inside, every quantity is a bare, finite SI float, so ``Scenario.model_validate(s.model_dump())``
+gives ``s`` back. A position is a sequence of three such quantities, or one string
+(``"0 0 1.5 km"``).
 
 Positions are map coordinates in metres, x east, y north, z up. A thing either stands at
 ``position`` or moves along ``waypoints`` (times and positions, linear in between, held before
@@ -16,7 +22,8 @@ from __future__ import annotations
 import itertools
 import math
 import tomllib
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Mapping, Sequence
 from difflib import get_close_matches
 from pathlib import Path
 from typing import Annotated, Any, Literal, get_args, get_origin
@@ -27,6 +34,7 @@ from pydantic import (
     ConfigDict,
     Field,
     ValidationError,
+    ValidationInfo,
     model_validator,
 )
 
@@ -37,7 +45,7 @@ from targetacq.noise import NOISE_MODELS
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
 from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
-from targetacq.units import parse_quantity
+from targetacq.units import is_quantity, to_si
 
 __all__ = [
     "Atmosphere",
@@ -62,13 +70,14 @@ class ScenarioError(ValueError):
     """A scenario that cannot be used; the message says where and what is wrong."""
 
 
+def _strict_units(info: ValidationInfo) -> bool:
+    """Whether bare numbers are refused: set by :func:`parse_scenario` for files."""
+    return isinstance(info.context, Mapping) and bool(info.context.get("strict_units"))
+
+
 def _quantity(kind: str) -> Any:
-    def parse(value: Any) -> float:
-        if isinstance(value, bool) or not isinstance(value, str):
-            if isinstance(value, (int, float)):
-                raise ValueError(f"missing unit: got {value!r}; write it as a string with a unit")
-            raise ValueError(f"expected a {kind} with a unit, as a string")
-        return parse_quantity(value, kind, "value")
+    def parse(value: Any, info: ValidationInfo) -> float:
+        return to_si(value, kind, info.field_name or kind, strict=_strict_units(info))
 
     return BeforeValidator(parse)
 
@@ -83,29 +92,31 @@ Irradiance = Annotated[float, _quantity("irradiance")]
 Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
 
 
-def _position(value: Any) -> tuple[float, float, float]:
+def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
+    name = info.field_name or "position"
     if isinstance(value, str):
-        *numbers, unit = value.replace(",", " ").split()
-        parts = [f"{n} {unit}" for n in numbers]
-    elif isinstance(value, Sequence):
+        *numbers, unit = value.replace(",", " ").split() or [""]
+        parts: list[Any] = [f"{n} {unit}" for n in numbers]
+    elif isinstance(value, Sequence) or (is_quantity(value) and getattr(value, "ndim", 0) == 1):
         parts = list(value)
+    elif getattr(value, "ndim", None) == 1 and hasattr(value, "tolist"):  # a NumPy array
+        parts = value.tolist()
     else:
-        raise ValueError("a position is [x, y, z] with units, e.g. ['0 m', '0 m', '1.5 km']")
+        raise ValueError(
+            f"{name}: a position is [x, y, z] with units, e.g. ['0 m', '0 m', '1.5 km']"
+        )
     if len(parts) != 3:
-        raise ValueError(f"a position needs three coordinates x, y, z; got {len(parts)}")
-    out = []
-    for part in parts:
-        if not isinstance(part, str):
-            raise ValueError(f"missing unit: got {part!r}; write e.g. '1500 m'")
-        out.append(parse_quantity(part, "length", "position"))
-    return out[0], out[1], out[2]
+        raise ValueError(f"{name}: a position needs three coordinates x, y, z; got {len(parts)}")
+    strict = _strict_units(info)
+    x, y, z = (to_si(part, "length", name, strict=strict) for part in parts)
+    return x, y, z
 
 
 Position = Annotated[tuple[float, float, float], BeforeValidator(_position)]
 
 
 class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class Waypoint(_Strict):
@@ -454,8 +465,8 @@ class Scenario(_Strict):
     @model_validator(mode="after")
     def _check(self) -> Scenario:
         for what, items in (("sensor", self.sensors), ("target", self.targets)):
-            names = [item.name for item in items]
-            duplicates = sorted({n for n in names if names.count(n) > 1})
+            counts = Counter(item.name for item in items)
+            duplicates = sorted(n for n, count in counts.items() if count > 1)
             if duplicates:
                 raise ValueError(f"{what} names must be unique; repeated: {', '.join(duplicates)}")
         thermal = [s for s in self.sensors if s.type == "thermal"]
@@ -535,6 +546,9 @@ def _first_error(error: ValidationError) -> str:
     detail = error.errors()[0]
     loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
     message = detail["msg"].removeprefix("Value error, ")
+    field = next((p for p in reversed(loc) if isinstance(p, str)), None)
+    if field is not None:  # quantity messages name their field; the location already does
+        message = message.removeprefix(f"{field}: ")
     if detail["type"] == "extra_forbidden":
         key = str(loc[-1])
         parent = _model_at(loc[:-1])
@@ -550,13 +564,17 @@ def _first_error(error: ValidationError) -> str:
 def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
     """Validate a scenario given as nested dictionaries (as read from TOML).
 
+    Units are strict, as in a file: every quantity is a string with its unit (or a pint
+    ``Quantity``); a bare number where a unit is needed is an error saying which unit to add.
+    Build :class:`Scenario` directly (or call ``Scenario.model_validate``) to give SI numbers.
+
     Raises
     ------
     ScenarioError
         With one located message: ``source: table.key: what is wrong``.
     """
     try:
-        return Scenario.model_validate(data)
+        return Scenario.model_validate(data, context={"strict_units": True})
     except ValidationError as error:
         raise ScenarioError(f"{source}: {_first_error(error)}") from None
 

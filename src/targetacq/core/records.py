@@ -189,6 +189,7 @@ class SceneArrays:
 
 
 _RECORDS = (SensorArrays, TargetArrays, PathArrays, SignatureArrays, SceneArrays)
+_REGISTERED: set[type] = set()  # records already known to JAX (registration is once per process)
 
 
 def register_pytrees() -> None:
@@ -196,13 +197,13 @@ def register_pytrees() -> None:
     import jax
 
     for record in _RECORDS:
-        if getattr(record, "_pytree_registered", False):
+        if record in _REGISTERED:
             continue
         fields = dataclasses.fields(record)
         data = [f.name for f in fields if not f.metadata.get("static")]
         meta = [f.name for f in fields if f.metadata.get("static")]
         jax.tree_util.register_dataclass(record, data_fields=data, meta_fields=meta)
-        record._pytree_registered = True  # type: ignore[attr-defined]
+        _REGISTERED.add(record)
 
 
 if "jax" in sys.modules:  # JAX already in use: the records work under jit at once

@@ -15,7 +15,7 @@ uncapped marginal value of its curve.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,53 +26,142 @@ from targetacq import transforms as _transforms
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import NoiseModel, effective_scr, get_noise_model, noise_n50_factor
 
-__all__ = ["Acquisition", "acquisition_probabilities", "effect_probability", "probability"]
+__all__ = [
+    "Acquisition",
+    "acquisition_probabilities",
+    "effect_probability",
+    "ordered_probabilities",
+    "probability",
+]
 
-_CLUTTER_KEYWORDS = ("scr", "region", "hot_spot", "moving")
-
-
-@dataclass(frozen=True)
-class _Conditions:
-    """Clutter and noise around a target, validated once, shared by the tasks."""
-
-    scr: Any
-    region: str | None
-    hot_spot: bool
-    moving: bool
-    snr: Any
-    noise: NoiseModel | None
-
-    @property
-    def clutter_given(self) -> bool:
-        return self.scr is not None or self.region is not None or self.hot_spot or self.moving
+_TASKS = ("detection", "recognition", "identification")
 
 
-def _conditions(
-    scr: Any, region: str | None, hot_spot: bool, moving: bool, snr: Any, noise_model: Any
-) -> _Conditions:
-    noise = get_noise_model(noise_model) if snr is not None else None
-    return _Conditions(scr, region, hot_spot, moving, snr, noise)
-
-
-def _noisy(n: Any, cond: _Conditions, xp: Any) -> Any:
+def _noisy(n: Any, snr: Any, noise: NoiseModel | None, xp: Any) -> Any:
     """N / f: multiplying every N50 by the noise factor f is dividing N by it (noise.py)."""
-    if cond.noise is None:
+    if noise is None:
         return n
-    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(cond.snr, xp), cond.noise), xp)
+    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(snr, xp), noise), xp)
     infinite = xp.isinf(factor)
     return xp.where(infinite, 0.0 * n, n / xp.where(infinite, 1.0, factor))
 
 
-def _detection_in_clutter(n: Any, n_noisy: Any, n50: float, cond: _Conditions) -> Any:
-    """P(detection) from Table 3.5 (Schmieder–Weathersby), with noise per the noise model."""
-    scr = cond.scr
-    if cond.noise is not None and cond.noise.combines_with_clutter and scr is not None:
-        scr = effective_scr(scr, cond.snr)  # read at R_eff, with the noise-free N
+def _flag(value: Any, xp: Any) -> Any:
+    return value if isinstance(value, bool) else xp.asarray(value)
+
+
+def _detection_in_clutter(
+    n: Any,
+    n_noisy: Any,
+    n50: Any,
+    *,
+    scr: Any,
+    region: str | None,
+    hot_spot: Any,
+    moving: Any,
+    snr: Any,
+    noise: NoiseModel | None,
+    xp: Any,
+) -> Any:
+    """P(detection) from Table 3.5 (Schmieder–Weathersby), with noise per the noise model.
+
+    With a noise model that combines with clutter and an SCR, the curve is read at the effective
+    ratio (:func:`targetacq.noise.effective_scr`) with the noise-free N; otherwise at the SCR with
+    the noisy N. Hot spots use the low-clutter curve (§3.9); moving targets are detected
+    (§1.3). ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``.
+    """
+    if noise is not None and noise.combines_with_clutter and scr is not None:
+        scr, n = effective_scr(scr, snr), n  # read at R_eff, with the noise-free N
     else:
         n = n_noisy
-    return _transforms.schmieder_weathersby(
-        n, n50, scr=scr, region=cond.region, hot_spot=cond.hot_spot, moving=cond.moving
-    )
+    out = None
+    if scr is not None or region is not None:
+        out = _transforms.schmieder_weathersby(n, n50, scr=scr, region=region)
+    if hot_spot is not False:
+        hot = _transforms.schmieder_weathersby(n, n50, hot_spot=True)
+        out = hot if out is None or hot_spot is True else xp.where(_flag(hot_spot, xp), hot, out)
+    if moving is not False:
+        seen = xp.where(xp.isnan(n), n, xp.ones_like(n))
+        out = seen if out is None or moving is True else xp.where(_flag(moving, xp), seen, out)
+    if out is None:
+        raise ValueError(
+            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
+            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
+        )
+    return out
+
+
+def ordered_probabilities(
+    cycles: Any,
+    n50: Sequence[Any],
+    transform: _transforms.Transform,
+    options: Mapping[str, Any],
+    *,
+    scr: Any = None,
+    region: str | None = None,
+    hot_spot: Any = False,
+    moving: Any = False,
+    snr: Any = None,
+    noise: NoiseModel | None = None,
+) -> tuple[Any, Any, Any]:
+    """Ordered probabilities of detection, recognition and identification (no input checks).
+
+    The one implementation behind :func:`acquisition_probabilities`, the array core and the
+    range solver. Recognition and identification come from ``transform``; detection too, except
+    in clutter (an SCR, a region, or where ``hot_spot`` or ``moving``), where it comes from the
+    Schmieder–Weathersby transform (§3.8). Noise multiplies every N50 by the noise model's
+    factor. Then ``P_rec <= P_det`` and ``P_id <= P_rec``. Traceable by JAX.
+
+    Parameters
+    ----------
+    cycles : array
+        N [cycles].
+    n50 : sequence of 3 floats or arrays
+        N50 of detection, recognition, identification, broadcasting with ``cycles``.
+    transform : Transform
+    options : mapping
+        The transform's options.
+    scr, region, hot_spot, moving, snr, noise
+        The clutter (``hot_spot`` and ``moving`` bools or bool arrays), the SNR [dB] and the
+        noise model (None: no noise).
+
+    Returns
+    -------
+    detection, recognition, identification : array
+    """
+    xp, (n,) = _arrays.arrays(cycles)
+    n_noisy = _noisy(n, snr, noise, xp)
+    scalar = all(isinstance(v, float) for v in n50)
+    if transform.name == "ttpf" and isinstance(n_noisy, np.ndarray) and scalar:
+        det, rec, ide = _ttpf_three_numpy(n_noisy, tuple(n50))  # the hot path, fused
+    else:
+        det, rec, ide = (
+            _arrays.as_float(transform.forward(n_noisy, v, task, **options), xp)
+            for v, task in zip(n50, _TASKS, strict=True)
+        )
+    if scr is not None or region is not None:
+        flagged: Any = True
+    elif isinstance(hot_spot, bool) and isinstance(moving, bool):
+        flagged = hot_spot or moving
+    else:
+        flagged = xp.asarray(hot_spot) | xp.asarray(moving)
+    if flagged is not False:
+        in_clutter = _detection_in_clutter(
+            n,
+            n_noisy,
+            n50[0],
+            scr=scr,
+            region=region,
+            hot_spot=hot_spot,
+            moving=moving,
+            snr=snr,
+            noise=noise,
+            xp=xp,
+        )
+        det = in_clutter if flagged is True else xp.where(flagged, in_clutter, det)
+    xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
+    rec = xp.minimum(rec, det)
+    return det, rec, xp.minimum(ide, rec)
 
 
 def probability(
@@ -123,13 +212,26 @@ def probability(
     """
     n50 = get_criterion(criterion).n50(task)
     chosen = _transforms.get_transform(transform)
-    cond = _conditions(scr, region, hot_spot, moving, snr, noise_model)
+    noise = get_noise_model(noise_model) if snr is not None else None
     chosen.check(task, options)
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
-    n_noisy = _noisy(n, cond, xp)
-    if task == "detection" and cond.clutter_given:
-        return _arrays.result(_detection_in_clutter(n, n_noisy, n50, cond))
+    n_noisy = _noisy(n, snr, noise, xp)
+    if task == "detection" and (scr is not None or region is not None or hot_spot or moving):
+        _transforms.check_clutter(scr, region, xp)
+        found = _detection_in_clutter(
+            n,
+            n_noisy,
+            n50,
+            scr=scr,
+            region=region,
+            hot_spot=hot_spot,
+            moving=moving,
+            snr=snr,
+            noise=noise,
+            xp=xp,
+        )
+        return _arrays.result(found)
     return chosen.forward(n_noisy, n50, task, **options)
 
 
@@ -260,32 +362,25 @@ def acquisition_probabilities(
             "transform for all tasks, e.g. 'ttpf'"
         )
     crit = get_criterion(criterion)
-    tasks = ("detection", "recognition", "identification")
-    n50s = tuple(crit.n50(task) for task in tasks)
-    for task in tasks:
+    n50s = [crit.n50(task) for task in _TASKS]
+    for task in _TASKS:
         chosen.check(task, options)
-    cond = _conditions(scr, region, hot_spot, moving, snr, noise_model)
-
+    noise = get_noise_model(noise_model) if snr is not None else None
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
-    n_noisy = _noisy(n, cond, xp)
-    fast = (
-        chosen.name == "ttpf" and isinstance(n_noisy, np.ndarray) and n50s[0] <= n50s[1] <= n50s[2]
+    _transforms.check_clutter(scr, region, xp)
+    det, rec, ide = ordered_probabilities(
+        n,
+        n50s,
+        chosen,
+        options,
+        scr=scr,
+        region=region,
+        hot_spot=hot_spot,
+        moving=moving,
+        snr=snr,
+        noise=noise,
     )
-    if fast:
-        # The simulation hot path; increasing N50s already give ordered probabilities.
-        det, rec, ide = _ttpf_three_numpy(n_noisy, n50s)
-    else:
-        det, rec, ide = (
-            chosen.forward(n_noisy, n50, task, **options)
-            for task, n50 in zip(tasks, n50s, strict=True)
-        )
-    if cond.clutter_given:
-        det = _detection_in_clutter(n, n_noisy, n50s[0], cond)
-    if cond.clutter_given or not fast:
-        xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
-        rec = xp.minimum(rec, det)
-        ide = xp.minimum(ide, rec)
     return Acquisition(
         detection=_arrays.result(det),
         recognition=_arrays.result(rec),

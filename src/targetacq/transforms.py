@@ -419,6 +419,17 @@ def _sw_options(
     return s
 
 
+def check_clutter(scr: Any, region: str | None, xp: Any) -> None:
+    """Raise ``ValueError`` for a clutter region not in Table 3.5, both ``scr`` and ``region``,
+    or a negative SCR."""
+    if region is not None and region not in CLUTTER_REGIONS:
+        raise ValueError(f"region must be one of {', '.join(CLUTTER_REGIONS)}; got {region!r}")
+    if scr is not None and region is not None:
+        raise ValueError("give either scr or region for schmieder-weathersby, not both")
+    if scr is not None:
+        _arrays.require_nonnegative("scr", _arrays.as_float(scr, xp), xp)
+
+
 def _sw_select(
     values: Mapping[str, Array], scr: Array | None, region: str | None, xp: Any
 ) -> Array:

@@ -33,11 +33,11 @@ import numpy as np
 
 from targetacq import _arrays, atmosphere, geometry
 from targetacq import transforms as _transforms
-from targetacq.acquisition import _ttpf_three_numpy
+from targetacq.acquisition import ordered_probabilities
 from targetacq.clutter import signal_to_clutter_ratio
 from targetacq.core.records import SceneArrays, SensorArrays
 from targetacq.fusion import fuse
-from targetacq.noise import effective_scr, get_noise_model, noise_n50_factor
+from targetacq.noise import get_noise_model
 
 __all__ = [
     "Factors",
@@ -243,75 +243,20 @@ def factors(
     )
 
 
-def _noisy_cycles(cycles: Any, snr: Any, noise_model: str, xp: Any) -> Any:
-    """N / f: multiplying every N50 by the noise factor f is dividing N by it."""
-    factor = _arrays.as_float(noise_n50_factor(snr, noise_model), xp)
-    infinite = xp.isinf(factor)
-    return xp.where(infinite, 0.0 * cycles, cycles / xp.where(infinite, 1.0, factor))
-
-
-def _detection_in_clutter(
-    cycles: Any, noisy: Any, n50: Any, scr: Any, snr: Any, scene: SceneArrays, xp: Any
-) -> Any:
-    """Schmieder–Weathersby detection of each target (Table 3.5, §3.8-3.9).
-
-    With a noise model that combines with clutter and an SCR, the curve is read at the
-    effective ratio (:func:`targetacq.noise.effective_scr`) with the noise-free N; otherwise at
-    the SCR with the noisy N. Hot spots use the low-clutter curve; moving targets are detected.
-    """
-    choices, targets = scene.choices, scene.targets
-    noise = None if snr is None else get_noise_model(choices.noise_model)
-    n = noisy
-    if noise is not None and noise.combines_with_clutter and scr is not None:
-        scr, n = effective_scr(scr, snr), cycles
-    batch = cycles.ndim - 2
-    out = None
-    if scr is not None or choices.region is not None:
-        out = _transforms.schmieder_weathersby(n, n50, scr=scr, region=choices.region)
-    if any(targets.hot_spot):
-        hot = _transforms.schmieder_weathersby(n, n50, hot_spot=True)
-        mask = _per_target(xp.asarray(np.asarray(targets.hot_spot)), batch, xp)
-        out = hot if out is None else xp.where(mask, hot, out)
-    if any(targets.moving):
-        mask = _per_target(xp.asarray(np.asarray(targets.moving)), batch, xp)
-        seen = xp.where(xp.isnan(n), n, xp.ones_like(n))
-        out = seen if out is None else xp.where(mask, seen, out)
-    return out
-
-
-def _ttpf_by_criterion(cycles: np.ndarray, n50: np.ndarray) -> list[np.ndarray]:
-    """TTPF of the three tasks over a NumPy array (n_s, n_g, ...), fused per criterion.
-
-    The targets sharing an N50 triple go through :func:`targetacq.acquisition._ttpf_three_numpy`
-    together, so a target's numbers do not depend on which other targets are evaluated with it.
-    """
-    rows, group = np.unique(n50, axis=0, return_inverse=True)
-    if rows.shape[0] == 1:
-        return _ttpf_three_numpy(cycles, tuple(float(v) for v in rows[0]))
-    out = [np.empty(cycles.shape) for _ in TASKS]
-    for k, row in enumerate(rows):
-        members = np.flatnonzero(group.reshape(-1) == k)
-        values = _ttpf_three_numpy(
-            np.ascontiguousarray(cycles[:, members]), tuple(float(v) for v in row)
-        )
-        for target, value in zip(out, values, strict=True):
-            target[:, members] = value
-    return out
-
-
 def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
 
-    Recognition and identification come from the scene's transform with each target's N50;
-    detection too, unless the target is in clutter (an SCR, a clutter region, a hot spot or a
-    moving target), where it comes from :func:`_detection_in_clutter` (clutter acts on
-    detection only, §3.8). Noise (``snr`` [dB], None for none) multiplies the N50s by the noise
-    model's factor (:mod:`targetacq.noise`). Then ``P_rec <= P_det`` and ``P_id <= P_rec``.
+    :func:`targetacq.acquisition.ordered_probabilities` with each target's N50s, hot-spot and
+    moving flags and the scene's transform, noise model and clutter. With NumPy the targets that
+    share a criterion go through together (scalar N50s, the fused TTPF path), so a target's
+    numbers do not depend on which other targets are evaluated with it; with other array
+    libraries the N50s are arrays along the target axis.
 
     Parameters
     ----------
     cycles : array (n_s, n_g, *batch)
     snr : array or None
+        [dB]; None for no path noise.
     scr : array or None
     scene : SceneArrays
 
@@ -322,32 +267,47 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     xp, (n,) = _arrays.arrays(cycles)
     choices, targets = scene.choices, scene.targets
     batch = n.ndim - 2
-    noisy = n if snr is None else _noisy_cycles(n, snr, choices.noise_model, xp)
     transform = _transforms.get_transform(choices.transform)
     options = dict(choices.options)
-    table = targets.n50
-    if isinstance(table, np.ndarray) and table.shape[0] > 0 and bool(np.all(table == table[0])):
-        n50: list[Any] = [float(v) for v in table[0]]  # one criterion: scalar N50s
-    else:
-        table_xp = _arrays.as_float(table, xp)
-        n50 = [_per_target(table_xp[:, k], batch, xp) for k in range(3)]
-    if transform.name == "ttpf" and isinstance(noisy, np.ndarray) and isinstance(table, np.ndarray):
-        det, rec, ide = _ttpf_by_criterion(noisy, table)  # the hot path, fused
-    else:
-        det, rec, ide = (
-            _arrays.as_float(transform.forward(noisy, n50[k], task, **options), xp)
-            for k, task in enumerate(TASKS)
+    noise = None if snr is None else get_noise_model(choices.noise_model)
+    hot = np.asarray(targets.hot_spot, dtype=bool)
+    moving = np.asarray(targets.moving, dtype=bool)
+
+    def run(members: Any, n50: list[Any]) -> tuple[Any, Any, Any]:
+        def pick(value: Any) -> Any:
+            return value if value is None or members is None else value[:, members]
+
+        h, m = (flags if members is None else flags[members] for flags in (hot, moving))
+        return ordered_probabilities(
+            pick(n),
+            n50,
+            transform,
+            options,
+            scr=pick(scr),
+            region=choices.region,
+            hot_spot=bool(h[0])
+            if h.size and bool(np.all(h == h[0]))
+            else _per_target(xp.asarray(h), batch, xp),
+            moving=bool(m[0])
+            if m.size and bool(np.all(m == m[0]))
+            else _per_target(xp.asarray(m), batch, xp),
+            snr=pick(snr),
+            noise=noise,
         )
-    cluttered = scr is not None or choices.region is not None
-    if cluttered or any(targets.hot_spot) or any(targets.moving):
-        in_clutter = _detection_in_clutter(n, noisy, n50[0], scr, snr, scene, xp)
-        if cluttered:
-            det = in_clutter
-        else:
-            flags = np.asarray(targets.hot_spot) | np.asarray(targets.moving)
-            det = xp.where(_per_target(xp.asarray(flags), batch, xp), in_clutter, det)
-    rec = xp.minimum(rec, det)
-    return det, rec, xp.minimum(ide, rec)
+
+    table = targets.n50
+    if not (isinstance(table, np.ndarray) and isinstance(n, np.ndarray)):
+        table_xp = _arrays.as_float(table, xp)
+        return run(None, [_per_target(table_xp[:, k], batch, xp) for k in range(3)])
+    rows, group = np.unique(table, axis=0, return_inverse=True)
+    if rows.shape[0] <= 1:
+        return run(None, [float(v) for v in rows[0]] if rows.size else [1.0, 1.0, 1.0])
+    out = [np.empty(n.shape) for _ in TASKS]
+    for k, row in enumerate(rows):
+        members = np.flatnonzero(group.reshape(-1) == k)
+        for whole, part in zip(out, run(members, [float(v) for v in row]), strict=True):
+            whole[:, members] = part
+    return out[0], out[1], out[2]
 
 
 def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:

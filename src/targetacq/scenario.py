@@ -44,6 +44,7 @@ from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
+from targetacq.sensors import SENSOR_TYPES, get_sensor_type
 from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import is_quantity, to_si
 
@@ -135,6 +136,13 @@ def _one_place(position: Any, waypoints: Any, what: str) -> None:
             raise ValueError("waypoints need at least two, with increasing times")
 
 
+def _sensor_type(value: Any) -> str:
+    """A name of :data:`targetacq.sensors.SENSOR_TYPES` (the registry gives the choices)."""
+    if not isinstance(value, str):
+        raise ValueError(f"a sensor type is a name: one of {', '.join(SENSOR_TYPES)}")
+    return get_sensor_type(value).name
+
+
 class Sensor(_Strict):
     """An imaging sensor.
 
@@ -146,7 +154,7 @@ class Sensor(_Strict):
     """
 
     name: str
-    type: Literal["thermal", "tv"] = "thermal"
+    type: Annotated[str, BeforeValidator(_sensor_type)] = "thermal"
     band: str | None = None
     pixels: tuple[Annotated[int, Field(gt=0)], Annotated[int, Field(gt=0)]] | None = None
     pitch: Length | None = None
@@ -469,26 +477,10 @@ class Scenario(_Strict):
             duplicates = sorted(n for n, count in counts.items() if count > 1)
             if duplicates:
                 raise ValueError(f"{what} names must be unique; repeated: {', '.join(duplicates)}")
-        thermal = [s for s in self.sensors if s.type == "thermal"]
-        tv = [s for s in self.sensors if s.type == "tv"]
-        if thermal:
-            if self.background.temperature is None:
-                raise ValueError("background.temperature is needed for thermal sensors")
-            missing = [t.name for t in self.targets if t.temperature is None]
-            if missing:
-                raise ValueError(
-                    f"targets {', '.join(missing)} need a temperature (thermal sensors)"
-                )
-        if tv:
-            if self.background.irradiance is None or self.background.reflectance is None:
-                raise ValueError("TV sensors need background.irradiance and background.reflectance")
-            missing = [t.name for t in self.targets if t.reflectance is None]
-            if missing:
-                raise ValueError(f"targets {', '.join(missing)} need a reflectance (TV sensors)")
-            if self.background.clutter_std is not None:
-                raise ValueError(
-                    "clutter_std is a temperature spread; for TV sensors give clutter or scr"
-                )
+        for kind in dict.fromkeys(s.type for s in self.sensors):
+            problems = get_sensor_type(kind).requirements(self)
+            if problems:
+                raise ValueError(problems[0])
         if self.background.image is not None:
             missing = [t.name for t in self.targets if t.image_box is None]
             if missing:
@@ -496,13 +488,6 @@ class Scenario(_Strict):
                     f"background.image needs an image_box for every target; missing: "
                     f"{', '.join(missing)}"
                 )
-        if self.background.terrain is not None and tv:
-            raise ValueError("terrain clutter is given by class temperatures: thermal sensors only")
-        if self.atmosphere.visibility is not None and thermal:
-            raise ValueError(
-                "visibility gives the visible-band extinction; with thermal sensors give "
-                "extinction or obscurant"
-            )
         return self
 
 

@@ -55,4 +55,9 @@ def requirements(scenario: Any) -> list[str]:
     missing = [t.name for t in scenario.targets if t.temperature is None]
     if missing:
         problems.append(f"targets {', '.join(missing)} need a temperature (thermal sensors)")
+    if scenario.atmosphere.visibility is not None:
+        problems.append(
+            "visibility gives the visible-band extinction; with thermal sensors give "
+            "extinction or obscurant"
+        )
     return problems

@@ -21,18 +21,27 @@ reached the range is NaN; where no resolution is needed (a moving target's detec
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 from difflib import get_close_matches
 from typing import Any
 
-from targetacq import _arrays, atmosphere, optics
+from targetacq import _arrays, optics
 from targetacq import transforms as _transforms
-from targetacq.acquisition import acquisition_probabilities
-from targetacq.acquisition import probability as task_probability
+from targetacq.core.cases import RangeCase, case_acquisition, case_probability
 from targetacq.criteria import Criterion, get_criterion
 
-__all__ = ["CASE_KEYS", "RangePerformance", "case_probabilities", "dri_ranges", "range_performance"]
+__all__ = [
+    "CASE_KEYS",
+    "RangeCase",
+    "RangePerformance",
+    "as_range_case",
+    "case_probabilities",
+    "case_ranges",
+    "dri_ranges",
+    "range_performance",
+]
 
 _BRACKET = 1e-12  # lower end of the search, relative to the noise-free range
 
@@ -58,6 +67,8 @@ def dri_ranges(
 ) -> dict[str, Any]:
     """Range at which each task reaches a probability, for a sensor, a target and a path.
 
+    :func:`case_ranges` of the :class:`RangeCase` these inputs describe.
+
     Parameters
     ----------
     critical_dimension : array_like
@@ -72,7 +83,7 @@ def dri_ranges(
         A name from :data:`targetacq.transforms.TRANSFORMS` ("schmieder-weathersby" gives the
         detection range only).
     extinction : array_like, optional
-        γ of the path [Np/m], >= 0; None or 0 for no atmosphere.
+        γ of the path [Np/m], >= 0; None for no atmosphere.
     scr, region, hot_spot, moving
         The clutter, acting on detection (§3.8); see
         :func:`targetacq.transforms.schmieder_weathersby`.
@@ -93,72 +104,103 @@ def dri_ranges(
         is where the pixel density on the target falls to its threshold,
         ``R = 1 / (density · IFOV)``: thresholds, to which probability, transform, clutter,
         atmosphere and optics limits do not apply.
+
+    Examples
+    --------
+    >>> r = dri_ranges(2.3, 2e-4)  # R = d / (N50 · 2 IFOV) at P = 0.5
+    >>> round(float(r["detection"]), 6), round(float(r["identification"]), 6)
+    (5750.0, 898.4375)
+    """
+    case = RangeCase(
+        critical_dimension,
+        ifov,
+        wavelength=wavelength,
+        aperture=aperture,
+        blur_sigma=blur_sigma,
+        criterion=criterion,
+        transform=transform,
+        options=options,
+        extinction=extinction,
+        scr=scr,
+        region=region,
+        hot_spot=hot_spot,
+        moving=moving,
+        noise_model=noise_model,
+    )
+    return case_ranges(case, probability, tolerance)
+
+
+def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9) -> dict[str, Any]:
+    """Range at which each task of a case reaches a probability (the DRI ranges of a case).
+
+    Without attenuation the closed form ``R = d / (N_p · cycle)`` (§3.5, Fig. 3.3), with
+    ``N_p`` the inverse transform (Table 3.5 for detection in clutter); with it, the bisection
+    of the module docstring on ``P(R)`` of :func:`targetacq.core.cases.case_probability`, the
+    case's own curves. Then each range is capped by the one it presupposes.
+
+    Parameters
+    ----------
+    case : RangeCase
+    probability : array_like
+        In (0, 1); broadcasts with the case's arrays.
+    tolerance : float
+        Relative tolerance on a range solved numerically, in (0, 0.01).
+
+    Returns
+    -------
+    dict
+        Task → range [m], as :func:`dri_ranges`.
+
+    Examples
+    --------
+    >>> r = case_ranges(RangeCase(2.3, 2e-4, extinction=0.4e-3), 0.5)
+    >>> bool(r["detection"] < 5750.0)  # the haze's noise shortens the closed-form 5,750 m
+    True
     """
     if not 0 < tolerance < 1e-2:
         raise ValueError(f"tolerance must be in (0, 0.01), got {tolerance!r}")
-    crit = get_criterion(criterion)
-    clutter = {"scr": scr, "region": region, "hot_spot": hot_spot, "moving": moving}
+    crit = get_criterion(case.criterion)
     if not crit.gives_probabilities:
-        extras = [name for name, v in {**options, **clutter, "extinction": extinction}.items() if v]
-        if extras:
-            raise ValueError(
-                f"criterion {crit.name!r} gives pixel-density thresholds; {', '.join(extras)} "
-                "do not apply"
-            )
         return {
-            task: optics.range_for_pixel_density(crit.threshold(task), ifov) for task in crit.tasks
+            task: optics.range_for_pixel_density(crit.threshold(task), case.ifov)
+            for task in crit.tasks
         }
-    chosen = _transforms.get_transform(transform)
+    chosen = _transforms.get_transform(case.transform)
     tasks = [t for t in crit.tasks if chosen.tasks is None or t in chosen.tasks]
-    if not tasks:
-        raise ValueError(
-            f"transform {chosen.name!r} covers none of criterion {crit.name!r}'s tasks "
-            f"({', '.join(crit.tasks)})"
-        )
-    optics_kw = {"wavelength": wavelength, "aperture": aperture, "blur_sigma": blur_sigma}
-    clutter_given = scr is not None or region is not None or hot_spot or moving
-
-    def noise_free_range(task: str) -> Any:
-        if task == "detection" and clutter_given:
-            needed = _transforms.schmieder_weathersby_inverse(
-                probability, crit.n50(task), **clutter
-            )
-        else:
-            needed = _transforms.inverse_transform(
-                probability, crit.n50(task), task, method=chosen.name, **options
-            )
-        xp, (n,) = _arrays.arrays(needed)
-        never = xp.isinf(n)
-        r = optics.range_for_cycles(critical_dimension, xp.where(never, 1.0, n), ifov, **optics_kw)
-        xp, (r,) = _arrays.arrays(r)
-        return xp.where(never, xp.nan, r)
-
-    def probability_at(task: str, r: Any) -> Any:
-        n = optics.cycles_on_target(critical_dimension, r, ifov, **optics_kw)
-        snr = atmosphere.snr_from_transmittance(atmosphere.transmittance(extinction, r))
-        return task_probability(
-            n,
-            task,
-            crit,
-            chosen.name,
-            snr=snr,
-            noise_model=noise_model,
-            **(clutter if task == "detection" else {}),
-            **options,
-        )
-
     ranges: dict[str, Any] = {}
     for task in tasks:
-        r_free = noise_free_range(task)
-        if extinction is None:
-            r = r_free
-        else:
-            r = _solve(
-                lambda rr, task=task: probability_at(task, rr), probability, r_free, tolerance
+        r_free = _noise_free_range(case, crit, chosen, task, probability)
+        if case.attenuates:
+            r_free = _solve(
+                lambda rr, task=task: case_probability(case, rr, task),
+                probability,
+                r_free,
+                tolerance,
             )
-        ranges[task] = r
+        ranges[task] = r_free
     _order(ranges)
     return {task: _arrays.result(r) for task, r in ranges.items()}
+
+
+def _noise_free_range(
+    case: RangeCase, crit: Criterion, chosen: Any, task: str, probability: Any
+) -> Any:
+    """The closed-form range of a task without the path's noise (NaN: never reached)."""
+    if task == "detection" and case.in_clutter:
+        needed = _transforms.schmieder_weathersby_inverse(
+            probability, crit.n50(task), **case.clutter
+        )
+    else:
+        needed = _transforms.inverse_transform(
+            probability, crit.n50(task), task, method=chosen.name, **case.options
+        )
+    xp, (n,) = _arrays.arrays(needed)
+    never = xp.isinf(n)
+    r = optics.range_for_cycles(
+        case.critical_dimension, xp.where(never, 1.0, n), **case.resolution()
+    )
+    xp, (r,) = _arrays.arrays(r)
+    return xp.where(never, xp.nan, r)
 
 
 def _solve(prob: Any, p: Any, r_free: Any, tolerance: float) -> Any:
@@ -200,23 +242,9 @@ def _order(ranges: dict[str, Any]) -> None:
 
 # --- range-performance curves ---------------------------------------------------------------
 
-CASE_KEYS: tuple[str, ...] = (
-    "critical_dimension",
-    "ifov",
-    "criterion",
-    "transform",
-    "extinction",
-    "scr",
-    "region",
-    "hot_spot",
-    "moving",
-    "noise_model",
-    "wavelength",
-    "aperture",
-    "blur_sigma",
-    "options",
-)
-"""Keys of one case of :func:`range_performance` (``options``: the transform's options)."""
+CASE_KEYS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(RangeCase))
+"""Keys of a case of :func:`range_performance` given as a mapping: the fields of
+:class:`RangeCase` (``options``: the transform's options)."""
 
 _DRI_TASKS = ("detection", "recognition", "identification")
 
@@ -234,16 +262,38 @@ class RangePerformance:
     dri : pandas.DataFrame
         One row per case, task and probability: ``range_m`` (NaN where never reached) and
         ``reached``.
-    cases : Mapping[str, Mapping[str, Any]]
-        The inputs of each case, as given.
+    cases : Mapping[str, RangeCase]
+        Each case, as a :class:`RangeCase` (mappings given are converted).
     """
 
     curves: Any
     dri: Any
-    cases: Mapping[str, Mapping[str, Any]]
+    cases: Mapping[str, RangeCase]
 
 
-def _check_case(label: str, case: Mapping[str, Any]) -> None:
+def as_range_case(label: str, case: RangeCase | Mapping[str, Any]) -> RangeCase:
+    """A case of :func:`range_performance` as a :class:`RangeCase`.
+
+    Mappings (the cases of earlier releases) take the keys of :data:`CASE_KEYS`; an unknown key
+    raises ``ValueError`` with the closest valid one.
+
+    Parameters
+    ----------
+    label : str
+        The case's label, for the messages.
+    case : RangeCase or mapping
+
+    Returns
+    -------
+    RangeCase
+
+    Examples
+    --------
+    >>> as_range_case("clear", {"critical_dimension": 2.3, "ifov": 2e-4}).transform
+    'ttpf'
+    """
+    if isinstance(case, RangeCase):
+        return case
     unknown = [key for key in case if key not in CASE_KEYS]
     if unknown:
         hints = [
@@ -258,58 +308,51 @@ def _check_case(label: str, case: Mapping[str, Any]) -> None:
     for key in ("critical_dimension", "ifov"):
         if key not in case:
             raise ValueError(f"case {label!r} needs {key!r}")
+    return RangeCase(**case)
 
 
-def case_probabilities(range: Any, case: Mapping[str, Any]) -> tuple[Any, Any, Any, Any]:
+def case_probabilities(
+    range: Any, case: RangeCase | Mapping[str, Any]
+) -> tuple[Any, Any, Any, Any]:
     """Cycles, transmittance, SNR and the ordered probabilities of one case at ranges.
+
+    Kept for one release: use :func:`targetacq.core.cases.case_acquisition`, which this calls.
 
     Returns
     -------
     cycles, transmittance, snr, acquisition
         The last is a :class:`targetacq.acquisition.Acquisition`.
+
+    Examples
+    --------
+    >>> n, tau, snr, acq = case_probabilities(1150.0, {"critical_dimension": 2.3, "ifov": 2e-4})
+    >>> round(float(n), 12), float(tau)
+    (5.0, 1.0)
     """
-    n = optics.cycles_on_target(
-        case["critical_dimension"],
-        range,
-        case["ifov"],
-        wavelength=case.get("wavelength"),
-        aperture=case.get("aperture"),
-        blur_sigma=case.get("blur_sigma"),
-    )
-    extinction = case.get("extinction")
-    tau = atmosphere.transmittance(0.0 if extinction is None else extinction, range)
-    snr = atmosphere.snr_from_transmittance(tau)
-    acq = acquisition_probabilities(
-        n,
-        case.get("criterion", "johnson"),
-        case.get("transform", "ttpf"),
-        scr=case.get("scr"),
-        region=case.get("region"),
-        hot_spot=case.get("hot_spot", False),
-        moving=case.get("moving", False),
-        snr=None if extinction is None else snr,
-        noise_model=case.get("noise_model", "variance-sum"),
-        **case.get("options", {}),
-    )
-    return n, tau, snr, acq
+    found = case_acquisition(as_range_case("case", case), range)
+    return found.cycles, found.transmittance, found.snr, found
 
 
 def range_performance(
     range: Any,
-    cases: Mapping[str, Mapping[str, Any]],
+    cases: Mapping[str, RangeCase | Mapping[str, Any]],
     probabilities: Any = (0.5, 0.8, 0.95),
     tolerance: float = 1e-9,
 ) -> RangePerformance:
     """Probabilities of detection, recognition and identification against range, per case.
+
+    The curves are :func:`targetacq.core.cases.case_acquisition` of each case on the grid, the
+    DRI table :func:`case_ranges` of each case: the one evaluation of a case, so the table's
+    ranges are where the curves cross the probabilities.
 
     Parameters
     ----------
     range : array_like
         1-D grid of slant ranges [m], > 0.
     cases : mapping
-        Label → case; a case is a mapping with the keys of :data:`CASE_KEYS`
-        (``critical_dimension`` [m] and ``ifov`` [rad] required; the rest as in
-        :func:`dri_ranges`). Several sensors, targets or weather cases side by side.
+        Label → :class:`RangeCase` (or, for one release, a mapping with the keys of
+        :data:`CASE_KEYS`; ``critical_dimension`` [m] and ``ifov`` [rad] required). Several
+        sensors, targets or weather cases side by side.
     probabilities : sequence of float
         Probabilities, in (0, 1), for the DRI table.
     tolerance : float
@@ -318,6 +361,14 @@ def range_performance(
     Returns
     -------
     RangePerformance
+
+    Examples
+    --------
+    >>> perf = range_performance([500.0, 1000.0], {"clear": RangeCase(2.3, 2e-4)}, [0.5])
+    >>> dict(perf.curves.sizes)
+    {'case': 1, 'range': 2}
+    >>> round(float(perf.dri.set_index("task").loc["detection", "range_m"]), 6)
+    5750.0
     """
     import numpy as np
     import pandas as pd
@@ -330,45 +381,24 @@ def range_performance(
         raise ValueError("cases must name at least one case")
     probs = np.asarray(probabilities, dtype=float).reshape(-1)
     _arrays.require_open_unit_interval("probabilities", probs, _arrays.namespace())
+    records = {label: as_range_case(label, case) for label, case in cases.items()}
     curves, rows = [], []
-    for label, case in cases.items():
-        _check_case(label, case)
-        n, tau, snr, acq = case_probabilities(grid, case)
+    for label, case in records.items():
+        found = case_acquisition(case, grid)
         curves.append(
             xr.Dataset(
                 {
-                    "detection": ("range", np.asarray(acq.detection)),
-                    "recognition": ("range", np.asarray(acq.recognition)),
-                    "identification": ("range", np.asarray(acq.identification)),
-                    "cycles": ("range", np.asarray(n)),
-                    "transmittance": ("range", np.broadcast_to(tau, grid.shape).copy()),
-                    "snr": ("range", np.broadcast_to(snr, grid.shape).copy()),
+                    name: ("range", np.broadcast_to(getattr(found, name), grid.shape).copy())
+                    for name in (*_DRI_TASKS, "cycles", "transmittance", "snr")
                 },
                 coords={"range": grid},
             )
         )
-        found = dri_ranges(
-            case["critical_dimension"],
-            case["ifov"],
-            case.get("criterion", "johnson"),
-            probability=probs,
-            transform=case.get("transform", "ttpf"),
-            extinction=case.get("extinction"),
-            scr=case.get("scr"),
-            region=case.get("region"),
-            hot_spot=case.get("hot_spot", False),
-            moving=case.get("moving", False),
-            noise_model=case.get("noise_model", "variance-sum"),
-            wavelength=case.get("wavelength"),
-            aperture=case.get("aperture"),
-            blur_sigma=case.get("blur_sigma"),
-            tolerance=tolerance,
-            **case.get("options", {}),
-        )
+        reached = case_ranges(case, probs, tolerance)
         for task in _DRI_TASKS:
-            if task not in found:
+            if task not in reached:
                 continue
-            values = np.broadcast_to(found[task], probs.shape)
+            values = np.broadcast_to(reached[task], probs.shape)
             for p, r in zip(probs, values, strict=True):
                 rows.append(
                     {
@@ -379,8 +409,8 @@ def range_performance(
                         "reached": not np.isnan(r),
                     }
                 )
-    dataset = xr.concat(curves, dim=pd.Index(list(cases), name="case"))
+    dataset = xr.concat(curves, dim=pd.Index(list(records), name="case"))
     dataset["range"].attrs["units"] = "m"
     dataset["snr"].attrs["units"] = "dB"
     dataset["cycles"].attrs["units"] = "cycles"
-    return RangePerformance(curves=dataset, dri=pd.DataFrame(rows), cases=dict(cases))
+    return RangePerformance(curves=dataset, dri=pd.DataFrame(rows), cases=records)

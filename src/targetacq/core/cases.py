@@ -1,0 +1,367 @@
+"""Range cases: one sensor, one target and one path, evaluated at slant ranges.
+
+A :class:`RangeCase` is the typed record that every range front-end describes: the range
+solver (:func:`targetacq.ranges.dri_ranges`), the range-performance curves
+(:func:`targetacq.ranges.range_performance`), :func:`targetacq.scene_acquisition`, the CLI's
+``dri``, ``plot`` and ``report`` commands and :meth:`targetacq.model.ModelChain.range_cases`.
+Its inputs are checked once, when it is made. :func:`case_acquisition` is the one place where
+a case becomes cycles on target, transmittance, SNR and the ordered probabilities at ranges
+(:func:`case_probability` gives one task's own curve, for the range solver); the physics is in
+the kernels they call:
+
+1. resolution: ``N = d / (R · cycle)`` (:func:`targetacq.optics.cycles_on_target`; §3.5,
+   Fig. 3.3 and Eqs. (5.2), (5.3) in Sonesson (2004));
+2. path: ``τ = exp(−γR)`` (:func:`targetacq.atmosphere.transmittance`, Eq. (7.3)) times the
+   foliage's transmittance (§6.8), and the SNR of Eqs. (7.5)–(7.7)
+   (:func:`targetacq.atmosphere.snr_from_transmittance`);
+3. probabilities: the transform with the noise model and, for detection in clutter, the
+   Schmieder–Weathersby transform, ordered ``P_id <= P_rec <= P_det``
+   (:func:`targetacq.acquisition.acquisition_probabilities`, §3.5–3.9).
+
+Without ``extinction`` and ``foliage`` the path adds no noise (the SNR is +inf and the noise
+model is not applied).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from targetacq import _arrays, atmosphere, optics
+from targetacq import transforms as _transforms
+from targetacq.acquisition import Acquisition, acquisition_probabilities, probability
+from targetacq.criteria import Criterion, get_criterion
+from targetacq.noise import get_noise_model
+
+__all__ = ["CaseAcquisition", "RangeCase", "case_acquisition", "case_factors", "case_probability"]
+
+
+@dataclass(frozen=True)
+class RangeCase:
+    """One sensor, one target and one path, for probabilities and ranges against range.
+
+    Array fields broadcast with each other and with the ranges they are evaluated at. The
+    inputs are checked when the case is made (``ValueError`` naming the field and its valid
+    range); ``criterion`` is then always a :class:`targetacq.criteria.Criterion`.
+
+    Attributes
+    ----------
+    critical_dimension : array_like
+        Critical dimension of the target as seen [m], > 0.
+    ifov : array_like
+        Pixel IFOV [rad], > 0.
+    wavelength, aperture : array_like, optional
+        Wavelength and aperture diameter [m] of the diffraction limit, Eq. (5.3); both or
+        neither.
+    blur_sigma : array_like, optional
+        Angular standard deviation of a Gaussian optics blur [rad], >= 0, Eq. (5.2).
+    cycle : array_like, optional
+        The angle of one resolvable cycle [rad], > 0, where it is known already (e.g. from a
+        scenario's sensor type); instead of the optics limits above.
+    criterion : str, Criterion or mapping
+        Criteria set (name, object, or task → N50 mapping).
+    transform : str
+        A name from :data:`targetacq.transforms.TRANSFORMS`.
+    options : mapping
+        The transform's options (e.g. ``{"bound": "pessimistic"}`` for c2nveo).
+    extinction : array_like, optional
+        γ of the path [Np/m], >= 0; None for no atmosphere (and no path noise).
+    foliage : array_like, optional
+        Transmittance of foliage in front of the target, in [0, 1] (§6.8); None for none.
+    scr : array_like, optional
+        Signal-to-clutter ratio [1], >= 0 (acts on detection, §3.8).
+    region : {"low", "medium", "high"}, optional
+        Table 3.5 clutter region, instead of ``scr``.
+    hot_spot, moving : bool
+        See :func:`targetacq.transforms.schmieder_weathersby`.
+    noise_model : str, NoiseModel or callable
+        How the path's noise moves the transforms (:mod:`targetacq.noise`).
+
+    Examples
+    --------
+    >>> case = RangeCase(2.3, 2e-4, extinction=0.4e-3, scr=5.0)
+    >>> case.criterion.name, case.attenuates
+    ('johnson', True)
+    >>> RangeCase(2.3, -2e-4)
+    Traceback (most recent call last):
+    ...
+    ValueError: ifov must be > 0 rad, got -0.0002
+    """
+
+    critical_dimension: Any
+    ifov: Any
+    wavelength: Any = None
+    aperture: Any = None
+    blur_sigma: Any = None
+    cycle: Any = None
+    criterion: str | Criterion | Mapping[str, float] = "johnson"
+    transform: str = "ttpf"
+    options: Mapping[str, Any] = field(default_factory=dict)
+    extinction: Any = None
+    foliage: Any = None
+    scr: Any = None
+    region: str | None = None
+    hot_spot: bool = False
+    moving: bool = False
+    noise_model: Any = "variance-sum"
+
+    def __post_init__(self) -> None:
+        xp, (d, i) = _arrays.arrays(self.critical_dimension, self.ifov)
+        _arrays.require_positive("critical_dimension", d, xp, "m")
+        _arrays.require_positive("ifov", i, xp, "rad")
+        self._check_resolution()
+        crit = get_criterion(self.criterion)
+        object.__setattr__(self, "criterion", crit)
+        object.__setattr__(self, "options", dict(self.options))
+        if self.extinction is not None:
+            _arrays.require_nonnegative(
+                "extinction", _arrays.as_float(self.extinction, xp), xp, "Np/m"
+            )
+        if self.foliage is not None:
+            _arrays.require_unit_interval("foliage", _arrays.as_float(self.foliage, xp), xp)
+        _transforms.check_clutter(self.scr, self.region, xp)
+        get_noise_model(self.noise_model)
+        if crit.gives_probabilities:
+            self._check_transform(crit)
+        else:
+            self._check_thresholds(crit)
+
+    def _check_resolution(self) -> None:
+        optics_given = [
+            name
+            for name in ("wavelength", "aperture", "blur_sigma")
+            if getattr(self, name) is not None
+        ]
+        if self.cycle is not None:
+            if optics_given:
+                raise ValueError(
+                    f"give the cycle or the optics limits ({', '.join(optics_given)}), not both"
+                )
+            xp, (cycle,) = _arrays.arrays(self.cycle)
+            _arrays.require_positive("cycle", cycle, xp, "rad")
+            return
+        if (self.wavelength is None) != (self.aperture is None):
+            raise ValueError(
+                "give both wavelength and aperture for the diffraction limit, or neither"
+            )
+        for name in ("wavelength", "aperture"):
+            if getattr(self, name) is not None:
+                xp, (value,) = _arrays.arrays(getattr(self, name))
+                _arrays.require_positive(name, value, xp, "m")
+        if self.blur_sigma is not None:
+            xp, (sigma,) = _arrays.arrays(self.blur_sigma)
+            _arrays.require_nonnegative("blur_sigma", sigma, xp, "rad")
+
+    def _check_transform(self, crit: Criterion) -> None:
+        chosen = _transforms.get_transform(self.transform)
+        tasks = [t for t in crit.tasks if chosen.tasks is None or t in chosen.tasks]
+        if not tasks:
+            raise ValueError(
+                f"transform {chosen.name!r} covers none of criterion {crit.name!r}'s tasks "
+                f"({', '.join(crit.tasks)})"
+            )
+        chosen.check(tasks[0], self.options)
+
+    def _check_thresholds(self, crit: Criterion) -> None:
+        given = {
+            **self.options,
+            "scr": self.scr,
+            "region": self.region,
+            "hot_spot": self.hot_spot,
+            "moving": self.moving,
+            "extinction": self.extinction,
+            "foliage": self.foliage,
+        }
+        extras = [name for name, value in given.items() if value is not None and value is not False]
+        extras = [name for name in extras if name != "extinction" or bool(self.extinction)]
+        if extras:
+            raise ValueError(
+                f"criterion {crit.name!r} gives pixel-density thresholds; {', '.join(extras)} "
+                "do not apply"
+            )
+
+    @property
+    def attenuates(self) -> bool:
+        """Whether the path attenuates (an extinction or foliage is given), adding noise."""
+        return self.extinction is not None or self.foliage is not None
+
+    @property
+    def in_clutter(self) -> bool:
+        """Whether detection comes from the Schmieder–Weathersby transform (§3.8)."""
+        return self.scr is not None or self.region is not None or self.hot_spot or self.moving
+
+    @property
+    def clutter(self) -> dict[str, Any]:
+        """``scr``, ``region``, ``hot_spot`` and ``moving``, as keyword arguments."""
+        return {
+            "scr": self.scr,
+            "region": self.region,
+            "hot_spot": self.hot_spot,
+            "moving": self.moving,
+        }
+
+    def resolution(self) -> dict[str, Any]:
+        """Keyword arguments of :func:`targetacq.optics.cycles_on_target` and
+        :func:`targetacq.optics.range_for_cycles` for this case's resolution.
+
+        A given ``cycle`` is passed as the IFOV of a sensor sampling at it, ``cycle / 2``
+        (one cycle is two pixel rows, Fig. 3.3), with no optics limit.
+        """
+        if self.cycle is not None:
+            return {"ifov": self.cycle / 2.0}
+        return {
+            "ifov": self.ifov,
+            "wavelength": self.wavelength,
+            "aperture": self.aperture,
+            "blur_sigma": self.blur_sigma,
+        }
+
+    @property
+    def cycle_angle(self) -> Any:
+        """The angle of one resolvable cycle [rad]: ``cycle``, or the coarser of the sampling
+        and the optics limits (:func:`targetacq.optics.resolvable_cycle_angle`)."""
+        if self.cycle is not None:
+            return self.cycle
+        return optics.resolvable_cycle_angle(
+            self.ifov,
+            wavelength=self.wavelength,
+            aperture=self.aperture,
+            blur_sigma=self.blur_sigma,
+        )
+
+
+@dataclass(frozen=True)
+class CaseAcquisition(Acquisition):
+    """A case at ranges: the probabilities (as :class:`targetacq.acquisition.Acquisition`,
+    ordered) and the factors behind them, each of the broadcast shape of case and ranges.
+
+    Attributes
+    ----------
+    cycles : array_like
+        N [cycles].
+    transmittance : array_like
+        τ of the path, foliage included [1].
+    snr : array_like
+        SNR of Eq. (7.7) [dB] (+inf where the path does not attenuate).
+    """
+
+    cycles: Any
+    transmittance: Any
+    snr: Any
+
+
+def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
+    """Cycles on target, transmittance and SNR of a case at ranges.
+
+    ``N`` from :func:`targetacq.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in Sonesson
+    (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); SNR of Eqs. (7.5)–(7.7).
+
+    Parameters
+    ----------
+    case : RangeCase
+    range : array_like
+        Slant range [m], > 0.
+
+    Returns
+    -------
+    cycles, transmittance, snr : array_like
+        [cycles], [1], [dB].
+
+    Examples
+    --------
+    >>> n, tau, snr = case_factors(RangeCase(2.3, 2e-4, extinction=1e-3), 1150.0)
+    >>> round(float(n), 12), round(float(tau), 6), round(float(snr), 3)
+    (5.0, 0.316637, -6.682)
+    """
+    cycles = optics.cycles_on_target(case.critical_dimension, range, **case.resolution())
+    gamma = 0.0 if case.extinction is None else case.extinction
+    tau = atmosphere.transmittance(gamma, range)
+    if case.foliage is not None:
+        tau = tau * case.foliage
+    return cycles, tau, atmosphere.snr_from_transmittance(tau)
+
+
+def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
+    """Cycles, transmittance, SNR and the ordered probabilities of a case at ranges.
+
+    The factors of :func:`case_factors` and the probabilities of
+    :func:`targetacq.acquisition.acquisition_probabilities` (detection in clutter from Table 3.5,
+    §3.8; ``P_id <= P_rec <= P_det``), with the SNR applied through the case's noise model
+    where the path attenuates.
+
+    Parameters
+    ----------
+    case : RangeCase
+        Its transform must cover detection, recognition and identification.
+    range : array_like
+        Slant range [m], > 0.
+
+    Returns
+    -------
+    CaseAcquisition
+
+    Examples
+    --------
+    >>> found = case_acquisition(RangeCase(2.3, 2e-4), 1150.0)  # N = 5 cycles
+    >>> round(float(found.cycles), 12), round(float(found.detection), 4)
+    (5.0, 1.0)
+    >>> round(float(found.recognition), 4)  # TTPF at N/N50 = 5/4, Eq. (3.2)
+    0.6895
+    """
+    cycles, tau, snr = case_factors(case, range)
+    acq = acquisition_probabilities(
+        cycles,
+        case.criterion,
+        case.transform,
+        snr=snr if case.attenuates else None,
+        noise_model=case.noise_model,
+        **case.clutter,
+        **case.options,
+    )
+    return CaseAcquisition(
+        detection=acq.detection,
+        recognition=acq.recognition,
+        identification=acq.identification,
+        cycles=cycles,
+        transmittance=tau,
+        snr=snr,
+    )
+
+
+def case_probability(case: RangeCase, range: Any, task: str) -> Any:
+    """Probability of one task of a case at ranges: the task's own (marginal) curve.
+
+    :func:`targetacq.acquisition.probability` at the factors of :func:`case_factors`; for any
+    task of the criterion that the transform covers (e.g. orientation, or detection alone with
+    the Schmieder–Weathersby transform). :func:`case_acquisition` gives the ordered three.
+
+    Parameters
+    ----------
+    case : RangeCase
+    range : array_like
+        Slant range [m], > 0.
+    task : str
+        A task of the case's criterion.
+
+    Returns
+    -------
+    array_like
+        P in [0, 1].
+
+    Examples
+    --------
+    >>> round(float(case_probability(RangeCase(2.3, 2e-4), 1150.0, "recognition")), 4)
+    0.6895
+    """
+    cycles, _, snr = case_factors(case, range)
+    return probability(
+        cycles,
+        task,
+        case.criterion,
+        case.transform,
+        snr=snr if case.attenuates else None,
+        noise_model=case.noise_model,
+        **case.clutter,
+        **case.options,
+    )

@@ -166,10 +166,15 @@ def test_leaving_the_view_resets_and_bad_arguments():
     ]
     chain = ModelChain(_scene(waypoints, sensors))
     result = simulate(chain, 20.0, 0.1, runs=500, seed=1)
-    in_view = chain.compute(np.arange(0.0, 20.0, 0.1))["in_view"][0, 0]
-    first = np.arange(0.0, 20.0, 0.1)[in_view].min()
+    grid = np.arange(0.0, 20.0, 0.1)
+    in_view = chain.compute(grid)["in_view"][0, 0]
+    first, last = grid[in_view].min(), grid[in_view].max()
     detected = result.fused["detection"][:, 0]
-    assert np.all(detected[np.isfinite(detected)] >= first - 1e-9)
+    assert np.isfinite(detected).any()
+    # Entering (leaving) the view, the target is taken to be in view for the half of the step
+    # next to its first (last) in-view step time.
+    seen = detected[np.isfinite(detected)]
+    assert np.all((seen >= first - 0.05 - 1e-9) & (seen <= last + 0.05 + 1e-9))
     for kwargs, match in (({"runs": 0}, "runs"), ({"step": -1.0}, "step"), ({"seed": -1}, "seed")):
         args = {"duration": 10.0, "step": 0.1, "runs": 1, "seed": 0, **kwargs}
         with pytest.raises(ValueError, match=match):
@@ -187,3 +192,45 @@ def test_summary_quantiles_over_all_runs():
     rare = summary.loc["identification"]
     assert rare["fraction"] < 0.5  # at 5 km identification is rare
     assert rare["t50_s"] == np.inf
+
+
+@pytest.mark.parametrize(
+    ("start", "end"),
+    [
+        ((0.2, 0.1, 0.05), (0.9, 0.6, 0.3)),
+        ((0.9, 0.7, 0.4), (0.3, 0.2, 0.0)),
+        ((0.5,) * 3, (0.5,) * 3),
+    ],
+)
+def test_within_step_law_matches_quadrature(start, end):
+    # One step of 3 s with each probability linear from `start` to `end`: the sampled detection
+    # times and recognition frequency against quadrature of the model (not the closed forms).
+    from targetacq.search import _SearchState, _Streams
+
+    n, dt, t_s = 20_000, 3.0, 3.4
+    state = _SearchState(_Streams(4, ["s"], ["g"]), np.arange(n), t_s)
+    state.advance(10.0, np.array(start, dtype=float).reshape(3, 1), np.array([True]))
+    state.advance(10.0 + dt, np.array(end, dtype=float).reshape(3, 1), np.array([True]))
+    detected = state.first[0, :, 0] - 10.0
+    recognised = state.first[1, :, 0] - 10.0
+    assert np.all(recognised[np.isfinite(recognised)] >= detected[np.isfinite(recognised)])
+    s = np.linspace(0.0, dt, 3001)
+    p_det = start[0] + (end[0] - start[0]) * s / dt
+    u = (np.arange(1000) + 0.5) / 1000
+    rate = np.where(u[:, None] < p_det[None, :], p_det[None, :] / t_s, 0.0)
+    hazard = np.concatenate(
+        [np.zeros((u.size, 1)), np.cumsum((rate[:, 1:] + rate[:, :-1]) / 2 * np.diff(s), axis=1)],
+        axis=1,
+    )
+    model = (1 - np.exp(-hazard)).mean(axis=0)
+    ecdf = np.searchsorted(np.sort(detected), s, side="right") / n
+    epsilon = math.sqrt(math.log(2 / 0.001) / (2 * n))  # DKW, α = 0.001
+    assert np.max(np.abs(ecdf - model)) < epsilon
+    # Recognised by the end: detected, and u below P_rec at some moment at or after detection.
+    p_rec = start[1] + (end[1] - start[1]) * s / dt
+    survive = np.exp(-hazard)  # (u, s): not yet detected by s
+    density = -np.diff(survive, axis=1)  # detection within each sub-interval
+    later = np.maximum.accumulate(p_rec[::-1])[::-1][1:]  # max P_rec from there to the end
+    expected = (density * (u[:, None] < later[None, :])).sum(axis=1).mean()
+    sigma = math.sqrt(expected * (1 - expected) / n)
+    assert abs(np.isfinite(recognised).mean() - expected) < 4 * sigma + 1e-3

@@ -10,25 +10,59 @@ field-of-view search model; ``t_s = 3.4 s`` by default, MODEL.md and the scenari
   uniform (MODEL.md §2), so nothing is identified that was not recognised and detected, and the
   marginal frequencies are the model's probabilities;
 - an exponential *clock* ``E = −ln(v)`` per episode: detection happens when the integrated hazard
-  ``Λ(t) = ∫ P∞(s)/t_s ds`` (counted while capable) first reaches ``E``. Between time steps the
-  hazard is constant, so the crossing time is solved exactly inside the step: the distribution of
-  the first-detection time does not depend on the step size (for P∞ constant it is exactly
-  ``P(t)`` above, whatever the step);
-- recognition and identification follow at the first moment (at or after detection) at which
-  the capability draw is below their probability.
+  ``Λ(t) = ∫ P∞(s)/t_s ds`` (counted while capable) first reaches ``E``;
+- recognition and identification follow at the first moment (at or after detection, at or
+  after recognition) at which the capability draw is below their probability.
 
-The state never goes backwards while the target stays in view; when it leaves the field of view
-the episode ends, and a new one (with new draws) starts when it comes back. Draws come from the
-counter-based generator of :mod:`targetacq.sampling`, keyed by the seed and the sensor's and
-target's names and counted by the episode's first step and the run, so outcomes do not depend on
-the batch size or the order of the sensors. Fusion over sensors (sensor level): a target is
-detected (recognised, identified) when the first sensor does.
+Time steps. The state advances step by step, each step covering an interval ``(t0, t1]``
+with the probabilities known at its ends. Within the interval each probability is taken
+**linear in time** between its values at ``t0`` and ``t1``: the hazard is integrated over the
+interval rather than held at its start, so a coarse step no longer delays the detection of a
+target closing in (or hastens that of one moving away); what remains is the curvature of P
+within a step, small where P changes little over one step. With ``P(s) = a + (b − a) s`` for
+``s = (t − t0)/(t1 − t0)`` in [0, 1], the law is exact for that P:
+
+- the capable set ``{s : u < P(s)}`` is one sub-interval ``[s_lo, s_hi]`` (empty unless
+  ``max(a, b) > u``): ``s_lo = clip((u − a)/(b − a), 0, 1)`` where P rises, else 0;
+  ``s_hi = clip((u − a)/(b − a), 0, 1)`` where P falls, else 1;
+- the hazard over it is the trapezoid ``ΔΛ = (t1 − t0)/t_s · (s_hi − s_lo) ·
+  (P(s_lo) + P(s_hi))/2``;
+- where ``Λ + ΔΛ >= E`` detection happens at ``s_lo + x``, the root of
+  ``P(s_lo) x + (b − a) x²/2 = c``, ``c = (E − Λ) t_s/(t1 − t0)``, taken in the form
+  ``x = 2c / (P(s_lo) + sqrt(P(s_lo)² + 2 (b − a) c))`` (no cancellation: both terms of the
+  denominator are positive, the square root being ``P`` at the crossing);
+- recognition happens at ``max(start, s_lo_rec)`` if that is ``<= s_hi_rec``, with ``start`` the
+  moment of detection in this step (0 if it was earlier); identification likewise after
+  recognition.
+
+For a constant P∞ this gives exactly ``P(t)`` above whatever the step. The first step (after a
+reset) only starts the clock: it sets the probabilities at its time and starts the episodes of
+the targets then in view; nothing can happen in it. A NaN probability (a NaN position) at
+either end of an interval means nothing happens for that pair in it and its episode goes on
+unchanged.
+
+Episodes. An episode starts at the first step at which a target is in view (and was not at the
+step before) and ends at the first step at which it is out of view again; a new one (with new
+draws) starts when it comes back. The target enters (leaves) the view somewhere inside the
+interval of such a step; it is taken to be in view for the half of the interval next to the
+step time at which it is in view, with the probabilities of that time held constant (the
+middle is the unbiased guess of the crossing, and holding avoids a ramp from zero that would
+shorten the capable time). For a probability that changes continuously the linear law above
+applies; the field-of-view edge is a jump, so it does not. Draws come from the counter-based
+generator of :mod:`targetacq.sampling`, keyed by the seed and the sensor's and target's names
+and counted by the index of the episode's first step and the run, so outcomes do not depend on
+the batch size, the order of the sensors or which other pairs are simulated. Fusion over sensors
+(sensor level): a target is detected (recognised, identified) when the first sensor does.
+
+:func:`simulate` runs a :class:`targetacq.model.ModelChain`'s scripted scenario for many runs
+at once; :class:`targetacq.Simulation` is the same machinery driven one step at a time by
+another simulation.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -56,6 +90,16 @@ def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> 
         P∞ in [0, 1], the static probability of detection.
     search_time : float
         t_s [s], > 0 (3.4 s by default).
+
+    Returns
+    -------
+    array_like
+        P(t) in [0, P∞].
+
+    Examples
+    --------
+    >>> round(float(search_probability(3.4, 1.0)), 4)
+    0.6321
     """
     if not search_time > 0:
         raise ValueError(f"search_time must be > 0 s, got {search_time!r}")
@@ -63,6 +107,161 @@ def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> 
     _arrays.require_nonnegative("time", t, xp, "s")
     _arrays.require_unit_interval("p_infinity", p, xp)
     return _arrays.result(p * (1.0 - xp.exp(-t * p / search_time)))
+
+
+def check_seed(seed: Any) -> int:
+    """``seed`` if it is an integer >= 0, else ``ValueError``."""
+    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
+        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+    return int(seed)
+
+
+class _Streams:
+    """The Philox keys of every sensor-target pair (flat index ``s · n_g + g``), computed the
+    first time a pair needs a draw (hashing a million names takes seconds)."""
+
+    def __init__(self, seed: int, sensors: Sequence[str], targets: Sequence[str]) -> None:
+        self.seed = check_seed(seed)
+        self.sensors, self.targets = tuple(sensors), tuple(targets)
+        size = len(self.sensors) * len(self.targets)
+        self.k0 = np.zeros(size, dtype=np.uint32)
+        self.k1 = np.zeros(size, dtype=np.uint32)
+        self.ready = np.zeros(size, dtype=bool)
+
+    def keys(self, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        missing = pairs[~self.ready[pairs]]
+        n_g = len(self.targets)
+        for pair in missing.tolist():
+            s, g = divmod(pair, n_g)
+            self.k0[pair], self.k1[pair] = stream_key(self.seed, self.sensors[s], self.targets[g])
+        self.ready[missing] = True
+        return self.k0[pairs], self.k1[pairs]
+
+
+@dataclass
+class _Interval:
+    """What happened in one step: the pairs looked at (flat indices) and, per task, the time of
+    the event in this step for each run and pair (+inf where none), shape (3, runs, pairs)."""
+
+    pairs: np.ndarray
+    times: np.ndarray
+
+
+class _SearchState:
+    """The sampled state of every run × sensor × target pair, advanced one step at a time.
+
+    Arrays are (runs, pairs) with the pairs flattened (sensor-major); the probabilities and the
+    field of view, which do not depend on the run, are (pairs,). See the module docstring for
+    the law.
+    """
+
+    def __init__(self, streams: _Streams, runs: np.ndarray, search_time: float) -> None:
+        if not (search_time > 0 and math.isfinite(search_time)):
+            raise ValueError(f"search_time must be > 0 s, got {search_time!r}")
+        self.streams = streams
+        self.runs = np.asarray(runs, dtype=np.int64).reshape(-1, 1)
+        self.search_time = float(search_time)
+        size = len(streams.sensors) * len(streams.targets)
+        shape = (self.runs.shape[0], size)
+        self.u = np.ones(shape)
+        self.clock = np.zeros(shape)
+        self.hazard = np.zeros(shape)
+        self.level = np.zeros(shape, dtype=np.int8)  # tasks done in this episode: 0..3
+        self.first = np.full((3, *shape), np.inf)  # first time of each task since the start
+        self.view = np.zeros(size, dtype=bool)
+        self.p: np.ndarray | None = None  # (3, pairs) at the previous step's time
+        self.time = -math.inf
+        self.index = 0  # steps taken
+
+    def _start(self, new: np.ndarray) -> None:
+        """New episodes for the pairs ``new`` (flat indices): new draws, nothing done yet."""
+        keys = self.streams.keys(new)
+        self.u[:, new] = uniforms(keys, self.index, self.runs, _CAPABILITY)
+        self.clock[:, new] = -np.log(uniforms(keys, self.index, self.runs, _CLOCK))
+        self.hazard[:, new] = 0.0
+        self.level[:, new] = 0
+
+    def advance(self, time: float, p: np.ndarray, in_view: np.ndarray) -> _Interval | None:
+        """Advance over ``(self.time, time]`` to ``time``.
+
+        ``p`` (3, pairs): detection, recognition and identification at ``time``; ``in_view``
+        (pairs,). The caller checks that time does not go back. Returns what happened, or None
+        where nothing could (the first step, a step of zero length, nothing in view).
+        """
+        known = ~np.isnan(p[0])
+        view = np.where(known, in_view, self.view)
+        new = np.flatnonzero(view & ~self.view)
+        if new.size:
+            self._start(new)
+        out = None
+        dt = time - self.time
+        if self.p is not None and dt > 0:
+            live = (self.view | view) & known & ~np.isnan(self.p[0])
+            if live.all():
+                out = self._interval(slice(None), self.p, p, view, time, dt)
+            elif live.any():
+                pairs = np.flatnonzero(live)
+                out = self._interval(pairs, self.p[:, pairs], p[:, pairs], view[pairs], time, dt)
+        ended = np.flatnonzero(self.view & ~view)
+        if ended.size:
+            self.level[:, ended] = 0  # out of view: the episode is over
+        self.view = view
+        self.p = p
+        self.time = time
+        self.index += 1
+        return out
+
+    def _interval(
+        self, pairs: Any, a: np.ndarray, b: np.ndarray, view: np.ndarray, time: float, dt: float
+    ) -> _Interval:
+        u = self.u[:, pairs]
+        level = self.level[:, pairs]
+        was = self.view[pairs]
+        if not (was.all() and view.all()):
+            # Entering or leaving the view: in view for the half of the step next to the end
+            # where it is, with that end's probabilities.
+            a, b = np.where(was, a, b), np.where(view, b, a)
+        slope = (b - a)[:, None]  # (3, 1, m)
+        a = a[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            root = np.minimum(np.maximum((u - a) / slope, 0.0), 1.0)  # P(s) = u, (3, runs, m)
+        capable = np.maximum(a, b[:, None]) > u
+        lo = np.where(slope > 0, root, np.where(was, 0.0, 0.5))
+        hi = np.where(slope < 0, root, np.where(view, 1.0, 0.5))
+        # Detection: the hazard P/t_s integrated over the capable part of the interval.
+        a0, slope0, lo0, hi0 = a[0], slope[0], lo[0], hi[0]
+        p_lo = a0 + slope0 * lo0
+        area = np.where(capable[0], (hi0 - lo0) * (p_lo + 0.5 * slope0 * (hi0 - lo0)), 0.0)
+        scale = dt / self.search_time
+        hazard = self.hazard[:, pairs]
+        left = (self.clock[:, pairs] - hazard) / scale  # c, in units of P × s
+        searching = level == 0
+        hit = searching & capable[0] & (area >= left)
+        times = np.empty((3, *u.shape))
+        if hit.any():
+            root_term = np.sqrt(np.maximum(p_lo * p_lo + 2.0 * slope0 * left, 0.0))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                crossing = lo0 + 2.0 * left / (p_lo + root_term)
+            times[0] = np.where(hit, np.minimum(crossing, hi0), np.inf)
+            start = np.where(hit, times[0], 0.0)
+            level = np.where(hit, np.int8(1), level)
+        else:
+            times[0] = np.inf
+            start = np.zeros(u.shape)
+        self.hazard[:, pairs] = np.where(searching, hazard + scale * area, hazard)
+        # Recognition, then identification: the first capable moment at or after the last task.
+        for task in (1, 2):
+            moment = np.maximum(start, lo[task])
+            happens = (level == task) & capable[task] & (moment <= hi[task])
+            times[task] = np.where(happens, moment, np.inf)
+            start = np.where(happens, moment, 0.0)
+            level = np.where(happens, np.int8(task + 1), level)
+        self.level[:, pairs] = level
+        # Fractions of the interval → times, exact at the step's own time.
+        times = time - (1.0 - times) * dt
+        self.first[:, :, pairs] = np.minimum(self.first[:, :, pairs], times)
+        index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
+        return _Interval(pairs=index, times=times)
 
 
 @dataclass(frozen=True)
@@ -125,6 +324,11 @@ def simulate(
 ) -> SimulationResult:
     """Simulate acquisition over time, with random outcomes, for a scenario.
 
+    The probabilities are evaluated once at the step times ``start, start + step, …,
+    start + duration`` (:meth:`targetacq.model.ModelChain.compute`); the runs then go through the
+    step machinery of the module docstring, a batch of runs at a time, exactly as
+    :class:`targetacq.Simulation` steps one run.
+
     Parameters
     ----------
     chain : targetacq.model.ModelChain
@@ -132,7 +336,7 @@ def simulate(
     duration : float
         Simulated time [s], > 0, from the scenario's start time.
     step : float
-        Time step [s], > 0; probabilities are held constant within a step.
+        Time step [s], > 0; the probabilities are taken linear in time between steps.
     runs : int
         Independent runs, >= 1.
     seed : int
@@ -145,6 +349,14 @@ def simulate(
     Returns
     -------
     SimulationResult
+
+    Examples
+    --------
+    >>> from targetacq.model import ModelChain
+    >>> from targetacq.scenario import load_scenario
+    >>> chain = ModelChain(load_scenario("examples/uav_haze.toml"))  # doctest: +SKIP
+    >>> simulate(chain, 60.0, 0.5, runs=100, seed=7).fused["detection"].shape  # doctest: +SKIP
+    (100, 3)
     """
     if not (duration > 0 and math.isfinite(duration)):
         raise ValueError(f"duration must be > 0 s, got {duration!r}")
@@ -154,57 +366,30 @@ def simulate(
         raise ValueError(f"runs must be an integer >= 1, got {runs!r}")
     if not isinstance(batch, int) or batch < 1:
         raise ValueError(f"batch must be an integer >= 1, got {batch!r}")
+    check_seed(seed)
     sc = chain.scenario
     n_steps = max(1, math.ceil(duration / step - 1e-9))
     edges = sc.time.start + np.minimum(np.arange(n_steps + 1) * step, duration)
-    arrays = chain.compute(edges[:-1])  # probabilities held over each step
-    p = {task: arrays[task] for task in _TASKS}  # (n_s, n_g, n_steps)
-    in_view = arrays["in_view"]
-    n_s, n_g = in_view.shape[:2]
-    starts = in_view & ~np.concatenate([np.zeros((n_s, n_g, 1), bool), in_view[..., :-1]], axis=-1)
-    keys = np.array(
-        [[stream_key(seed, s, t) for t in chain.target_names] for s in chain.sensor_names],
-        dtype=np.uint64,
-    )  # (n_s, n_g, 2)
-    k0, k1 = keys[..., 0][None], keys[..., 1][None]
-    search_time = sc.model.search_time
+    arrays = chain.compute(edges)
+    n_s, n_g = arrays["in_view"].shape[:2]
+    # (steps, 3, pairs) and (steps, pairs): one contiguous slice per step.
+    p = np.ascontiguousarray(
+        np.stack([arrays[task] for task in _TASKS]).reshape(3, n_s * n_g, -1).transpose(2, 0, 1)
+    )
+    in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
+    streams = _Streams(seed, chain.sensor_names, chain.target_names)
     times = {task: np.full((runs, n_s, n_g), np.inf) for task in _TASKS}
     for first in range(0, runs, batch):
-        run = np.arange(first, min(first + batch, runs)).reshape(-1, 1, 1)
-        shape = (run.shape[0], n_s, n_g)
-        u = np.ones(shape)
-        clock = np.zeros(shape)
-        hazard = np.zeros(shape)
-        state = np.zeros(shape, dtype=np.int8)  # tasks done in this episode: 0..3
-        found = {task: np.full(shape, np.inf) for task in _TASKS}
-        for k in range(n_steps):
-            t0, t1 = edges[k], edges[k + 1]
-            new = starts[..., k][None] & np.ones(shape, dtype=bool)
-            if new.any():
-                u = np.where(new, uniforms((k0, k1), k, run, _CAPABILITY), u)
-                clock = np.where(new, -np.log(uniforms((k0, k1), k, run, _CLOCK)), clock)
-                hazard = np.where(new, 0.0, hazard)
-                state = np.where(new, 0, state)
-            view = in_view[..., k][None]
-            state = np.where(view, state, 0)  # out of view: the episode is over
-            p_det = p["detection"][..., k][None]
-            rate = np.where(view & (u < p_det), p_det / search_time, 0.0)
-            crossing = (state == 0) & (rate > 0) & (hazard + rate * (t1 - t0) >= clock)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                at = t0 + (clock - hazard) / np.where(rate > 0, rate, 1.0)
-            hazard = hazard + rate * (t1 - t0)
-            detected_at = np.where(crossing, np.clip(at, t0, t1), np.inf)
-            state = np.where(crossing, 1, state)
-            found["detection"] = np.minimum(found["detection"], detected_at)
-            moment = np.where(crossing, detected_at, t0)
-            for level, task in ((1, "recognition"), (2, "identification")):
-                ready = view & (state == level) & (u < p[task][..., k][None])
-                found[task] = np.minimum(found[task], np.where(ready, moment, np.inf))
-                state = np.where(ready, level + 1, state)
-        for task in _TASKS:
-            times[task][first : first + shape[0]] = found[task]
+        state = _SearchState(
+            streams, np.arange(first, min(first + batch, runs)), sc.model.search_time
+        )
+        for k, t in enumerate(edges.tolist()):
+            state.advance(t, p[k], in_view[k])
+        count = state.runs.shape[0]
+        for j, task in enumerate(_TASKS):
+            times[task][first : first + count] = state.first[j].reshape(count, n_s, n_g)
         if progress is not None:
-            progress(shape[0])
+            progress(count)
     fused = {task: times[task].min(axis=1) for task in _TASKS}
     return SimulationResult(
         times=times,

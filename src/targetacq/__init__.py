@@ -40,6 +40,7 @@ from targetacq.optics import (
 from targetacq.radiometry import band_exitance, spectral_exitance
 from targetacq.ranges import dri_ranges
 from targetacq.scene import SceneAcquisition, scene_acquisition
+from targetacq.simulation import Simulation
 from targetacq.transforms import (
     TRANSFORMS,
     c2nveo,
@@ -64,6 +65,7 @@ __all__ = [
     "Acquisition",
     "Criterion",
     "SceneAcquisition",
+    "Simulation",
     "acquisition_probabilities",
     "band_exitance",
     "c2nveo",

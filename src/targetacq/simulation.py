@@ -1,0 +1,548 @@
+"""The step API: acquisition driven one time step at a time by another simulation.
+
+:class:`Simulation` holds a compiled scenario (:func:`targetacq.core.compile_scenario`: sensors,
+targets, background, atmosphere and model, everything that does not depend on where things are)
+and the sampled state of every sensor-target pair. Each call of :meth:`Simulation.step` gets the
+positions of that moment from the caller, evaluates the array core once
+(:func:`targetacq.core.evaluate`) and advances the state::
+
+    sim = Simulation.from_scenario(scenario, seed=7)
+    out = sim.step(time, dt, sensor_positions, target_positions)
+    out.detection                  # (n_sensors, n_targets) P at `time`
+    out.detected                   # (n_sensors, n_targets) detected at some time so far
+    out.events                     # what happened within the step, with its times
+
+:meth:`Simulation.probabilities` is the pure part (no draws, no state): the per-pair and fused
+probabilities for positions, with NumPy or JAX arrays.
+
+Law. The random outcomes follow the field-of-view search model of :mod:`targetacq.search`, the
+one implementation shared with :func:`targetacq.search.simulate`:
+
+- a step ``step(time, dt, ...)`` covers the interval ``(time − dt, time]``, with the positions
+  given at ``time``; ``time − dt`` must be the previous step's time;
+- within it each probability is taken **linear in time** between its value at the previous step
+  and at this one, and the hazard ``P∞/t_s`` is integrated over the interval in closed form
+  (the detection time solves a quadratic), so coarse steps do not bias an approaching target;
+  recognition and identification happen at the first moment, at or after detection, at which
+  the capability draw of the viewing episode is below their (linear) probability;
+- a target that enters or leaves a sensor's field of view within a step is taken to be in view
+  for the half of the step next to the step time at which it is in view, with that time's
+  probabilities;
+- the first step after :meth:`Simulation.reset` (and after construction) only starts the clock:
+  it evaluates the probabilities at its time and starts the viewing episodes of the targets then
+  in view; nothing happens in it, whatever ``dt``;
+- a NaN position gives NaN probabilities for its pairs, and nothing happens for a pair in a step
+  with a NaN probability at either end; its episode goes on unchanged.
+
+Draws come from counter-based streams keyed by the seed and the sensor's and target's names, so
+a pair's outcomes do not depend on the order of the sensors or on which other sensors and
+targets are simulated; run ``r`` of :meth:`Simulation.reset` is run ``r`` of
+:func:`targetacq.search.simulate` with the same seed and steps.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+from pydantic import ValidationError
+
+from targetacq import _arrays, core
+from targetacq.core.evaluate import footprint_scr
+from targetacq.scenario import Scenario, ScenarioError, load_scenario
+from targetacq.search import _SearchState, _Streams, check_seed
+from targetacq.sensors import get_sensor_type
+
+__all__ = ["TASKS", "Event", "Events", "Simulation", "StepResult"]
+
+TASKS = ("detection", "recognition", "identification")
+"""The tasks, in the order of :attr:`Events.task` codes."""
+
+
+class Event(NamedTuple):
+    """One acquisition: ``sensor`` first did ``task`` on ``target`` at ``time`` [s]."""
+
+    sensor: str
+    target: str
+    task: str
+    time: float
+
+
+@dataclass(frozen=True)
+class Events:
+    """The events of one step, ordered by time (then sensor, target and task).
+
+    Arrays, so that a step with many events stays cheap; iterating gives :class:`Event` records.
+
+    Attributes
+    ----------
+    sensor, target : numpy.ndarray of int (k,)
+        Indices into :attr:`Simulation.sensors` and :attr:`Simulation.targets`.
+    task : numpy.ndarray of int (k,)
+        Indices into :data:`TASKS`.
+    time : numpy.ndarray of float (k,)
+        When it happened [s], within the step's interval.
+    sensor_names, target_names : tuple of str
+    """
+
+    sensor: np.ndarray
+    target: np.ndarray
+    task: np.ndarray
+    time: np.ndarray
+    sensor_names: tuple[str, ...]
+    target_names: tuple[str, ...]
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+    def __iter__(self) -> Iterator[Event]:
+        for s, g, k, t in zip(
+            self.sensor.tolist(),
+            self.target.tolist(),
+            self.task.tolist(),
+            self.time.tolist(),
+            strict=True,
+        ):
+            yield Event(self.sensor_names[s], self.target_names[g], TASKS[k], t)
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """What one :meth:`Simulation.step` gives.
+
+    Attributes
+    ----------
+    time : float
+        The step's time [s].
+    detection, recognition, identification : numpy.ndarray (n_sensors, n_targets)
+        Probabilities at ``time`` (zero outside the field of view, NaN for a NaN position).
+    fused_detection, fused_recognition, fused_identification : numpy.ndarray (n_targets,)
+        Their sensor-level fusion (8.4).
+    in_view : numpy.ndarray of bool (n_sensors, n_targets)
+        Whether each target is in each sensor's field of view at ``time``.
+    detected, recognised, identified : numpy.ndarray of bool (n_sensors, n_targets)
+        Whether the sensor has detected (recognised, identified) the target at some time since
+        the last reset.
+    fused_detected, fused_recognised, fused_identified : numpy.ndarray of bool (n_targets,)
+        The same by any sensor.
+    events : Events
+        What happened within this step, with its times.
+    """
+
+    time: float
+    detection: np.ndarray
+    recognition: np.ndarray
+    identification: np.ndarray
+    fused_detection: np.ndarray
+    fused_recognition: np.ndarray
+    fused_identification: np.ndarray
+    in_view: np.ndarray
+    detected: np.ndarray
+    recognised: np.ndarray
+    identified: np.ndarray
+    fused_detected: np.ndarray
+    fused_recognised: np.ndarray
+    fused_identified: np.ndarray
+    events: Events
+
+
+def _record(item: Any) -> Any:
+    """A sensor or target record or mapping; a mapping without a place stands at the origin
+    (the step gives the positions)."""
+    if isinstance(item, Mapping) and item.get("position") is None and not item.get("waypoints"):
+        return {**item, "position": (0.0, 0.0, 0.0)}
+    return item
+
+
+def _located(error: ValidationError) -> str:
+    detail = error.errors()[0]
+    where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in detail["loc"])
+    return f"{where.lstrip('.') or 'scenario'}: {detail['msg'].removeprefix('Value error, ')}"
+
+
+class Simulation:
+    """Acquisition by sensors of targets, stepped in time by the caller.
+
+    Parameters
+    ----------
+    sensors : sequence of targetacq.scenario.Sensor or mapping
+        The sensors (type, band, resolution, field of view, pointing). Positions are given per
+        step; a mapping may leave out ``position``.
+    targets : sequence of targetacq.scenario.Target or mapping
+        The targets (box, heading, signature, criterion); positions likewise optional.
+    background : targetacq.scenario.Background or mapping, optional
+    atmosphere : targetacq.scenario.Atmosphere or mapping, optional
+    model : targetacq.scenario.ModelChoices or mapping, optional
+        Criterion, transform, noise model and the search time ``search_time`` [s].
+    seed : int
+        Seed of the random outcomes, >= 0.
+
+    Attributes
+    ----------
+    sensors, targets : tuple of str
+        Names, in the order of the arrays' axes.
+    scenario : targetacq.scenario.Scenario
+    compiled : targetacq.core.CompiledScenario
+    seed : int
+    time : float or None
+        The last step's time [s] (None before the first step).
+
+    Raises
+    ------
+    ValueError
+        An unknown sensor type, or records that do not make a valid scenario (the message
+        says where).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from targetacq import Simulation
+    >>> from targetacq.scenario import Background, Sensor, Target
+    >>> sim = Simulation(
+    ...     [Sensor(name="ir", band="lwir", ifov=0.25e-3, position=(0.0, 0.0, 5.0))],
+    ...     [Target(name="truck", dimensions=(7.0, 2.5, 3.0), temperature=305.0,
+    ...             position=(0.0, 0.0, 0.0))],
+    ...     background=Background(temperature=295.0),
+    ...     seed=7,
+    ... )
+    >>> out = sim.step(0.0, 0.1, np.array([[0.0, 0.0, 5.0]]), np.array([[2000.0, 0.0, 0.0]]))
+    >>> out.detection.shape, bool(out.detected[0, 0])
+    ((1, 1), False)
+    """
+
+    def __init__(
+        self,
+        sensors: Sequence[Any],
+        targets: Sequence[Any],
+        background: Any = None,
+        atmosphere: Any = None,
+        model: Any = None,
+        seed: int = 0,
+    ) -> None:
+        sensors = [_record(s) for s in sensors]
+        targets = [_record(t) for t in targets]
+        for k, sensor in enumerate(sensors):
+            kind = sensor.get("type", "thermal") if isinstance(sensor, Mapping) else sensor.type
+            try:
+                get_sensor_type(kind)
+            except ValueError as error:
+                raise ScenarioError(f"sensors[{k}].type: {error}") from None
+        data: dict[str, Any] = {"sensors": sensors, "targets": targets}
+        for name, value in (("background", background), ("atmosphere", atmosphere)):
+            if value is not None:
+                data[name] = value
+        if model is not None:
+            data["model"] = model
+        try:
+            scenario = Scenario.model_validate(data)
+        except ValidationError as error:
+            raise ScenarioError(f"Simulation: {_located(error)}") from None
+        self._setup(scenario, seed)
+
+    @classmethod
+    def from_scenario(cls, scenario: Scenario | str | Path, seed: int = 0) -> Simulation:
+        """A simulation of a scenario's sensors, targets, background, atmosphere and model.
+
+        Parameters
+        ----------
+        scenario : targetacq.scenario.Scenario or path
+            A validated scenario, or a scenario file (:func:`targetacq.scenario.load_scenario`).
+            Its positions, waypoints and time grid are not used: the steps give the positions
+            (:func:`targetacq.core.scenario_positions` turns its scripted paths into them).
+        seed : int
+            >= 0.
+
+        Returns
+        -------
+        Simulation
+        """
+        if not isinstance(scenario, Scenario):
+            scenario = load_scenario(scenario)
+        sim = cls.__new__(cls)
+        sim._setup(scenario, seed)
+        return sim
+
+    def _setup(self, scenario: Scenario, seed: int) -> None:
+        self.scenario = scenario
+        self.compiled = core.compile_scenario(scenario)
+        scene = self.compiled.scene
+        self._scene = scene
+        self._terrain = self.compiled.terrain
+        self._jax_scene: Any = None
+        self._signal = np.asarray(scene.signature.target)
+        self._ifov = np.asarray(scene.sensors.ifov)
+        self.sensors: tuple[str, ...] = tuple(scene.sensors.names)
+        self.targets: tuple[str, ...] = tuple(scene.targets.names)
+        self._shape = (len(self.sensors), len(self.targets))
+        self._streams = _Streams(check_seed(seed), self.sensors, self.targets)
+        none = np.empty(0, dtype=np.int64)
+        self._empty = Events(none, none, none, np.empty(0), self.sensors, self.targets)
+        self.reset()
+
+    @property
+    def seed(self) -> int:
+        """The seed of the random outcomes."""
+        return self._streams.seed
+
+    @property
+    def time(self) -> float | None:
+        """The last step's time [s], or None before the first step."""
+        return None if self._state.p is None else self._state.time
+
+    def reset(self, seed: int | None = None, run: int = 0) -> None:
+        """Start again: forget the state, and the next step is a first step.
+
+        Parameters
+        ----------
+        seed : int, optional
+            A new seed (>= 0); default: keep the current one.
+        run : int
+            Which run of the seed's counter-based streams, >= 0 (run ``r`` equals run ``r`` of
+            :func:`targetacq.search.simulate`).
+        """
+        if seed is not None and check_seed(seed) != self._streams.seed:
+            self._streams = _Streams(seed, self.sensors, self.targets)
+        if not isinstance(run, (int, np.integer)) or isinstance(run, bool) or not 0 <= run < 2**32:
+            raise ValueError(f"run must be an integer in [0, 2**32), got {run!r}")
+        self._state = _SearchState(self._streams, np.array([run]), self._scene.choices.search_time)
+
+    # -- the pure part -------------------------------------------------------------------------
+
+    def _inputs(
+        self, sensor_positions: Any, target_positions: Any, headings: Any, pointing: Any
+    ) -> tuple[Any, Any, Any, Any]:
+        """Check the shapes (on ``.shape`` only, so traced arrays pass) and make arrays."""
+        given = (sensor_positions, target_positions, headings, pointing)
+        _, arrays = _arrays.arrays(*(v for v in given if v is not None))
+        values = iter(arrays)
+        s_pos, t_pos, head, point = (None if v is None else next(values) for v in given)
+        n_s, n_g = self._shape
+        for name, value, shape, what in (
+            ("sensor_positions", s_pos, (n_s, 3), "(n_sensors, 3): east, north, up [m]"),
+            ("target_positions", t_pos, (n_g, 3), "(n_targets, 3): east, north, up [m]"),
+            ("target_headings", head, (n_g,), "(n_targets,) [rad]"),
+            ("sensor_pointing", point, (n_s, 2), "(n_sensors, 2): azimuth, depression [rad]"),
+        ):
+            if value is None or tuple(value.shape) == shape:
+                continue
+            got = tuple(value.shape)
+            if len(shape) == 2 and len(got) >= 1 and got[-1] != shape[1]:
+                raise ValueError(
+                    f"{name}: the last dimension must be {shape[1]}, got shape {got}; "
+                    f"expected {shape} = {what}"
+                )
+            raise ValueError(f"{name} must have shape {shape} = {what}, got {got}")
+        return s_pos, t_pos, head, point
+
+    def _evaluate(self, s_pos: Any, t_pos: Any, head: Any, point: Any) -> tuple[Any, Any]:
+        if self._terrain is None:
+            if isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray):
+                scene = self._scene
+            else:  # JAX arrays (or tracers): the scene's arrays in JAX too, made once
+                if self._jax_scene is None:
+                    from targetacq.core import records
+
+                    self._jax_scene = records.as_jax(self._scene)
+                scene = self._jax_scene
+            return core.evaluate(scene, s_pos, t_pos, head, point)
+        if not isinstance(t_pos, np.ndarray):
+            raise ValueError(
+                "a scenario with a terrain map (background.terrain) is evaluated with NumPy "
+                "arrays only: its clutter is looked up in the map per position on the host"
+            )
+        found = core.factors(self._scene, s_pos, t_pos, head, point)
+        scr = footprint_scr(self._terrain, found.range, t_pos, self._signal, self._ifov)
+        found = dataclasses.replace(found, scr=scr)
+        return found, core.probabilities(self._scene, found)
+
+    def probabilities(
+        self,
+        time: Any,
+        sensor_positions: Any,
+        target_positions: Any,
+        target_headings: Any = None,
+        sensor_pointing: Any = None,
+    ) -> core.Probabilities:
+        """The probabilities of every pair at positions: pure (no draws, no change of state).
+
+        Only the array core runs on the inputs (:func:`targetacq.core.evaluate`), so NumPy
+        arrays give NumPy and JAX arrays give JAX, under ``jax.jit`` too: with JAX positions
+        the core gets the scene in JAX arrays (:func:`targetacq.core.records.as_jax`, made
+        once). A scenario with a terrain map needs NumPy arrays.
+
+        Parameters
+        ----------
+        time : float
+            [s]. The compiled signatures do not change with time; it is checked (finite) and
+            names the moment.
+        sensor_positions : array (n_sensors, 3)
+            East, north, up [m].
+        target_positions : array (n_targets, 3)
+            [m]; a NaN row gives NaN probabilities for that target.
+        target_headings : array (n_targets,), optional
+            Direction of each target's long axis [rad]; default the targets' own heading.
+        sensor_pointing : array (n_sensors, 2), optional
+            Azimuth (from north, clockwise) and depression [rad]; default the scenario's own
+            pointing (look_at, azimuth and depression, or none); a NaN row keeps that sensor's
+            own pointing.
+
+        Returns
+        -------
+        targetacq.core.Probabilities
+            ``detection``, ``recognition``, ``identification`` (n_sensors, n_targets) and
+            ``fused_detection``, ``fused_recognition``, ``fused_identification`` (n_targets,).
+
+        Raises
+        ------
+        ValueError
+            A non-finite time, or arrays of the wrong shape.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from targetacq import Simulation
+        >>> from targetacq.scenario import Background, Sensor, Target
+        >>> sim = Simulation(
+        ...     [Sensor(name="ir", band="lwir", ifov=0.25e-3, position=(0.0, 0.0, 5.0))],
+        ...     [Target(name="truck", dimensions=(7.0, 2.5, 3.0), temperature=305.0,
+        ...             position=(0.0, 0.0, 0.0))],
+        ...     background=Background(temperature=295.0),
+        ... )
+        >>> p = sim.probabilities(0.0, np.zeros((1, 3)), np.array([[1500.0, 0.0, 0.0]]))
+        >>> bool(p.detection[0, 0] >= p.recognition[0, 0] >= p.identification[0, 0])
+        True
+        """
+        if not _arrays.is_traced(time):
+            self._check_time(time)
+        inputs = self._inputs(sensor_positions, target_positions, target_headings, sensor_pointing)
+        return self._evaluate(*inputs)[1]
+
+    @staticmethod
+    def _check_time(time: Any) -> float:
+        try:
+            value = float(time)
+        except (TypeError, ValueError):
+            raise ValueError(f"time must be a finite number of seconds, got {time!r}") from None
+        if not math.isfinite(value):
+            raise ValueError(f"time must be a finite number of seconds, got {time!r}")
+        return value
+
+    # -- the step ------------------------------------------------------------------------------
+
+    def step(
+        self,
+        time: float,
+        dt: float,
+        sensor_positions: Any,
+        target_positions: Any,
+        target_headings: Any = None,
+        sensor_pointing: Any = None,
+    ) -> StepResult:
+        """Advance over ``(time − dt, time]`` with the positions at ``time``.
+
+        See the module docstring for the law. Host-side (NumPy): JAX inputs are evaluated by
+        the core and brought to the host for the draws.
+
+        Parameters
+        ----------
+        time : float
+            [s], not before the previous step's time.
+        dt : float
+            [s], >= 0; ``time − dt`` must be the previous step's time (any value on the first
+            step after a reset, which only starts the clock).
+        sensor_positions, target_positions, target_headings, sensor_pointing
+            As for :meth:`probabilities`.
+
+        Returns
+        -------
+        StepResult
+
+        Raises
+        ------
+        ValueError
+            A non-finite time, a negative or non-finite ``dt``, a step back in time or one that
+            does not start at the previous step, or arrays of the wrong shape.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from targetacq import Simulation
+        >>> from targetacq.scenario import Background, Sensor, Target
+        >>> sim = Simulation(
+        ...     [Sensor(name="ir", band="lwir", ifov=0.25e-3, position=(0.0, 0.0, 5.0))],
+        ...     [Target(name="truck", dimensions=(7.0, 2.5, 3.0), temperature=305.0,
+        ...             position=(0.0, 0.0, 0.0))],
+        ...     background=Background(temperature=295.0),
+        ...     seed=3,
+        ... )
+        >>> sensor, truck = np.array([[0.0, 0.0, 5.0]]), np.array([[800.0, 0.0, 0.0]])
+        >>> for k in range(601):  # one minute at 10 Hz
+        ...     out = sim.step(0.1 * k, 0.1, sensor, truck)
+        >>> bool(out.fused_detected[0])
+        True
+        """
+        t = self._check_time(time)
+        if not (isinstance(dt, (int, float, np.integer, np.floating)) and dt >= 0):
+            raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
+        if not math.isfinite(dt):
+            raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
+        state = self._state
+        if state.p is not None:
+            if t < state.time:
+                raise ValueError(
+                    f"time must not go back: the previous step was at {state.time!r} s, got "
+                    f"{t!r} s (reset() to start again)"
+                )
+            if abs((t - dt) - state.time) > 1e-9 * max(1.0, abs(t), abs(dt)):
+                raise ValueError(
+                    f"dt must be the time since the previous step ({t - state.time!r} s: "
+                    f"{state.time!r} s to {t!r} s), got {dt!r} s"
+                )
+        inputs = self._inputs(sensor_positions, target_positions, target_headings, sensor_pointing)
+        found, probs = self._evaluate(*inputs)
+        per_pair = [np.asarray(getattr(probs, task), dtype=float) for task in TASKS]
+        in_view = np.asarray(found.in_view, dtype=bool)
+        p = np.stack(per_pair).reshape(3, -1)
+        interval = state.advance(t, p, np.broadcast_to(in_view, self._shape).reshape(-1))
+        done = np.isfinite(state.first[:, 0]).reshape(3, *self._shape)
+        return StepResult(
+            time=t,
+            detection=per_pair[0],
+            recognition=per_pair[1],
+            identification=per_pair[2],
+            fused_detection=np.asarray(probs.fused_detection),
+            fused_recognition=np.asarray(probs.fused_recognition),
+            fused_identification=np.asarray(probs.fused_identification),
+            in_view=np.broadcast_to(in_view, self._shape).copy(),
+            detected=done[0],
+            recognised=done[1],
+            identified=done[2],
+            fused_detected=done[0].any(axis=0),
+            fused_recognised=done[1].any(axis=0),
+            fused_identified=done[2].any(axis=0),
+            events=self._events(interval),
+        )
+
+    def _events(self, interval: Any) -> Events:
+        if interval is None:
+            return self._empty
+        times = interval.times[:, 0]  # (3, m): the one run
+        task, column = np.nonzero(np.isfinite(times))
+        if task.size == 0:
+            return self._empty
+        at = times[task, column]
+        sensor, target = np.divmod(interval.pairs[column], self._shape[1])
+        order = np.lexsort((task, target, sensor, at))
+        return Events(
+            sensor=sensor[order],
+            target=target[order],
+            task=task[order],
+            time=at[order],
+            sensor_names=self.sensors,
+            target_names=self.targets,
+        )

@@ -9,18 +9,29 @@ from hypothesis import strategies as st
 
 import targetacq as ta
 from targetacq import radiometry
+from targetacq.scene import scene_signature
 
 
 def test_scene_equals_the_chain_of_lower_level_functions():
     r = np.array([500.0, 2000.0, 5000.0])
     d, ifov, gamma = 2.3, 2.27e-4, 0.3e-3
     got = ta.scene_acquisition(
-        r, d, ifov, "lwir", 305.0, 295.0, target_emissivity=0.9, clutter_std=2.0, extinction=gamma
+        r,
+        d,
+        ifov,
+        "lwir",
+        305.0,
+        295.0,
+        target_emissivity=0.9,
+        background_emissivity=0.8,
+        clutter_std=2.0,
+        extinction=gamma,
     )
     n = ta.cycles_on_target(d, r, ifov)
     m_t = 0.9 * ta.band_exitance(305.0, "lwir")
-    m_b = ta.band_exitance(295.0, "lwir")
-    scr = ta.signal_to_clutter_ratio(m_t, m_b, 2.0)
+    m_b = 0.8 * ta.band_exitance(295.0, "lwir")
+    clutter = 0.8 * radiometry.band_exitance_derivative(295.0, "lwir") * 2.0  # ε_b dM/dT σ_T
+    scr = ta.signal_to_clutter_ratio(m_t, m_b, clutter)
     snr = ta.snr_from_transmittance(ta.transmittance(gamma, r))
     acq = ta.acquisition_probabilities(n, scr=scr, snr=snr)
     np.testing.assert_allclose(got.cycles, n)
@@ -29,6 +40,38 @@ def test_scene_equals_the_chain_of_lower_level_functions():
     np.testing.assert_allclose(got.snr, snr)
     for task in ("detection", "recognition", "identification", "effect"):
         np.testing.assert_allclose(getattr(got, task), getattr(acq, task))
+
+
+def test_clutter_std_is_a_temperature_spread_in_kelvin():
+    # The exitance spread of a ±σ_T spread of the background temperature, by a central difference
+    # of the band exitance (independent of band_exitance_derivative): ε_b · ΔM/ΔT · σ_T.
+    eps_b, t_b, sigma_t, h = 0.85, 290.0, 1.5, 1e-3
+    slope = (ta.band_exitance(t_b + h, "mwir") - ta.band_exitance(t_b - h, "mwir")) / (2 * h)
+    contrast = abs(ta.band_exitance(300.0, "mwir") - eps_b * ta.band_exitance(t_b, "mwir"))
+    scene = (1000.0, 2.3, 2e-4, "mwir", 300.0, t_b)
+    got = ta.scene_acquisition(*scene, background_emissivity=eps_b, clutter_std=sigma_t)
+    assert got.scr == pytest.approx(contrast / (eps_b * slope * sigma_t), rel=1e-6)
+    # The same clutter given in W/m² gives the same SCR.
+    same = ta.scene_acquisition(
+        *scene, background_emissivity=eps_b, clutter_exitance_std=eps_b * slope * sigma_t
+    )
+    assert same.scr == pytest.approx(got.scr, rel=1e-6)
+
+
+def test_scene_signature_by_hand():
+    seen = scene_signature(
+        "lwir", 305.0, 295.0, target_emissivity=0.9, background_emissivity=0.95, clutter_std=2.0
+    )
+    m_t = 0.9 * ta.band_exitance(305.0, "lwir")
+    m_b = 0.95 * ta.band_exitance(295.0, "lwir")
+    clutter = 0.95 * radiometry.band_exitance_derivative(295.0, "lwir") * 2.0
+    assert seen.target == pytest.approx(m_t, rel=1e-15)
+    assert seen.background == pytest.approx(m_b, rel=1e-15)
+    assert seen.contrast == pytest.approx(abs(m_t - m_b), rel=1e-15)
+    assert seen.clutter == pytest.approx(clutter, rel=1e-15)
+    assert seen.scr == pytest.approx(abs(m_t - m_b) / clutter, rel=1e-15)
+    plain = scene_signature("lwir", 305.0, 295.0)
+    assert plain.clutter is None and plain.scr is None
 
 
 def test_no_atmosphere_no_clutter_is_exactly_the_core_model():
@@ -99,7 +142,7 @@ def test_visible_band_uses_reflected_light():
         0.0,
         target_exitance=radiometry.reflected_exitance(0.75, e_sun),
         background_exitance=radiometry.reflected_exitance(0.1, e_sun),
-        clutter_std=20.0,
+        clutter_exitance_std=20.0,
     )
     assert got.contrast == pytest.approx(0.65 * e_sun)
     assert got.scr == pytest.approx(0.65 * e_sun / 20.0)
@@ -120,7 +163,11 @@ def test_contrast_below_quantisation_is_invisible():
         ({"target_emissivity": 2.0}, r"target_emissivity must be in \[0, 1\]"),
         ({"extinction": -1e-3}, "extinction must be >= 0"),
         ({"scr": 3.0, "clutter_std": 1.0}, "at most one of"),
-        ({"clutter_std": -1.0}, "clutter must be >= 0"),
+        ({"clutter_std": 1.0, "clutter_exitance_std": 1.0}, "at most one of"),
+        ({"clutter_std": -1.0}, r"clutter_std must be >= 0 K"),
+        ({"clutter_exitance_std": -1.0}, "clutter_exitance_std must be >= 0"),
+        ({"foliage": 1.5}, r"foliage must be in \[0, 1\]"),
+        ({"background_exitance": 10.0, "clutter_std": 1.0}, "give clutter_exitance_std"),
     ],
 )
 def test_bad_scene_input(kwargs, match):

@@ -1,14 +1,18 @@
 """From physics to probabilities in one broadcasting call.
 
-:func:`scene_acquisition` chains the topic modules: geometry and optics give the cycles on
-target (Sonesson 2004 ch. 3, 5), radiometry the target and background signals and their
-contrast (ch. 6), the clutter the SCR (§3.7, (6.9)), the atmosphere the transmittance and SNR
-(ch. 7), and the transforms with the noise model the three probabilities (ch. 3, MODEL.md §6).
-It adds no physics of its own.
+:func:`scene_acquisition` chains the topic modules: radiometry gives the target and background
+signals and their contrast (ch. 6), the clutter the SCR (§3.7, (6.9)) — both in
+:func:`scene_signature` — and the range case of :mod:`targetacq.core.cases` the rest: geometry
+and optics the cycles on target (ch. 3, 5), the atmosphere the transmittance and SNR (ch. 7),
+and the transforms with the noise model the three probabilities (ch. 3, MODEL.md §6). It adds
+no physics of its own.
 
 Atmosphere and SCR: target and background are attenuated alike along the same path, and the
 1/R² and cos⁴ factors of (6.18) are the same for neighbouring cells, so the SCR is the ratio of
 exitances at the scene. The atmosphere enters through the SNR of Eq. (7.7).
+
+Clutter is given as the background's temperature spread in kelvin (``clutter_std``), as in
+scenarios and the CLI, or as an exitance spread in W/m² (``clutter_exitance_std``).
 """
 
 from __future__ import annotations
@@ -16,12 +20,127 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from targetacq import _arrays, atmosphere, clutter, optics, radiometry
-from targetacq.acquisition import Acquisition, acquisition_probabilities
+from targetacq import _arrays, clutter, radiometry
+from targetacq.acquisition import Acquisition
+from targetacq.core.cases import RangeCase, case_acquisition
 
 _TASKS = ("detection", "recognition", "identification")
 
-__all__ = ["SceneAcquisition", "scene_acquisition"]
+__all__ = ["SceneAcquisition", "SceneSignature", "scene_acquisition", "scene_signature"]
+
+
+@dataclass(frozen=True)
+class SceneSignature:
+    """Target and background signals at the scene, their contrast and the clutter.
+
+    Attributes
+    ----------
+    target, background : array_like
+        Exitances at the scene [W/m²].
+    contrast : array_like
+        |target − background| [W/m²].
+    clutter : array_like or None
+        Standard deviation of the background exitance [W/m²]; None where none was given.
+    scr : array_like or None
+        Signal-to-clutter ratio [1], Eq. (6.9); None where no clutter was given.
+    """
+
+    target: Any
+    background: Any
+    contrast: Any
+    clutter: Any
+    scr: Any
+
+
+def scene_signature(
+    band: Any,
+    target_temperature: Any,
+    background_temperature: Any,
+    *,
+    target_emissivity: Any = 1.0,
+    background_emissivity: Any = 1.0,
+    target_exitance: Any = None,
+    background_exitance: Any = None,
+    clutter_std: Any = None,
+    clutter_exitance_std: Any = None,
+) -> SceneSignature:
+    """Signals of a target and its background in a band, their contrast, clutter and SCR.
+
+    Grey-body band exitances ``ε · M_band(T)``, Eqs. (6.4) and (6.12) in Sonesson (2004)
+    (:func:`targetacq.radiometry.grey_body_exitance`); the clutter of a background temperature
+    spread σ_T is ``ε_b · dM/dT · σ_T`` (:func:`targetacq.clutter.temperature_spread_clutter`),
+    and ``SCR = |M_t − M_b| / clutter``, Eq. (6.9)
+    (:func:`targetacq.clutter.signal_to_clutter_ratio`). All array inputs broadcast together.
+
+    Parameters
+    ----------
+    band : (float, float) or str
+        Sensor band (λ1, λ2) [m] or a name ("mwir", "lwir", "visible").
+    target_temperature, background_temperature : array_like
+        [K], >= 0.
+    target_emissivity, background_emissivity : array_like
+        In [0, 1]; default blackbodies.
+    target_exitance, background_exitance : array_like, optional
+        [W/m²], >= 0; given, they replace ``ε · M_band(T)`` (e.g. reflected sunlight ``r·E`` in
+        the visible band, :func:`targetacq.radiometry.reflected_exitance`).
+    clutter_std : array_like, optional
+        The background's temperature spread σ_T [K], >= 0 (not with ``background_exitance``).
+    clutter_exitance_std : array_like, optional
+        The clutter as the standard deviation of the background exitance [W/m²], >= 0, instead
+        of ``clutter_std``.
+
+    Returns
+    -------
+    SceneSignature
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import band_exitance, band_exitance_derivative
+    >>> seen = scene_signature("lwir", 305.0, 295.0, clutter_std=2.0)
+    >>> contrast = band_exitance(305.0, "lwir") - band_exitance(295.0, "lwir")
+    >>> bool(abs(seen.scr - contrast / (band_exitance_derivative(295.0, "lwir") * 2.0)) < 1e-12)
+    True
+    """
+    if clutter_std is not None and clutter_exitance_std is not None:
+        raise ValueError("give one of clutter_std [K] and clutter_exitance_std [W/m²]")
+    if target_exitance is None:
+        target_exitance = _emitted("target", target_emissivity, target_temperature, band)
+    if background_exitance is None:
+        background_exitance = _emitted(
+            "background", background_emissivity, background_temperature, band
+        )
+    elif clutter_std is not None:
+        raise ValueError(
+            "clutter_std is a temperature spread [K] of the emitting background; with "
+            "background_exitance give clutter_exitance_std [W/m²]"
+        )
+    xp, (m_t, m_b) = _arrays.arrays(target_exitance, background_exitance)
+    _arrays.require_nonnegative("target_exitance", m_t, xp, "W/m²")
+    _arrays.require_nonnegative("background_exitance", m_b, xp, "W/m²")
+    spread = None
+    if clutter_std is not None:
+        _arrays.require_nonnegative("clutter_std", _arrays.as_float(clutter_std, xp), xp, "K")
+        spread = clutter.temperature_spread_clutter(
+            background_emissivity, background_temperature, clutter_std, band
+        )
+    elif clutter_exitance_std is not None:
+        spread = clutter_exitance_std
+        _arrays.require_nonnegative(
+            "clutter_exitance_std", _arrays.as_float(spread, xp), xp, "W/m²"
+        )
+    return SceneSignature(
+        target=target_exitance,
+        background=background_exitance,
+        contrast=_arrays.result(xp.abs(m_t - m_b)),
+        clutter=spread,
+        scr=None if spread is None else clutter.signal_to_clutter_ratio(m_t, m_b, spread),
+    )
+
+
+def _emitted(name: str, emissivity: Any, temperature: Any, band: Any) -> Any:
+    xp, (eps,) = _arrays.arrays(emissivity)
+    _arrays.require_unit_interval(f"{name}_emissivity", eps, xp)
+    return radiometry.grey_body_exitance(eps, temperature, band)
 
 
 @dataclass(frozen=True)
@@ -65,6 +184,7 @@ def scene_acquisition(
     target_exitance: Any = None,
     background_exitance: Any = None,
     clutter_std: Any = None,
+    clutter_exitance_std: Any = None,
     scr: Any = None,
     clutter_region: str | None = None,
     extinction: Any = 0.0,
@@ -82,7 +202,8 @@ def scene_acquisition(
 ) -> SceneAcquisition:
     """Probabilities of detection, recognition and identification from the physical scene.
 
-    All array inputs broadcast together.
+    The signature of :func:`scene_signature` and the range case of
+    :func:`targetacq.core.cases.case_acquisition`. All array inputs broadcast together.
 
     Parameters
     ----------
@@ -92,19 +213,18 @@ def scene_acquisition(
         Critical dimension of the target as seen [m], > 0.
     ifov : array_like
         Pixel IFOV [rad], > 0.
-    band : (float, float) or str
-        Sensor band (λ1, λ2) [m] or a name ("mwir", "lwir", "visible").
-    target_temperature, background_temperature : array_like
-        [K], >= 0.
-    target_emissivity, background_emissivity : array_like
-        In [0, 1]; default blackbodies.
-    target_exitance, background_exitance : array_like, optional
-        [W/m²]; given, they replace ``ε · band_exitance(T)`` (e.g. reflected sunlight ``r·E`` in
-        the visible band, :func:`targetacq.radiometry.reflected_exitance`).
+    band, target_temperature, background_temperature : as in :func:`scene_signature`
+        Band limits [m] or name; temperatures [K].
+    target_emissivity, background_emissivity, target_exitance, background_exitance
+        As in :func:`scene_signature`: emissivities in [0, 1], or the exitances [W/m²].
     clutter_std : array_like, optional
-        Clutter as the standard deviation of the background exitance [W/m²], >= 0.
+        The background's temperature spread σ_T [K], >= 0, as in scenarios and the CLI; the
+        clutter is ``ε_b · dM/dT · σ_T`` in the band
+        (:func:`targetacq.clutter.temperature_spread_clutter`).
+    clutter_exitance_std : array_like, optional
+        The clutter as an exitance spread [W/m²], >= 0 (e.g. with ``background_exitance``).
     scr : array_like, optional
-        The SCR directly, instead of ``clutter_std``.
+        The SCR directly, instead of a clutter.
     clutter_region : {"low", "medium", "high"}, optional
         The Table 3.5 region, when only that is known.
     extinction : array_like
@@ -128,52 +248,50 @@ def scene_acquisition(
     Returns
     -------
     SceneAcquisition
+
+    Examples
+    --------
+    >>> res = scene_acquisition(1150.0, 2.3, 2e-4, "lwir", 305.0, 295.0, clutter_std=2.0)
+    >>> round(float(res.cycles), 12), bool(res.scr > 1), float(res.transmittance)
+    (5.0, True, 1.0)
     """
-    given = [v is not None for v in (clutter_std, scr, clutter_region)]
+    given = [v is not None for v in (clutter_std, clutter_exitance_std, scr, clutter_region)]
     if sum(given) > 1:
-        raise ValueError("give at most one of clutter_std, scr and clutter_region")
-    n = optics.cycles_on_target(
+        raise ValueError(
+            "give at most one of clutter_std, clutter_exitance_std, scr and clutter_region"
+        )
+    seen = scene_signature(
+        band,
+        target_temperature,
+        background_temperature,
+        target_emissivity=target_emissivity,
+        background_emissivity=background_emissivity,
+        target_exitance=target_exitance,
+        background_exitance=background_exitance,
+        clutter_std=clutter_std,
+        clutter_exitance_std=clutter_exitance_std,
+    )
+    scr_value = seen.scr if seen.scr is not None else scr
+    case = RangeCase(
         critical_dimension,
-        range,
         ifov,
         wavelength=wavelength,
         aperture=aperture,
         blur_sigma=blur_sigma,
-    )
-    if target_exitance is None:
-        target_exitance = _emitted(target_emissivity, target_temperature, band, "target")
-    if background_exitance is None:
-        background_exitance = _emitted(
-            background_emissivity, background_temperature, band, "background"
-        )
-    xp, (m_t, m_b, n) = _arrays.arrays(target_exitance, background_exitance, n)
-    _arrays.require_nonnegative("target_exitance", m_t, xp, "W/m²")
-    _arrays.require_nonnegative("background_exitance", m_b, xp, "W/m²")
-    contrast = xp.abs(m_t - m_b)
-    if clutter_std is not None:
-        scr_value = clutter.signal_to_clutter_ratio(m_t, m_b, clutter_std)
-    elif scr is not None:
-        scr_value = scr
-    else:
-        scr_value = None
-    xp_f, (tau_f,) = _arrays.arrays(foliage)
-    _arrays.require_unit_interval("foliage", tau_f, xp_f)
-    tau = atmosphere.transmittance(extinction, range) * tau_f
-    snr = atmosphere.snr_from_transmittance(tau)
-    acq = acquisition_probabilities(
-        n,
-        criterion,
-        transform,
+        criterion=criterion,
+        transform=transform,
+        options=options,
+        extinction=extinction,
+        foliage=foliage,
         scr=scr_value,
         region=clutter_region,
         hot_spot=hot_spot,
         moving=moving,
-        snr=snr,
         noise_model=noise_model,
-        **options,
     )
+    found = case_acquisition(case, range)
     xp, (det, rec, ide, contrast) = _arrays.arrays(
-        acq.detection, acq.recognition, acq.identification, contrast
+        found.detection, found.recognition, found.identification, seen.contrast
     )
     if quantisation_step is not None:
         step = _arrays.as_float(quantisation_step, xp)
@@ -182,16 +300,15 @@ def scene_acquisition(
         det, rec, ide = (xp.where(invisible, 0.0 * p, p) for p in (det, rec, ide))
     scr_out = xp.full_like(contrast, xp.inf) if scr_value is None else scr_value
     arrays = xp.broadcast_arrays(
-        n, contrast, _arrays.as_float(scr_out, xp), *_arrays.arrays(tau, snr)[1], det, rec, ide
+        *_arrays.arrays(found.cycles)[1],
+        contrast,
+        _arrays.as_float(scr_out, xp),
+        *_arrays.arrays(found.transmittance, found.snr)[1],
+        det,
+        rec,
+        ide,
     )
     names = ("cycles", "contrast", "scr", "transmittance", "snr", *_TASKS)
     return SceneAcquisition(
         **{name: _arrays.result(a) for name, a in zip(names, arrays, strict=True)}
     )
-
-
-def _emitted(emissivity: Any, temperature: Any, band: Any, name: str) -> Any:
-    """ε · M_band(T): the exitance of a grey body at the scene, Eqs. (6.4) and (6.12)."""
-    xp, (eps,) = _arrays.arrays(emissivity)
-    _arrays.require_unit_interval(f"{name}_emissivity", eps, xp)
-    return eps * radiometry.band_exitance(temperature, band)

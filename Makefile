@@ -14,8 +14,9 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
+# Tests cover the optional backends too: JAX (the core under jit/grad) and Gymnasium.
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[test,jax,rl]'
 	touch $@
 
 run: $(VENV)/.installed

@@ -21,7 +21,8 @@ batch before anything is computed.
 
 Validation policy under tracing. A check needs the values on the host, which a function traced by
 ``jax.jit``, ``vmap`` or ``grad`` does not have. The checks below therefore run only on concrete
-arrays: called on a tracer they do nothing, and the kernel's NaN-masking carries a bad value
+arrays: called on a tracer, or under ``jax.jit`` (where even operations on constant arrays are
+staged, :func:`any_known`), they do nothing, and the kernel's NaN-masking carries a bad value
 through as NaN. The public entry points (scenario compilation, the step API, the CLI) check
 their inputs on the host before anything is traced, so the clear ``ValueError`` stays where a
 user meets it.
@@ -111,6 +112,16 @@ def is_traced(value: object) -> bool:
     return jax is not None and isinstance(value, jax.core.Tracer)
 
 
+def any_known(mask: Array, xp: Any) -> bool:
+    """Whether any element of a bool array is true, as far as the host can know.
+
+    False where the answer is traced: under ``jax.jit`` every operation is staged, so even a
+    mask of constant arrays is a tracer there (the validation policy, module docstring).
+    """
+    found = xp.any(mask)
+    return False if is_traced(found) else bool(found)
+
+
 def _describe(value: Array, xp: Any, mask: Array) -> str:
     bad = value[mask] if value.ndim else value
     first = float(xp.reshape(bad, (-1,))[0]) if value.ndim else float(value)
@@ -120,7 +131,7 @@ def _describe(value: Array, xp: Any, mask: Array) -> str:
 def _check_scalar_nan(name: str, value: Array, xp: Any, valid: str) -> None:
     if is_traced(value):
         return
-    if value.ndim == 0 and bool(xp.isnan(value)):
+    if value.ndim == 0 and any_known(xp.isnan(value), xp):
         raise ValueError(f"{name} must be {valid}, got NaN")
 
 
@@ -131,7 +142,7 @@ def require_positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
     if is_traced(value):
         return
     mask = value <= 0
-    if bool(xp.any(mask)):
+    if any_known(mask, xp):
         raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
 
 
@@ -142,7 +153,7 @@ def require_nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> Non
     if is_traced(value):
         return
     mask = value < 0
-    if bool(xp.any(mask)):
+    if any_known(mask, xp):
         raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
 
 
@@ -152,7 +163,7 @@ def require_unit_interval(name: str, value: Array, xp: Any) -> None:
     if is_traced(value):
         return
     mask = (value < 0) | (value > 1)
-    if bool(xp.any(mask)):
+    if any_known(mask, xp):
         raise ValueError(f"{name} must be in [0, 1], got {_describe(value, xp, mask)}")
 
 
@@ -162,7 +173,7 @@ def require_open_unit_interval(name: str, value: Array, xp: Any) -> None:
     if is_traced(value):
         return
     mask = (value <= 0) | (value >= 1)
-    if bool(xp.any(mask)):
+    if any_known(mask, xp):
         raise ValueError(
             f"{name} must be in the open interval (0, 1), got {_describe(value, xp, mask)}"
         )

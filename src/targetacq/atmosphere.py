@@ -395,7 +395,9 @@ def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
     bq = xp.sum(m * u, axis=-1)
     cq = xp.sum(m * m, axis=-1) - rad * rad
     disc = bq * bq - cq
-    root = xp.sqrt(xp.maximum(disc, 0.0))
+    # 1, not 0, under the root where the line misses the sphere (masked below): sqrt has an
+    # infinite slope at 0, which would make the gradient NaN there even though it is unused.
+    root = xp.sqrt(xp.where(disc > 0, disc, 1.0))
     t0 = xp.clip(-bq - root, 0.0, length)
     t1 = xp.clip(-bq + root, 0.0, length)
     chord = xp.where((disc > 0) & (length > 0), t1 - t0, 0.0 * length)
@@ -418,8 +420,8 @@ def segmented_optical_depth(
         R [m], >= 0.
     extinction : array_like
         γ outside the segments [Np/m], >= 0, broadcasting with ``range``.
-    segment_lengths : sequence of float
-        L_j [m], >= 0.
+    segment_lengths : sequence of float or 0-d arrays
+        L_j [m], >= 0 (0-d arrays, e.g. traced by JAX, stay arrays).
     segment_extinctions : sequence of array_like
         γ_j [Np/m], one per segment, each broadcasting with ``range``.
 
@@ -439,7 +441,7 @@ def segmented_optical_depth(
     for length, gamma in zip(segment_lengths, segment_extinctions, strict=True):
         inside = xp.clip(r - start, 0.0, length)
         depth = depth + (_arrays.as_float(gamma, xp) - g) * inside
-        start += float(length)
+        start = start + length
     return _arrays.result(depth)
 
 

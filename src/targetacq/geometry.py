@@ -366,11 +366,14 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
         [m].
     """
     xp, (x, y, z, fx, fy, fz) = _arrays.arrays(x, y, z, *forward)
-    norm = xp.sqrt(fx * fx + fy * fy + fz * fz)
-    norm = xp.where(norm > 0, norm, 1.0)
+    # Square roots of 1, not 0, where masked: sqrt's infinite slope at 0 would make gradients
+    # NaN there (e.g. a sensor pointed straight down) even though the value is not used.
+    square = fx * fx + fy * fy + fz * fz
+    norm = xp.sqrt(xp.where(square > 0, square, 1.0))
     fx, fy, fz = fx / norm, fy / norm, fz / norm
-    horizontal = xp.sqrt(fx * fx + fy * fy)
-    level = horizontal > 1e-12
+    square = fx * fx + fy * fy
+    horizontal = xp.sqrt(xp.where(square > 0, square, 1.0))
+    level = (square > 0) & (horizontal > 1e-12)
     safe = xp.where(level, horizontal, 1.0)
     rx = xp.where(level, fy / safe, 1.0)  # forward × up, normalised
     ry = xp.where(level, -fx / safe, 0.0)

@@ -40,6 +40,8 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 from targetacq.registry import lookup
 from targetacq.transforms import _sw_high_anchor, clutter_n50
@@ -55,10 +57,25 @@ __all__ = [
 ]
 
 
+def _amplitude(s: Any, xp: Any) -> Any:
+    """``10^(s/20)``; off NumPy with a zero, not NaN, gradient at s = ±inf.
+
+    The slope of ``10^(s/20)`` is infinite at s = +inf, where the models downstream are flat
+    (f = 1 from 20 dB up): the chain rule gives 0 · inf = NaN. JAX differentiates both branches
+    of a ``where``, so the infinite values are taken from a constant branch instead.
+    """
+    if isinstance(s, np.ndarray):
+        return 10.0 ** (s / 20.0)
+    finite = xp.isfinite(s)
+    infinite = xp.where(s > 0, xp.inf, xp.zeros_like(s))  # constant: no slope to multiply
+    lin = xp.where(finite, 10.0 ** (xp.where(finite, s, 0.0) / 20.0), infinite)
+    return xp.where(xp.isnan(s), s, lin)
+
+
 def snr_ratio(snr: Any) -> Any:
     """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6))."""
-    _, (s,) = _arrays.arrays(snr)
-    return _arrays.result(10.0 ** (s / 20.0))
+    xp, (s,) = _arrays.arrays(snr)
+    return _arrays.result(_amplitude(s, xp))
 
 
 def effective_scr(scr: Any, snr: Any) -> Any:
@@ -78,7 +95,7 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     """
     xp, (c, s) = _arrays.arrays(scr, snr)
     _arrays.require_nonnegative("scr", c, xp)
-    lin = 10.0 ** (s / 20.0)
+    lin = _amplitude(s, xp)
     # R = a / sqrt(1 + (a/b)²) with a = min, b = max of the two ratios: no overflow for tiny or
     # infinite ratios (1/R² = 1/a² + 1/b²).
     a, b = xp.minimum(c, lin), xp.maximum(c, lin)
@@ -114,8 +131,8 @@ def ratio_n50(ratio: Any) -> Any:
 
 
 def _variance_sum_factor(snr: Any) -> Any:
-    _, (s,) = _arrays.arrays(snr)
-    lin = 10.0 ** (s / 20.0)
+    xp, (s,) = _arrays.arrays(snr)
+    lin = _amplitude(s, xp)
     uncluttered = float(ratio_n50(float("inf")))
     return _arrays.result(ratio_n50(lin) / uncluttered)
 
@@ -190,6 +207,6 @@ def noise_n50_factor(
     model = get_noise_model(noise_model)
     factor = model.n50_factor(snr)
     xp, (f,) = _arrays.arrays(factor)
-    if not _arrays.is_traced(f) and bool(xp.any(f < 1)):
+    if not _arrays.is_traced(f) and _arrays.any_known(f < 1, xp):
         raise ValueError(f"noise model {model.name!r} returned an N50 factor below 1")
     return _arrays.result(f)

@@ -22,6 +22,35 @@ module wires them together:
 Shapes: ``sensor_positions`` (n_s, *batch, 3), ``target_positions`` (n_g, *batch, 3); every
 result is (n_s, n_g, *batch), the fused ones (n_g, *batch). ``batch`` is the time axis of
 :class:`targetacq.model.ModelChain` and empty for one step of :class:`targetacq.Simulation`.
+
+JAX. With a scene of JAX arrays (:func:`targetacq.core.records.as_jax`) every function here
+except :func:`footprint_scr` runs under ``jax.jit``, ``vmap`` and ``grad``; :class:`Factors` and
+:class:`Probabilities` are pytrees. Enable float64 (``jax.config.update("jax_enable_x64",
+True)``) for numbers equal to NumPy's to about 1e-12; in float32 they agree to about 1e-5.
+Terrain maps are NumPy only (their SCR is looked up per position on the host).
+
+Differentiability. The model is piecewise smooth. Where it is smooth, ``jax.grad`` gives its
+exact derivative; at the places below the derivative is one-sided, zero or, where noted, NaN:
+
+- the field of view: ``in_view`` is a step, so a probability does not change with the pointing
+  (azimuth, depression, look_at) except across the field-of-view edge, and its gradient with
+  respect to the pointing is zero everywhere else;
+- the table transforms: C2NVEO and Schmieder–Weathersby curves are piecewise linear in
+  ``log N``, with kinks at the printed points; the clutter region switches at SCR = 1 and 10
+  and the stretch starts at SCR = 0.33 (in SCR, not in the positions, unless noise moves the
+  effective SCR across them); the noise factor's slope jumps at R = 1 and 10;
+- the ``min`` of the critical dimension (horizontal side against the visible vertical one) and
+  the caps ``P_rec <= P_det``, ``P_id <= P_rec`` of the ordering;
+- the outline's ``|sin a|`` and ``|cos a|`` at aspects that are multiples of π/2 (one-sided
+  derivatives), and a target straight above or below a sensor (ρ = 0), where the outline is not
+  continuous and the gradient is NaN;
+- the path: the ends of atmospheric segments (``clip`` of the range) and lines of sight that
+  graze a cloud;
+- the TTPF where ``|E ln x| > 700`` (P is 0 or 1 to double precision; the gradient is 0).
+
+Gradients are NaN-safe elsewhere: a masked branch that would divide by zero, take a square root
+at 0 or ``10^(SNR/20)`` at SNR = +inf gets a harmless argument (the double-``where``), since
+JAX differentiates both branches of a ``where``.
 """
 
 from __future__ import annotations
@@ -35,7 +64,7 @@ from targetacq import _arrays, atmosphere, geometry
 from targetacq import transforms as _transforms
 from targetacq.acquisition import ordered_probabilities
 from targetacq.clutter import signal_to_clutter_ratio
-from targetacq.core.records import SceneArrays, SensorArrays
+from targetacq.core.records import SceneArrays, SensorArrays, pytree_record
 from targetacq.fusion import fuse
 from targetacq.noise import get_noise_model
 
@@ -53,6 +82,7 @@ __all__ = [
 TASKS = ("detection", "recognition", "identification")
 
 
+@pytree_record
 @dataclass(frozen=True)
 class Factors:
     """The descriptive factors of every sensor-target pair, (n_s, n_g, *batch) each.
@@ -86,6 +116,7 @@ class Factors:
     scr: Any
 
 
+@pytree_record
 @dataclass(frozen=True)
 class Probabilities:
     """Per-pair probabilities (n_s, n_g, *batch) and their sensor-level fusion (n_g, *batch)."""
@@ -217,10 +248,14 @@ def factors(
     in_view = xp.where(pointed, in_fov, True) & ~xp.isnan(rng)
 
     segment = _arrays.as_float(sensors.segment_extinction, xp)
+    lengths = path.segment_length
     depth = atmosphere.segmented_optical_depth(
         rng,
         _per_sensor(sensors.extinction, batch, xp),
-        [float(v) for v in np.asarray(path.segment_length)],
+        # Python floats for NumPy; 0-d arrays otherwise (traced under jit, no host read).
+        [float(v) for v in lengths]
+        if isinstance(lengths, np.ndarray)
+        else [lengths[j] for j in range(lengths.shape[0])],
         [_per_sensor(segment[:, j], batch, xp) for j in range(segment.shape[1])],
     )
     centers = _arrays.as_float(path.cloud_center, xp)
@@ -366,6 +401,12 @@ def footprint_scr(
     """
     from targetacq.terrain import resolution_variance
 
+    if not all(isinstance(a, np.ndarray) for a in (range, target_positions, target_signal, ifov)):
+        raise ValueError(
+            "terrain maps are evaluated with NumPy only: footprint_scr looks up the map per "
+            "position on the host; give NumPy arrays (not JAX arrays or tracers), or a scenario "
+            "whose clutter is an SCR (background.scr or clutter_std)"
+        )
     batch = range.ndim - 2
     window = terrain.window.reshape((-1,) + (1,) * batch)
     weights = terrain.terrain.weights(

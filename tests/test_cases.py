@@ -2,6 +2,7 @@
 the front-ends that build cases (dri_ranges, range_performance, ModelChain.range_cases)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,7 +16,11 @@ from targetacq.core.cases import (
     case_probability,
 )
 from targetacq.criteria import Criterion
+from targetacq.model import ModelChain
 from targetacq.ranges import as_range_case, case_ranges, range_performance
+from targetacq.scenario import load_scenario
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
 
 
 def _ttpf(x):
@@ -201,3 +206,35 @@ def test_old_case_probabilities_still_answer():
     assert n[0] == pytest.approx(2.3 / (1000.0 * 4e-4))
     assert tau[0] == pytest.approx(math.exp(-1.0))
     assert acq.detection[0] < _ttpf(n[0])  # the haze's noise lowers it
+
+
+# --- ModelChain.range_cases ----------------------------------------------------------------------
+
+
+def test_scenario_range_cases_come_from_the_compiled_scenario():
+    chain = ModelChain(load_scenario(EXAMPLES / "two_sensors_fused.toml"))
+    cases = chain.range_cases()
+    assert set(cases) == {"tv → truck", "tv → soldier", "thermal → truck", "thermal → soldier"}
+    thermal = cases["thermal → soldier"]
+    # 12 µm / 100 mm pixels, diffraction of 100 mm at the LWIR centre (10 µm): sampling-limited.
+    assert thermal.ifov == pytest.approx(12e-6 / 0.1, rel=1e-12)
+    assert thermal.cycle_angle == pytest.approx(max(2 * 12e-6 / 0.1, math.asin(1.22e-4)))
+    # Table 7.1, haze in the LWIR band, nominal (the geometric mean of the cell), in Np/m.
+    assert thermal.extinction == pytest.approx(ta.obscurant_extinction("haze", "lwir"))
+    assert thermal.region == "medium" and thermal.scr is None
+    assert thermal.criterion.name == "johnson-soldier-standing"
+    assert cases["tv → truck"].criterion.name == "johnson"
+
+
+def test_scenario_range_case_at_the_pair_range_is_the_chain():
+    # Without segments or clouds, a pair's range case at the pair's own range gives the
+    # probabilities of the chain at that time (at 40 s every pair is in view).
+    chain = ModelChain(load_scenario(EXAMPLES / "two_sensors_fused.toml"))
+    ds = chain.evaluate([40.0]).dataset
+    for label, case in chain.range_cases(40.0).items():
+        sensor, target = label.split(" → ")
+        pair = ds.sel(sensor=sensor, target=target, time=40.0)
+        assert bool(pair["in_view"])
+        got = case_acquisition(case, float(pair["range"]))
+        for task in ("detection", "recognition", "identification"):
+            assert getattr(got, task) == pytest.approx(float(pair[task]), rel=1e-9, abs=1e-15)

@@ -182,20 +182,25 @@ def test_installed_entry_point_runs():
 
 # --- signal and atmosphere options ---------------------------------------------------------------
 
+# An LWIR target 10 K above its background, whose temperature spread is 2 K.
+THERMAL = [
+    "--band",
+    "lwir",
+    "--target-temperature",
+    "305K",
+    "--background-temperature",
+    "295K",
+    "--clutter-std",
+    "2K",
+]
+
 
 def test_dri_with_temperatures_clutter_and_obscurant(capsys):
     code, out, _ = run(
         capsys,
         "dri",
         "--example",
-        "--band",
-        "lwir",
-        "--target-temperature",
-        "305K",
-        "--background-temperature",
-        "295K",
-        "--clutter-std",
-        "2K",
+        *THERMAL,
         "--obscurant",
         "haze:high",
         "--format",
@@ -544,3 +549,25 @@ def test_bad_scenario_files(capsys, tmp_path, content, match):
         assert err.count("\n") == 1
         assert re.search(match, err), err
     assert not out_file.exists()  # nothing half-written
+
+
+def test_dri_scr_from_a_temperature_spread(capsys):
+    # SCR = |M(305 K) − M(295 K)| / (dM/dT · 2 K) in the LWIR band, Eq. (6.9), with dM/dT by a
+    # central difference of the band exitance.
+    from targetacq.radiometry import band_exitance
+
+    code, out, _ = run(
+        capsys,
+        "dri",
+        "--example",
+        *THERMAL,
+        "--format",
+        "json",
+    )
+    assert code == 0
+    target = json.loads(out)["target"]
+    contrast = band_exitance(305.0, "lwir") - band_exitance(295.0, "lwir")
+    slope = (band_exitance(295.001, "lwir") - band_exitance(294.999, "lwir")) / 0.002
+    assert target["contrast_w_per_m2"] == pytest.approx(contrast, rel=1e-12)
+    assert target["clutter_w_per_m2"] == pytest.approx(slope * 2.0, rel=1e-6)
+    assert target["scr"] == pytest.approx(contrast / (slope * 2.0), rel=1e-6)

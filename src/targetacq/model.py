@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import core
+from targetacq.core.cases import RangeCase
 from targetacq.core.evaluate import footprint_scr
 from targetacq.outputs import output_path, write_atomically
 from targetacq.registry import lookup
@@ -238,45 +239,45 @@ class ModelChain:
             ds[name].attrs["units"] = unit
         return ds
 
-    def range_cases(self, time: float | None = None) -> dict[str, dict[str, Any]]:
-        """Every sensor–target pair as a case of :func:`targetacq.ranges.range_performance`.
+    def range_cases(self, time: float | None = None) -> dict[str, RangeCase]:
+        """Every sensor–target pair as a :class:`targetacq.core.cases.RangeCase`, for
+        :func:`targetacq.ranges.range_performance`, built from the compiled scenario.
 
         The critical dimension is the target's outline seen from the sensor at ``time``
-        (default: the scenario's start); the path is the base extinction of each sensor's band
+        (default: the scenario's start); the resolution is the sensor type's cycle and IFOV; the
+        path is the base extinction of each sensor's band where the scenario has an atmosphere
         (segments and local clouds depend on where the target stands, so they are left out of
-        range curves); the clutter, criterion and transform are the scenario's.
+        range curves); the clutter (SCR or region), criterion, transform and noise model are the
+        scenario's.
+
+        Examples
+        --------
+        >>> from targetacq.scenario import load_scenario
+        >>> chain = ModelChain(load_scenario("examples/two_sensors_fused.toml"))
+        >>> sorted(chain.range_cases())[0]
+        'thermal → soldier'
         """
         t = self.scenario.time.start if time is None else float(time)
         seen = self.compute([t])["critical_dimension"][..., 0]
-        atm = self.scenario.atmosphere
-        present = (
-            atm.extinction is not None or atm.obscurant is not None or atm.visibility is not None
-        )
-        extinction = self.compiled.scene.sensors.extinction
-        options = dict(self.compiled.scene.choices.options)
-        cases: dict[str, dict[str, Any]] = {}
-        for s, sensor in enumerate(self.scenario.sensors):
-            for g, target in enumerate(self.scenario.targets):
-                case: dict[str, Any] = {
-                    "critical_dimension": float(seen[s, g]),
-                    "ifov": sensor.pixel_ifov,
-                    "criterion": self.criteria[g],
-                    "transform": self.scenario.model.transform,
-                    "noise_model": self.scenario.model.noise_model,
-                    "hot_spot": target.hot_spot,
-                    "moving": target.moving,
-                    "options": dict(options),
-                }
-                if present:
-                    case["extinction"] = float(extinction[s])
-                if sensor.aperture is not None:
-                    case["aperture"] = sensor.aperture
-                    case["wavelength"] = sum(sensor.limits) / 2
-                if self.scr is not None:
-                    case["scr"] = float(self.scr[s, g])
-                elif self.scenario.background.clutter is not None:
-                    case["region"] = self.scenario.background.clutter
-                cases[f"{sensor.name} → {target.name}"] = case
+        scene = self.compiled.scene
+        sensors, targets, choices = scene.sensors, scene.targets, scene.choices
+        cases: dict[str, RangeCase] = {}
+        for s, sensor in enumerate(sensors.names):
+            for g, target in enumerate(targets.names):
+                cases[f"{sensor} → {target}"] = RangeCase(
+                    float(seen[s, g]),
+                    float(sensors.ifov[s]),
+                    cycle=float(sensors.cycle[s]),
+                    criterion=self.compiled.criteria[g],
+                    transform=choices.transform,
+                    options=dict(choices.options),
+                    extinction=float(sensors.extinction[s]) if scene.path.attenuates else None,
+                    scr=None if scene.signature.scr is None else float(scene.signature.scr[s, g]),
+                    region=choices.region,
+                    hot_spot=targets.hot_spot[g],
+                    moving=targets.moving[g],
+                    noise_model=choices.noise_model,
+                )
         return cases
 
     def evaluate(self, times: Any = None) -> Results:

@@ -10,8 +10,7 @@ from typing import Annotated, Any
 import typer
 import typer.main
 
-from targetacq import atmosphere, optics, radiometry, ranges
-from targetacq import clutter as clutter_module
+from targetacq import atmosphere, optics, ranges
 from targetacq.atmosphere import (
     EXTINCTION_LEVELS,
     OBSCURANTS,
@@ -32,8 +31,10 @@ from targetacq.cli import (
     _csv,
     app,
 )
+from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
 from targetacq.noise import NOISE_MODELS
+from targetacq.scene import scene_signature
 from targetacq.tables import load_table
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.units import parse_quantity
@@ -131,11 +132,12 @@ def _path(
         raise ValueError("give one of --extinction, --obscurant and --visibility")
     if convention is not None and visibility is None:
         raise ValueError("--visibility-convention goes with --visibility")
+    weather: dict[str, Any] = {}
     if extinction is not None:
-        gamma = parse_quantity(extinction, "extinction", "--extinction")
-        if not gamma >= 0:
+        weather["extinction"] = parse_quantity(extinction, "extinction", "--extinction")
+        if not weather["extinction"] >= 0:
             raise ValueError(f"--extinction must be >= 0; got {extinction!r}")
-        info: dict[str, Any] = {"source": f"--extinction {extinction}"}
+        source = f"--extinction {extinction}"
     elif obscurant is not None:
         if band is None:
             raise ValueError("--obscurant needs --band (Table 7.1 depends on the band)")
@@ -143,8 +145,8 @@ def _path(
         _choice(name, OBSCURANTS, "--obscurant")
         level = level or "nominal"
         _choice(level, EXTINCTION_LEVELS, "--obscurant level")
-        gamma = atmosphere.obscurant_extinction(name, band, level)
-        info = {"source": f"Table 7.1: {name}, {level}, {band_name(band)}"}
+        weather["obscurant"] = f"{name}:{level}"
+        source = f"Table 7.1: {name}, {level}, {band_name(band)}"
     elif visibility is not None:
         if band is not None and band_name_or_none(band) != "visible":
             raise ValueError(
@@ -157,18 +159,19 @@ def _path(
                 "or mor (5 %, 2.996/V)"
             )
         _choice(convention, VISIBILITY_CONVENTIONS, "--visibility-convention")
-        v = parse_quantity(visibility, "length", "--visibility")
-        gamma = float(atmosphere.extinction_from_visibility(v, convention))
-        info = {"source": f"visibility {visibility} ({convention})"}
+        weather["visibility"] = parse_quantity(visibility, "length", "--visibility")
+        weather["convention"] = convention
+        source = f"visibility {visibility} ({convention})"
     else:
         return {}
+    gamma = atmosphere.extinction_for_band(band, **weather)
     term, visual_range = atmosphere.extinction_term(gamma)
     return {
         "extinction_np_per_m": gamma,
         "extinction_np_per_km": gamma * 1e3,
         "term": term,
         "visual_range": visual_range,
-        **info,
+        "source": source,
     }
 
 
@@ -201,38 +204,43 @@ def _clutter(
         return {"scr": scr}
     if region is not None:
         return {"region": _choice(region, CLUTTER_REGIONS, "--clutter")}
-    info: dict[str, Any] = {}
-    if target_temperature is not None and background_temperature is not None:
-        if band is None:
-            raise ValueError("temperatures need --band to compute the band exitance")
-        t_t = parse_quantity(target_temperature, "temperature", "--target-temperature")
-        t_b = parse_quantity(background_temperature, "temperature", "--background-temperature")
-        for name, eps in (
-            ("--emissivity", emissivity),
-            ("--background-emissivity", background_emissivity),
-        ):
-            if not 0 <= eps <= 1:
-                raise ValueError(f"{name} must be in [0, 1]; got {eps}")
-        m_t = emissivity * float(radiometry.band_exitance(t_t, band))
-        m_b = background_emissivity * float(radiometry.band_exitance(t_b, band))
-        info = {
-            "target_temperature_k": t_t,
-            "background_temperature_k": t_b,
-            "contrast_w_per_m2": abs(m_t - m_b),
-        }
+    if target_temperature is None or background_temperature is None:
         if clutter_std is not None:
-            sigma_t = parse_quantity(clutter_std, "temperature difference", "--clutter-std")
-            if not sigma_t >= 0:
-                raise ValueError(f"--clutter-std must be >= 0; got {clutter_std!r}")
-            sigma_m = (
-                background_emissivity
-                * float(radiometry.band_exitance_derivative(t_b, band))
-                * sigma_t
+            raise ValueError(
+                "--clutter-std needs --target-temperature and --background-temperature"
             )
-            info["clutter_w_per_m2"] = sigma_m
-            info["scr"] = float(clutter_module.signal_to_clutter_ratio(m_t, m_b, sigma_m))
-    elif clutter_std is not None:
-        raise ValueError("--clutter-std needs --target-temperature and --background-temperature")
+        return {}
+    if band is None:
+        raise ValueError("temperatures need --band to compute the band exitance")
+    t_t = parse_quantity(target_temperature, "temperature", "--target-temperature")
+    t_b = parse_quantity(background_temperature, "temperature", "--background-temperature")
+    for name, eps in (
+        ("--emissivity", emissivity),
+        ("--background-emissivity", background_emissivity),
+    ):
+        if not 0 <= eps <= 1:
+            raise ValueError(f"{name} must be in [0, 1]; got {eps}")
+    sigma_t = None
+    if clutter_std is not None:
+        sigma_t = parse_quantity(clutter_std, "temperature difference", "--clutter-std")
+        if not sigma_t >= 0:
+            raise ValueError(f"--clutter-std must be >= 0; got {clutter_std!r}")
+    seen = scene_signature(
+        band,
+        t_t,
+        t_b,
+        target_emissivity=emissivity,
+        background_emissivity=background_emissivity,
+        clutter_std=sigma_t,
+    )
+    info: dict[str, Any] = {
+        "target_temperature_k": t_t,
+        "background_temperature_k": t_b,
+        "contrast_w_per_m2": float(seen.contrast),
+    }
+    if seen.scr is not None:
+        info["clutter_w_per_m2"] = float(seen.clutter)
+        info["scr"] = float(seen.scr)
     return info
 
 
@@ -313,41 +321,28 @@ def dri(
 
 @dataclass(frozen=True)
 class _Setup:
-    """Everything the dri, plot and report commands read from the sensor/target/path options."""
+    """Everything the dri, plot and report commands read from the sensor/target/path options:
+    the range case, and for the output how the sensor, the path and the scene were given."""
 
-    critical_dimension: float
-    ifov: float
+    case: RangeCase
     sensor: dict[str, float]
-    optics: dict[str, Any]
-    criterion: Criterion
-    transform: str
-    options: dict[str, Any]
     path: dict[str, Any]
     scene: dict[str, Any]
-    noise_model: str
     probabilities: list[float]
 
     @property
-    def clutter(self) -> dict[str, Any]:
-        return {k: self.scene[k] for k in ("scr", "region") if self.scene.get(k) is not None}
+    def criterion(self) -> Criterion:
+        return get_criterion(self.case.criterion)
+
+    @property
+    def optics(self) -> dict[str, Any]:
+        """The optics limits given (aperture, wavelength, blur_sigma) [SI]."""
+        names = ("aperture", "wavelength", "blur_sigma")
+        return {k: getattr(self.case, k) for k in names if getattr(self.case, k) is not None}
 
     @property
     def cycle(self) -> float:
-        return float(optics.resolvable_cycle_angle(self.ifov, **self.optics))
-
-    def case(self) -> dict[str, Any]:
-        """The setup as a case of :func:`targetacq.ranges.range_performance`."""
-        return {
-            "critical_dimension": self.critical_dimension,
-            "ifov": self.ifov,
-            "criterion": self.criterion,
-            "transform": self.transform,
-            "extinction": self.path.get("extinction_np_per_m"),
-            "noise_model": self.noise_model,
-            "options": self.options,
-            **self.optics,
-            **self.clutter,
-        }
+        return float(self.case.cycle_angle)
 
 
 def _setup(
@@ -427,39 +422,32 @@ def _setup(
         band_limits_m,
     )
     _choice(noise_model, NOISE_MODELS, "--noise-model")
-    return _Setup(
-        critical_dimension=d,
-        ifov=ifov_rad,
-        sensor=sensor,
-        optics=optics_kw,
+    case = RangeCase(
+        d,
+        ifov_rad,
+        **optics_kw,
         criterion=crit,
         transform=transform,
         options=options,
+        extinction=path.get("extinction_np_per_m"),
+        scr=scene.get("scr"),
+        region=scene.get("region"),
+        noise_model=noise_model,
+    )
+    return _Setup(
+        case=case,
+        sensor=sensor,
         path=path,
         scene=scene,
-        noise_model=noise_model,
         probabilities=_probabilities(probability),
     )
 
 
 def _dri_report(setup: _Setup) -> dict[str, Any]:
-    crit = setup.criterion
-
+    case, crit = setup.case, setup.criterion
     rows = []
     for p in setup.probabilities:
-        found = ranges.dri_ranges(
-            setup.critical_dimension,
-            setup.ifov,
-            crit,
-            probability=p,
-            transform=setup.transform,
-            extinction=setup.path.get("extinction_np_per_m"),
-            noise_model=setup.noise_model,
-            **setup.optics,
-            **setup.clutter,
-            **setup.options,
-        )
-        for task, r in found.items():
+        for task, r in ranges.case_ranges(case, p).items():
             value = float(r)
             rows.append(
                 {
@@ -475,18 +463,18 @@ def _dri_report(setup: _Setup) -> dict[str, Any]:
             break
     return {
         "sensor": {
-            "ifov_rad": setup.ifov,
+            "ifov_rad": case.ifov,
             "cycle_rad": setup.cycle,
             **setup.sensor,
             **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in setup.optics.items()},
         },
-        "target": {"critical_dimension_m": setup.critical_dimension, **setup.scene},
+        "target": {"critical_dimension_m": case.critical_dimension, **setup.scene},
         "path": setup.path,
         "criterion": crit.name,
         "criterion_kind": crit.kind,
-        "transform": setup.transform if crit.gives_probabilities else None,
-        "options": setup.options,
-        "noise_model": setup.noise_model if setup.path else None,
+        "transform": case.transform if crit.gives_probabilities else None,
+        "options": case.options,
+        "noise_model": case.noise_model if setup.path else None,
         "ranges": rows,
     }
 

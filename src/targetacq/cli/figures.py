@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Annotated, Any
 
 import typer
@@ -18,6 +19,7 @@ from targetacq.cli import (
     app,
 )
 from targetacq.cli.dri import _band, _Setup, _setup, _user_criterion
+from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
@@ -61,13 +63,13 @@ def _title(setup: _Setup) -> str:
     else:
         optics_text = "IFOV given"
     return (
-        f"IFOV {setup.ifov * 1e3:.4g} mrad ({optics_text}) — target critical dimension "
-        f"{setup.critical_dimension:.3g} m"
+        f"IFOV {setup.case.ifov * 1e3:.4g} mrad ({optics_text}) — target critical dimension "
+        f"{setup.case.critical_dimension:.3g} m"
     )
 
 
 def _performance(
-    cases: dict[str, dict[str, Any]], max_range: str | None, probabilities: list[float]
+    cases: Mapping[str, RangeCase], max_range: str | None, probabilities: list[float]
 ) -> Any:
     """Range performance of the cases on 400 ranges out to --max-range, or by default 1.3 times
     the longest range at which any case's task reaches the smallest probability."""
@@ -76,18 +78,10 @@ def _performance(
         if not r_max > 0:
             raise ValueError(f"--max-range must be > 0; got {max_range!r}")
     else:
-        own = ("critical_dimension", "ifov", "criterion", "options")
         reach = [
             float(r)
             for case in cases.values()
-            for r in ranges.dri_ranges(
-                case["critical_dimension"],
-                case["ifov"],
-                case["criterion"],
-                probability=min(probabilities),
-                **{k: v for k, v in case.items() if k not in own},
-                **case["options"],
-            ).values()
+            for r in ranges.case_ranges(case, min(probabilities)).values()
         ]
         finite = [r for r in reach if math.isfinite(r)]
         r_max = 1.3 * max(finite) if finite else 10e3
@@ -126,7 +120,7 @@ def plot(
         if "probability" not in given:
             params["probability"] = "0.5,0.8,0.95"
         setup = _setup(**{k: v for k, v in params.items() if k != "output_format"})
-        performance = _performance({"this sensor": setup.case()}, max_range, setup.probabilities)
+        performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
         fig = plot_range_performance(performance, title=title or _title(setup))
     elif kind == "transforms":
         crit = (
@@ -174,7 +168,7 @@ def report(
     setup = _setup(**params)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
-    performance = _performance({"this sensor": setup.case()}, max_range, setup.probabilities)
+    performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
     heading = title or _title(setup)
     figures = {"Range performance": plot_range_performance(performance, title=heading)}
     figures["Transforms"] = plot_transforms(setup.criterion)
@@ -266,7 +260,7 @@ def _atmosphere_text(atm: Any) -> str:
 def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
     crit = setup.criterion
     sensor = {
-        "IFOV": f"{setup.ifov * 1e3:.4g} mrad",
+        "IFOV": f"{setup.case.ifov * 1e3:.4g} mrad",
         "resolvable cycle": f"{setup.cycle * 1e3:.4g} mrad "
         "(max of 2·IFOV and the optics, Eqs. (5.3), (5.2); Fig. 3.3)",
     }
@@ -287,7 +281,9 @@ def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
     for key, value in setup.optics.items():
         name, scale, unit = optics_labels[key]
         sensor[name] = f"{value * scale:.4g} {unit}"
-    target = {"critical dimension": f"{setup.critical_dimension:.4g} m (smallest side seen, §3.2)"}
+    target = {
+        "critical dimension": f"{setup.case.critical_dimension:.4g} m (smallest side seen, §3.2)"
+    }
     scene_labels = {
         "target_temperature_k": ("target temperature", "K"),
         "background_temperature_k": ("background temperature", "K"),
@@ -307,7 +303,8 @@ def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
             "description": f"{setup.path['term']}, visual range {setup.path['visual_range']} "
             "(Table 7.2)",
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
-            "noise model": f"{setup.noise_model}: {NOISE_MODELS[setup.noise_model].source}",
+            "noise model": f"{setup.case.noise_model}: "
+            f"{NOISE_MODELS[setup.case.noise_model].source}",
         }
         if setup.path
         else {"atmosphere": "none (geometry, clutter and optics only)"}
@@ -315,11 +312,11 @@ def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
     n50s = ", ".join(f"{task} {crit.threshold(task):g}" for task in crit.tasks)
     model = {
         "criterion": f"{crit.name}: N50 {n50s} cycles ({crit.source})",
-        "transform": f"{setup.transform}: {TRANSFORMS[setup.transform].source}"
-        + "".join(f"; {k} = {v}" for k, v in setup.options.items()),
+        "transform": f"{setup.case.transform}: {TRANSFORMS[setup.case.transform].source}"
+        + "".join(f"; {k} = {v}" for k, v in setup.case.options.items()),
         "clutter": "detection from Table 3.5 (Schmieder–Weathersby) by SCR region; recognition "
         "and identification do not depend on clutter (§3.8)"
-        if setup.clutter
+        if setup.case.in_clutter
         else "none given: detection uses the transform",
         "cycles on target": "N = (d / R) / cycle, small angle (Fig. 3.3)",
         "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",

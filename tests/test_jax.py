@@ -110,6 +110,15 @@ def test_as_jax_and_to_namespace():
     np.testing.assert_array_equal(np.asarray(scene.targets.n50), compiled.scene.targets.n50)
     leaves = jax.tree_util.tree_leaves(scene)
     assert leaves and all(isinstance(leaf, jax.Array) for leaf in leaves)
+    kept = []
+
+    @jax.jit
+    def traced(x):  # made while tracing, kept for later: must hold concrete arrays
+        kept.append(records.as_jax(compiled))
+        return x
+
+    traced(1.0)
+    assert not any(isinstance(leaf, jax.core.Tracer) for leaf in jax.tree_util.tree_leaves(kept))
     back = records.to_namespace(scene, np)
     assert isinstance(back.sensors.cycle, np.ndarray)
     with pytest.raises(TypeError, match="record"):
@@ -351,3 +360,36 @@ def test_without_x64_jax_computes_in_float32_close_to_numpy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "ok"
+
+
+def test_simulation_probabilities_under_jit_and_grad():
+    from targetacq.simulation import Simulation
+
+    sim = Simulation.from_scenario(ROOT / "examples" / "uav_haze.toml")
+    s, t, h = _step(sim.scenario, 60.0)
+    pointing = np.array([[np.pi / 2, np.pi / 6]])  # the scenario's own: east, 30° down
+    want = sim.probabilities(60.0, s, t, h, pointing)
+    got = jax.jit(sim.probabilities)(
+        60.0, jnp.asarray(s), jnp.asarray(t), jnp.asarray(h), jnp.asarray(pointing)
+    )
+    for name in PROBABILITIES:
+        value = getattr(got, name)
+        assert isinstance(value, jax.Array), name
+        np.testing.assert_allclose(
+            np.asarray(value), getattr(want, name), rtol=1e-12, atol=0, err_msg=name
+        )
+
+    def fused(sensor_positions):
+        return sim.probabilities(
+            60.0, sensor_positions, jnp.asarray(t), jnp.asarray(h)
+        ).fused_detection[1]
+
+    by_position = np.asarray(jax.jit(jax.grad(fused))(jnp.asarray(s)))
+    expected = _central_difference(
+        lambda sp: sim.probabilities(60.0, sp, t, h).fused_detection[1], s, 1e-3
+    )
+    assert np.max(np.abs(expected)) > 1e-6
+    np.testing.assert_allclose(
+        by_position, expected, rtol=1e-6, atol=1e-6 * np.max(np.abs(expected))
+    )
+    assert sim.time is None  # pure: no step was taken

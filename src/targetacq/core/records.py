@@ -288,7 +288,8 @@ def as_jax(scene: Any) -> SceneArrays:
     """A scene with JAX arrays, ready for ``jax.jit``, ``vmap`` and ``grad`` of the core.
 
     Registers the records as pytrees (:func:`register_pytrees`) and converts every array field
-    with ``jax.numpy.asarray``.
+    with ``jax.numpy.asarray``, to concrete arrays even inside ``jax.jit`` (so the scene can be
+    made once, lazily, and kept).
 
     Precision: the NumPy core computes in float64. JAX does so only with
     ``jax.config.update("jax_enable_x64", True)`` (set before the arrays are made); the jitted
@@ -306,6 +307,7 @@ def as_jax(scene: Any) -> SceneArrays:
     -------
     SceneArrays
     """
+    import jax
     import jax.numpy as jnp
 
     register_pytrees()
@@ -319,4 +321,7 @@ def as_jax(scene: Any) -> SceneArrays:
         scene = getattr(scene, "scene", scene)
     if not isinstance(scene, SceneArrays):
         raise TypeError(f"as_jax takes a SceneArrays or a CompiledScenario, got {type(scene)!r}")
-    return to_namespace(scene, jnp)
+    # Concrete arrays even when called while a function is traced (the first call of a jitted
+    # function that makes the scene then): a scene kept for later calls must hold no tracer.
+    with jax.ensure_compile_time_eval():
+        return to_namespace(scene, jnp)

@@ -11,7 +11,10 @@ Use ``gymnasium.make("targetacq/SensorPointing-v0")`` after ``import targetacq.e
 
 from __future__ import annotations
 
-import gymnasium
+try:
+    import gymnasium
+except ImportError as error:  # the optional extra is missing: say how to get it
+    raise ImportError("targetacq.envs needs Gymnasium: pip install 'targetacq[rl]'") from error
 
 from targetacq.envs.pointing import SensorPointingEnv
 

@@ -40,15 +40,25 @@ from targetacq.units import is_quantity, si_magnitude
 Array = Any  # an array of any array-API namespace
 
 
+_NUMPY = array_api_compat.array_namespace(np.empty(0))
+# Types that are NumPy (or plain numbers NumPy takes): the common case, answered without asking
+# array_api_compat, whose look-ups cost microseconds a call on the step API's small arrays.
+_PLAIN = (np.ndarray, np.float64, float, int, type(None))
+
+
 def _is_array(value: object) -> bool:
+    if type(value) is np.ndarray:
+        return True
     return array_api_compat.is_array_api_obj(value) and not isinstance(value, (int, float))
 
 
 def namespace(*values: object) -> Any:
     """The array namespace of the array inputs (NumPy when all are Python scalars or lists)."""
+    if all(type(v) in _PLAIN for v in values):
+        return _NUMPY
     arrays = [v for v in values if v is not None and _is_array(v)]
     if not arrays:
-        return array_api_compat.array_namespace(np.empty(0))
+        return _NUMPY
     return array_api_compat.array_namespace(*arrays)
 
 
@@ -57,6 +67,8 @@ def as_float(value: object, xp: Any) -> Array:
 
     A pint ``Quantity`` becomes its magnitude in SI base units (see the module docstring).
     """
+    if type(value) is np.ndarray and xp is _NUMPY and value.dtype == np.float64:
+        return value
     if is_quantity(value):
         value = si_magnitude(value)
     if _is_array(value):
@@ -64,7 +76,7 @@ def as_float(value: object, xp: Any) -> Array:
         if dtype is not None and xp.isdtype(dtype, "real floating"):
             return value
         return xp.astype(value, xp.float64)
-    if xp is array_api_compat.array_namespace(np.empty(0)):
+    if xp is _NUMPY:
         return np.asarray(value, dtype=np.float64)
     return xp.asarray(value, dtype=xp.float64)
 
@@ -74,7 +86,8 @@ def arrays(*values: object) -> tuple[Any, list[Array]]:
 
     pint quantities are first replaced by their SI magnitudes, whose arrays fix the namespace.
     """
-    values = tuple(si_magnitude(v) if is_quantity(v) else v for v in values)
+    if not all(type(v) in _PLAIN for v in values):
+        values = tuple(si_magnitude(v) if is_quantity(v) else v for v in values)
     xp = namespace(*values)
     return xp, [as_float(v, xp) for v in values]
 

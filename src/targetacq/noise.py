@@ -34,6 +34,7 @@ multiplies every task's N50 (detection in clutter too, at the clutter's own SCR)
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -106,6 +107,14 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     return _arrays.result(xp.where(xp.isnan(s), s, exact))
 
 
+@functools.cache
+def _ratio_anchors() -> tuple[float, float, float]:
+    """Table 3.5's low- and medium-clutter 50 % points and the high-clutter exponent α (once)."""
+    low = float(clutter_n50(float("inf")))  # 0.5, Table 3.5 low clutter
+    medium = float(clutter_n50(1.0))  # 1.0, Table 3.5 medium clutter
+    return low, medium, _sw_high_anchor()[2]
+
+
 def ratio_n50(ratio: Any) -> Any:
     """Continuous 50 % point of detection against a clutter or noise ratio R [cycles].
 
@@ -119,9 +128,7 @@ def ratio_n50(ratio: Any) -> Any:
     """
     xp, (r,) = _arrays.arrays(ratio)
     _arrays.require_nonnegative("ratio", r, xp)
-    low = float(clutter_n50(float("inf")))  # 0.5, Table 3.5 low clutter
-    medium = float(clutter_n50(1.0))  # 1.0, Table 3.5 medium clutter
-    _, _, alpha = _sw_high_anchor()
+    low, medium, alpha = _ratio_anchors()
     safe = xp.where(r > 0, r, 1.0)
     mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (
         math.log(medium / low) / math.log(10.0)
@@ -133,7 +140,7 @@ def ratio_n50(ratio: Any) -> Any:
 def _variance_sum_factor(snr: Any) -> Any:
     xp, (s,) = _arrays.arrays(snr)
     lin = _amplitude(s, xp)
-    uncluttered = float(ratio_n50(float("inf")))
+    uncluttered = _ratio_anchors()[0]  # ratio_n50(+inf), Table 3.5's low clutter
     return _arrays.result(ratio_n50(lin) / uncluttered)
 
 

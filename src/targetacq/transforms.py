@@ -373,6 +373,15 @@ def _sw_stretch(scr: Array, xp: Any) -> Array:
     return xp.where(below, ratio**alpha, xp.ones_like(scr))
 
 
+@functools.cache
+def _sw_region_n50() -> Mapping[str, float]:
+    """The 50 % point of each Table 3.5 region's curve [cycles] (computed once)."""
+    half = _arrays.as_float(0.5, _np())
+    return MappingProxyType(
+        {name: float(curve.inverse(half, _np())) for name, curve in _sw_curves().items()}
+    )
+
+
 def clutter_n50(scr: Any) -> Any:
     """Cycles for P(detection) = 0.5 at a signal-to-clutter ratio, Table 3.5 and its continuation.
 
@@ -392,7 +401,7 @@ def clutter_n50(scr: Any) -> Any:
     """
     xp, (s,) = _arrays.arrays(scr)
     _arrays.require_nonnegative("scr", s, xp)
-    n50 = {name: curve.inverse(xp.full_like(s, 0.5), xp) for name, curve in _sw_curves().items()}
+    n50 = {name: xp.full_like(s, value) for name, value in _sw_region_n50().items()}
     base = _sw_select(n50, s, None, xp)
     stretch = _sw_stretch(s, xp)
     safe = xp.where(stretch > 0, stretch, 1.0)

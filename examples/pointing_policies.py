@@ -11,7 +11,7 @@ from __future__ import annotations
 import gymnasium
 import numpy as np
 
-import targetacq.envs  # noqa: F401  (registers targetacq/SensorPointing-v0)
+from targetacq.envs import SensorPointingEnv  # registers targetacq/SensorPointing-v0
 
 
 def play(policy: str, seed: int) -> float:
@@ -19,10 +19,11 @@ def play(policy: str, seed: int) -> float:
     env = gymnasium.make("targetacq/SensorPointing-v0")
     env.reset(seed=seed)
     env.action_space.seed(seed)
+    pointing: SensorPointingEnv = env.unwrapped  # type: ignore[assignment]
     total, done = 0.0, False
     while not done:
         greedy = policy == "greedy"
-        action = env.unwrapped.greedy_action() if greedy else env.action_space.sample()
+        action = pointing.greedy_action() if greedy else env.action_space.sample()
         _, reward, terminated, truncated, _ = env.step(action)
         total += float(reward)
         done = terminated or truncated

@@ -174,3 +174,12 @@ def test_pointing_replaces_the_sensors_own():
     north = np.array([[0.0, 0.0], [np.nan, np.nan]])  # the TV turns north; thermal keeps its own
     found, _ = core.evaluate(compiled.scene, s_pos, t_pos, pointing=north)
     assert found.in_view.tolist() == [[False, True], [True, False]]
+
+
+def test_noise_factor_of_nan_is_nan():
+    from targetacq.noise import noise_n50_factor, ratio_n50
+
+    got = ratio_n50(np.array([np.nan, 0.0]))  # in an array NaN passes the check, as NaN
+    assert np.isnan(got[0]) and got[1] == np.inf
+    got = noise_n50_factor(np.array([np.nan, 40.0, -np.inf]))
+    assert np.isnan(got[0]) and got[1] == 1.0 and got[2] == np.inf

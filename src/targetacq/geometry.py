@@ -29,6 +29,7 @@ __all__ = [
     "slant_range",
     "solid_angle",
     "view_offsets",
+    "within_field_of_view",
 ]
 
 
@@ -404,9 +405,27 @@ def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any,
     array_like of bool
         False where a component is NaN.
     """
-    xp, (los, f) = _arrays.arrays(line_of_sight, forward)
-    ahead, right, up = view_offsets(
-        los[..., 0], los[..., 1], los[..., 2], (f[..., 0], f[..., 1], f[..., 2])
+    _, (los, f) = _arrays.arrays(line_of_sight, forward)
+    return within_field_of_view(
+        los[..., 0], los[..., 1], los[..., 2], (f[..., 0], f[..., 1], f[..., 2]), half_tangents
     )
-    tan_h, tan_v = half_tangents
+
+
+def within_field_of_view(
+    x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any], half_tangents: tuple[Any, Any]
+) -> Any:
+    """:func:`in_field_of_view` from the line-of-sight and boresight components.
+
+    In front (``ahead > 0``), ``|right| <= tan(FOV_h/2) · ahead`` and
+    ``|up| <= tan(FOV_v/2) · ahead`` in the sensor frame of :func:`view_offsets`.
+
+    Examples
+    --------
+    >>> bool(within_field_of_view(1000.0, 50.0, 0.0, (1.0, 0.0, 0.0), (0.1, 0.1)))
+    True
+    >>> bool(within_field_of_view(1000.0, 150.0, 0.0, (1.0, 0.0, 0.0), (0.1, 0.1)))
+    False
+    """
+    ahead, right, up = view_offsets(x, y, z, forward)
+    xp, (tan_h, tan_v) = _arrays.arrays(*half_tangents)
     return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)

@@ -134,7 +134,7 @@ def ratio_n50(ratio: Any) -> Any:
         math.log(medium / low) / math.log(10.0)
     )
     out = xp.where(r >= 1.0, mid, medium * safe ** (-alpha))
-    return _arrays.result(xp.where(r > 0, out, xp.inf))
+    return _arrays.result(xp.where(r > 0, out, xp.where(xp.isnan(r), r, xp.inf)))
 
 
 def _variance_sum_factor(snr: Any) -> Any:

@@ -238,12 +238,13 @@ def factors(
         cycles = critical / (xp.maximum(rng, 1e-9) * _per_sensor(sensors.cycle, batch, xp))
 
     forward, pointed = boresight(s_pos, sensors, pointing)
-    ahead, right, up = geometry.view_offsets(x, y, z, tuple(f[:, None] for f in forward))
     half = _arrays.as_float(sensors.half_tangents, xp)
-    in_fov = (
-        (ahead > 0)
-        & (xp.abs(right) <= _per_sensor(half[:, 0], batch, xp) * ahead)
-        & (xp.abs(up) <= _per_sensor(half[:, 1], batch, xp) * ahead)
+    in_fov = geometry.within_field_of_view(
+        x,
+        y,
+        z,
+        (forward[0][:, None], forward[1][:, None], forward[2][:, None]),
+        (_per_sensor(half[:, 0], batch, xp), _per_sensor(half[:, 1], batch, xp)),
     )
     in_view = xp.where(pointed, in_fov, True) & ~xp.isnan(rng)
 

@@ -1,7 +1,7 @@
 """Sensor optics and sampling: IFOV, field of view, diffraction, blur, cycles on target.
 
-Sources: Sonesson (2004) ch. 3 (§3.5, Fig. 3.3) and ch. 5 (Eqs. (5.1)–(5.4)), with the errata
-of ``shared/MODEL.md`` §1 (the diffraction condition of §5.5 reversed; the separable Gaussian).
+Sources: Sonesson (2004) ch. 3 (§3.5, Fig. 3.3) and ch. 5 (Eqs. (5.1)–(5.4)), with two
+corrections of ours: the diffraction condition of §5.5 reversed, and the Gaussian separable.
 
 One *cycle* (line pair) is the angle of two adjacent pixel rows, ``2·IFOV`` (Fig. 3.3: a target
 2.5 pixel rows high is 1.25 cycles). Optics can make the resolvable cycle coarser than that:

@@ -247,3 +247,13 @@ def test_terrain_clutter_per_triple(tmp_path):
     mean = 0.5 * (grass_mean + forest_mean)
     assert float(ds["scr"][0, 1, 0]) == pytest.approx(abs(m_b - mean) / math.sqrt(var), rel=1e-9)
     assert "scr" in chain.evaluate().to_dataframe().columns
+
+
+def test_terrain_chunks_equal_the_whole():
+    path = Path(__file__).parent / "data" / "golden" / "terrain.toml"
+    chain = ModelChain(load_scenario(path))
+    whole = chain.evaluate().dataset
+    for targets, times, arrays in chain.evaluate_chunks(targets_per_chunk=1, times_per_chunk=2):
+        part = whole.isel(target=targets).sel(time=times)
+        np.testing.assert_array_equal(arrays["scr"], part["scr"].values)
+        np.testing.assert_array_equal(arrays["detection"], part["detection"].values)

@@ -19,7 +19,8 @@ by :mod:`targetacq.core.evaluate`). The steps, in order:
     fusion (:func:`targetacq.core.probabilities`).
 
 Replace a step by name: ``ModelChain(scenario, steps={"clutter": my_clutter})``, where
-``my_clutter(chain, factors, target_positions)`` returns the factors to use.
+``my_clutter(chain, scene, factors, target_positions, targets)`` returns the factors to use
+(``scene`` holds the chosen ``targets`` only).
 
 :meth:`ModelChain.evaluate_chunks` yields the results chunk by chunk (targets × times), so a run
 over 10⁸ triples or more stays in bounded memory.
@@ -104,16 +105,22 @@ def _factors(
     return core.factors(scene, sensor_pos, target_pos, heading)
 
 
-def _clutter(chain: ModelChain, found: core.Factors, target_positions: np.ndarray) -> core.Factors:
+def _clutter(
+    chain: ModelChain,
+    scene: core.SceneArrays,
+    found: core.Factors,
+    target_positions: np.ndarray,
+    targets: slice,
+) -> core.Factors:
     terrain = chain.compiled.terrain
     if terrain is None:
         return found
     scr = footprint_scr(
-        terrain,
+        dataclasses.replace(terrain, window=terrain.window[targets]),
         found.range,
         target_positions,
-        chain.compiled.scene.signature.target[:, chain._chosen],
-        np.asarray(chain.compiled.scene.sensors.ifov),
+        scene.signature.target,
+        np.asarray(scene.sensors.ifov),
     )
     return dataclasses.replace(found, scr=scr)
 
@@ -181,18 +188,17 @@ class ModelChain:
         self.criteria = np.array(self.compiled.criteria, dtype=object)
         self.contrast = scene.signature.contrast
         self.scr = scene.signature.scr
-        self._chosen = slice(None)
 
     def compute(self, times: Any, targets: slice | None = None) -> dict[str, np.ndarray]:
         """All variables for every sensor, the chosen targets and the times, as arrays."""
         t = np.atleast_1d(np.asarray(times, dtype=float))
-        self._chosen = slice(None) if targets is None else targets
+        chosen = slice(None) if targets is None else targets
         scene = self.compiled.scene
         if targets is not None:
             scene = _subset(scene, targets)
-        positions = self.steps["positions"](self, t, self._chosen)
+        positions = self.steps["positions"](self, t, chosen)
         found = self.steps["factors"](self, scene, positions)
-        found = self.steps["clutter"](self, found, positions[1])
+        found = self.steps["clutter"](self, scene, found, positions[1], chosen)
         p = self.steps["probabilities"](self, scene, found)
         out = {
             **({} if self.compiled.terrain is None else {"scr": found.scr}),

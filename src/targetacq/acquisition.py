@@ -71,7 +71,7 @@ def _detection_in_clutter(
     (§1.3). ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``.
     """
     if noise is not None and noise.combines_with_clutter and scr is not None:
-        scr, n = effective_scr(scr, snr), n  # read at R_eff, with the noise-free N
+        scr = effective_scr(scr, snr)  # read at R_eff, with the noise-free N
     else:
         n = n_noisy
     out = None

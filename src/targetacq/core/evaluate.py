@@ -313,7 +313,12 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
         def pick(value: Any) -> Any:
             return value if value is None or members is None else value[:, members]
 
-        h, m = (flags if members is None else flags[members] for flags in (hot, moving))
+        def flag(values: np.ndarray) -> Any:  # one bool when all agree, else per target
+            chosen = values if members is None else values[members]
+            if chosen.size and bool(np.all(chosen == chosen[0])):
+                return bool(chosen[0])
+            return _per_target(xp.asarray(chosen), batch, xp)
+
         return ordered_probabilities(
             pick(n),
             n50,
@@ -321,12 +326,8 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
             options,
             scr=pick(scr),
             region=choices.region,
-            hot_spot=bool(h[0])
-            if h.size and bool(np.all(h == h[0]))
-            else _per_target(xp.asarray(h), batch, xp),
-            moving=bool(m[0])
-            if m.size and bool(np.all(m == m[0]))
-            else _per_target(xp.asarray(m), batch, xp),
+            hot_spot=flag(hot),
+            moving=flag(moving),
             snr=pick(snr),
             noise=noise,
         )

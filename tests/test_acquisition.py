@@ -21,13 +21,19 @@ def test_effect_is_the_product_eq_2_5():
 
 @given(st.lists(st.floats(0, 50), min_size=1, max_size=30), st.floats(0, 50))
 def test_ordering_and_effect(ns, scr):
+    n = np.array(ns)
     for kwargs in ({}, {"scr": scr}, {"hot_spot": True}, {"moving": True}):
-        acq = ta.acquisition_probabilities(np.array(ns), **kwargs)
+        acq = ta.acquisition_probabilities(n, **kwargs)
         assert np.all(acq.identification <= acq.recognition)
         assert np.all(acq.recognition <= acq.detection)
-        np.testing.assert_allclose(
-            acq.effect, acq.detection * acq.recognition * acq.identification, rtol=1e-15
-        )
+        # Nested: identified implies recognised and detected, so P_effect = P(identified).
+        np.testing.assert_array_equal(acq.effect, acq.identification)
+        # Conditional: Eq. (2.5), the product of the three curves.
+        cond = ta.acquisition_probabilities(n, semantics="conditional", **kwargs)
+        rec, ide = (ta.probability(n, task) for task in ("recognition", "identification"))
+        np.testing.assert_allclose(cond.detection, acq.detection, rtol=1e-15)
+        np.testing.assert_allclose(cond.recognition, acq.detection * rec, rtol=1e-12)
+        np.testing.assert_allclose(cond.effect, acq.detection * rec * ide, rtol=1e-12)
 
 
 def test_heavy_clutter_caps_recognition_at_detection():

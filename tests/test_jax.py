@@ -155,7 +155,7 @@ GRADIENT_CASES = [
     ("uav_haze", 60.0, 1),
     ("two_sensors_fused", 25.0, 1),  # TV and thermal fused, look_at, medium clutter
     ("two_sensors_fused", 25.0, 0),  # the same, in the TV's field of view only
-    ("features", 8.0, 1),  # segments, a cloud, hot spot, c2nveo, an unpointed sensor
+    ("features", 14.0, 1),  # segments, a cloud, hot spot, c2nveo, an unpointed sensor
 ]
 
 

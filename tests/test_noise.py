@@ -1,4 +1,4 @@
-"""Noise in the transforms (MODEL.md §6): limits, monotonicity, registry."""
+"""Noise in the transforms: limits, monotonicity, registry."""
 
 import math
 
@@ -19,10 +19,30 @@ def test_effective_ratio_adds_in_variance():
 
 
 def test_noise_factor_limits():
+    # f = sqrt(1 + 3 / SNR_lin²): exactly 1 without noise, 2 at 0 dB, +inf without signal.
     assert ta.noise_n50_factor(math.inf) == 1.0
-    assert ta.noise_n50_factor(25.0) == 1.0  # above 20 dB noise is weaker than any clutter
-    assert ta.noise_n50_factor(0.0) == pytest.approx(2.0)  # N50 1.0 / 0.5 at R = 1
+    assert ta.noise_n50_factor(0.0) == pytest.approx(2.0, rel=1e-15)
     assert ta.noise_n50_factor(-math.inf) == math.inf
+    # 20 dB: SNR_lin = 10, f = sqrt(1.03); −40 dB: f = sqrt(1 + 3e4).
+    assert ta.noise_n50_factor(20.0) == pytest.approx(math.sqrt(1.03), rel=1e-14)
+    assert ta.noise_n50_factor(-40.0) == pytest.approx(math.sqrt(30001.0), rel=1e-14)
+    assert ta.noise_n50_factor(-6000.0) == pytest.approx(math.sqrt(3.0) * 1e300, rel=1e-12)
+
+
+@given(st.floats(-300, 300), st.floats(-300, 300))
+def test_noise_factor_strictly_decreasing_in_snr(a, b):
+    low, high = sorted((a, b))
+    f_low, f_high = ta.noise_n50_factor(low), ta.noise_n50_factor(high)
+    assert f_low >= f_high >= 1.0
+    if high - low > 1e-6 and high < 150:
+        assert f_low > f_high
+
+
+def test_clutter_analogue_keeps_the_table_3_5_law():
+    factor = noise.NOISE_MODELS["clutter-analogue"].n50_factor
+    assert factor(25.0) == 1.0  # above 20 dB noise is weaker than any clutter
+    assert factor(0.0) == pytest.approx(2.0)  # N50 1.0 / 0.5 at R = 1
+    assert factor(-math.inf) == math.inf
 
 
 def test_ratio_n50_follows_table_3_5_anchors():
@@ -96,7 +116,8 @@ def test_user_noise_model_multiplies_every_n50():
 
 def test_bad_noise_models():
     with pytest.raises(
-        ValueError, match="unknown noise model 'gaussian'; valid: variance-sum, none"
+        ValueError,
+        match="unknown noise model 'gaussian'; valid: variance-sum, clutter-analogue, none",
     ):
         ta.acquisition_probabilities(1.0, snr=3.0, noise_model="gaussian")
     with pytest.raises(ValueError, match="below 1"):

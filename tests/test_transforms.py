@@ -32,7 +32,9 @@ SW = {
     "medium": (2.8, 1.9, 1.7, 1.3, 1.0, 0.75, 0.35, 0.1),
     "high": (None, None, 7.0, 5.0, 2.5, 2.0, 1.4, 1.0),
 }
-SCR_OF_REGION = {"low": 39.0, "medium": 5.8, "high": 0.33}  # SCRs of Table 3.4
+# The anchor of each region's curve when the SCR is given: the lower edge of its Table 3.5
+# region (0.33 for high clutter, the lowest SCR of Table 3.4).
+SCR_OF_REGION = {"low": 10.0, "medium": 1.0, "high": 0.33}
 
 
 def _ttpf_by_hand(ratio):
@@ -106,13 +108,42 @@ def test_high_clutter_never_reaches_0_95():
     assert ta.schmieder_weathersby_inverse(0.95, region="high") == math.inf
 
 
-def test_region_boundaries_follow_table_3_5():
-    # SCR > 10 low, 1 <= SCR <= 10 medium, SCR < 1 high.
+def test_scr_blends_the_regions_in_log_scr():
+    # Anchors: low from SCR 10 up, medium at 1, high at 0.33 and below (the stretch aside);
+    # between them linear in log SCR.
     n = 1.0
     low, medium, high = (ta.schmieder_weathersby(n, region=r) for r in ("low", "medium", "high"))
-    got = ta.schmieder_weathersby(n, scr=np.array([10.0001, 10.0, 1.0, 0.9999, np.inf]))
-    np.testing.assert_array_equal(got, [low, medium, medium, high, low])
+    got = ta.schmieder_weathersby(n, scr=np.array([10.0, 1e3, np.inf, 1.0, 0.33, math.sqrt(10)]))
+    np.testing.assert_allclose(got[:5], [low, low, low, medium, high], rtol=1e-14)
+    assert got[5] == pytest.approx((low + medium) / 2, rel=1e-14)
+    w = math.log(0.5 / 0.33) / math.log(1 / 0.33)  # SCR 0.5 between the high and medium anchors
+    assert ta.schmieder_weathersby(n, scr=0.5) == pytest.approx(high + w * (medium - high))
     assert list(ta.clutter_region([11, 10, 1, 0.5])) == ["low", "medium", "medium", "high"]
+
+
+def test_scr_blend_is_continuous_across_the_region_boundaries():
+    n = np.geomspace(0.05, 20.0, 200)[:, None]
+    for edge in (10.0, 1.0, 0.33):
+        below, above = (ta.schmieder_weathersby(n, scr=edge * f) for f in (1 - 1e-9, 1 + 1e-9))
+        assert np.max(np.abs(above - below)) < 1e-8
+
+
+def test_scr_blend_follows_table_3_4_closer_than_the_bins():
+    # Table 3.4, SCR 5.8 (a medium-clutter SCR): P observed 0.38 at N = 0.5 and 0.87 at N = 1.
+    observed = np.array([0.38, 0.87])
+    blend = ta.schmieder_weathersby(np.array([0.5, 1.0]), scr=5.8)
+    binned = ta.schmieder_weathersby(np.array([0.5, 1.0]), region="medium")
+    assert np.max(np.abs(blend - observed)) < np.max(np.abs(binned - observed))
+
+
+@given(st.floats(1e-3, 1e3), st.floats(0.01, 0.99))
+def test_scr_inverse_is_the_smallest_n_reaching_p(scr, p):
+    n = ta.schmieder_weathersby_inverse(p, scr=scr)
+    if math.isinf(n):
+        assert ta.schmieder_weathersby(1e9, scr=scr) < p
+        return
+    assert ta.schmieder_weathersby(n, scr=scr) == pytest.approx(p, abs=1e-9)
+    assert ta.schmieder_weathersby(n * (1 - 1e-6), scr=scr) < p + 1e-12
 
 
 def test_hot_spot_uses_low_clutter_and_moving_is_always_detected():

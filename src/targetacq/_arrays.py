@@ -190,3 +190,14 @@ def require_open_unit_interval(name: str, value: Array, xp: Any) -> None:
         raise ValueError(
             f"{name} must be in the open interval (0, 1), got {_describe(value, xp, mask)}"
         )
+
+
+def require_finite(name: str, value: Array, xp: Any, unit: str = "") -> None:
+    """Raise ``ValueError`` unless every non-NaN element is finite (a scalar NaN also raises)."""
+    valid = f"finite{' [' + unit + ']' if unit else ''}"
+    _check_scalar_nan(name, value, xp, valid)
+    if is_traced(value):
+        return
+    mask = xp.isinf(value)
+    if any_known(mask, xp):
+        raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")

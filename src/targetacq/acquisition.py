@@ -5,18 +5,31 @@ Sources: Sonesson (2004) ch. 2–3: the tasks and their criteria (§3.5–3.6), 
 detection only (§3.7–3.8), hot spots (§3.9), moving targets (§1.3, §7.5) and the combined
 probability ``P_effect = P_det · P_rec · P_id``, Eq. (2.5).
 
-Ordering. Johnson's probabilities are marginal ones, but nothing is recognised that was not
-detected, nor identified that was not recognised. In heavy clutter the detection curve of
-Table 3.5 can fall below the recognition curve (§3.7: "detection levels are closing in on
-recognition levels"), so :func:`acquisition_probabilities` caps
-``P_rec <= P_det`` and ``P_id <= P_rec`` for each N; :func:`probability` of a single task is the
-uncapped marginal value of its curve.
+Clutter never helps. Without a clutter measure detection comes from the chosen transform and
+criterion; with one, from the Schmieder–Weathersby transform (Table 3.5), capped by the
+uncluttered value: ``P_det = min(P_transform(N), P_SW(N, SCR))``. Otherwise a low clutter
+(whose Table 3.5 curve, with Johnson's scaling, has its 50 % point at half the criterion's
+N50) would raise detection above the uncluttered answer.
+
+Motion (:data:`MOTION_RULES`). Motion raises detectability but creates no resolution: by
+default a moving target is detected as in low clutter, at Table 3.5's most favourable 50 %
+point, so its detection still falls with range; ``always`` is the thesis read literally.
+
+Semantics (:data:`ACQUISITION_SEMANTICS`). Johnson's probabilities are marginal ones, yet
+nothing is recognised that was not detected. ``nested`` (default) reads the curves as the
+probabilities of the three events and caps ``P_rec <= P_det``, ``P_id <= P_rec`` (in heavy
+clutter the detection curve of Table 3.5 can fall below the recognition curve, §3.7: "detection
+levels are closing in on recognition levels"); ``P_effect`` is then ``P_id``. ``conditional``
+reads them as Eq. (2.5) does: recognition given detection, identification given recognition;
+the events have probabilities ``P_det``, ``P_det·P_rec`` and ``P_det·P_rec·P_id = P_effect``.
+:func:`probability` of a single task is the uncapped value of its curve.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -25,11 +38,18 @@ from targetacq import _arrays
 from targetacq import transforms as _transforms
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import NoiseModel, effective_scr, get_noise_model, noise_n50_factor
+from targetacq.registry import lookup
 
 __all__ = [
+    "ACQUISITION_SEMANTICS",
+    "MOTION_RULES",
     "Acquisition",
+    "MotionRule",
+    "Semantics",
     "acquisition_probabilities",
     "effect_probability",
+    "get_motion_rule",
+    "get_semantics",
     "ordered_probabilities",
     "probability",
 ]
@@ -50,10 +70,150 @@ def _flag(value: Any, xp: Any) -> Any:
     return value if isinstance(value, bool) else xp.asarray(value)
 
 
+# --------------------------------------------------------------------------------------------
+# Motion rules and acquisition semantics (registries)
+# --------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class MotionRule:
+    """How a moving target is detected.
+
+    Attributes
+    ----------
+    name : str
+    detection : callable
+        ``detection(n_noisy, n50, transform, options, xp) -> P`` of a moving target.
+    cycles_needed : callable
+        ``cycles_needed(p, n50, transform, options) -> N``: its inverse, without noise.
+    source : str
+    """
+
+    name: str
+    detection: Callable[..., Any]
+    cycles_needed: Callable[..., Any]
+    source: str
+
+
+def _low_clutter_scale() -> float:
+    """Table 3.5's low-clutter 50 % point over its medium-clutter reference (0.5 / 1.0)."""
+    return float(_transforms.clutter_n50(float("inf"))) / float(_transforms.clutter_n50(1.0))
+
+
+def _moving_low_clutter(n: Any, n50: Any, transform: Any, options: Any, xp: Any) -> Any:
+    return _arrays.as_float(
+        transform.forward(n, n50 * _low_clutter_scale(), "detection", **options), xp
+    )
+
+
+def _moving_low_clutter_needed(p: Any, n50: Any, transform: Any, options: Any) -> Any:
+    return transform.inverse(p, n50 * _low_clutter_scale(), "detection", **options)
+
+
+def _moving_always(n: Any, n50: Any, transform: Any, options: Any, xp: Any) -> Any:
+    return xp.where(xp.isnan(n), n, xp.ones_like(n))
+
+
+def _moving_always_needed(p: Any, n50: Any, transform: Any, options: Any) -> Any:
+    xp, (p_,) = _arrays.arrays(p)
+    return xp.where(xp.isnan(p_), p_, xp.zeros_like(p_))
+
+
+MOTION_RULES: Mapping[str, MotionRule] = MappingProxyType(
+    {
+        "low-clutter": MotionRule(
+            "low-clutter",
+            _moving_low_clutter,
+            _moving_low_clutter_needed,
+            "project assumption: motion separates the target from its background, so it is "
+            "detected as in low clutter (Table 3.5's most favourable 50 % point, 0.5 of the "
+            "medium-clutter 1.0 cycle, applied to the criterion's detection N50 on the chosen "
+            "transform), whatever the clutter; noise still applies and motion creates no "
+            "resolution (Sonesson 2004 §1.3, §3.8, Table 3.5)",
+        ),
+        "always": MotionRule(
+            "always",
+            _moving_always,
+            _moving_always_needed,
+            "Sonesson (2004) §1.3, §7.5 read literally: a moving target is always detected "
+            "(P = 1 at any range, with any noise)",
+        ),
+    }
+)
+"""Motion rules by name (read-only); ``low-clutter`` is the default."""
+
+
+@dataclass(frozen=True)
+class Semantics:
+    """What the three task probabilities mean, and so what is sampled and reported.
+
+    Attributes
+    ----------
+    name : str
+    events : callable
+        ``events(det, rec, ide, xp) -> (P(detected), P(recognised), P(identified))`` from the
+        three curves' values.
+    source : str
+    """
+
+    name: str
+    events: Callable[..., tuple[Any, Any, Any]]
+    source: str
+
+
+def _nested_events(det: Any, rec: Any, ide: Any, xp: Any) -> tuple[Any, Any, Any]:
+    rec = xp.minimum(rec, det)
+    return det, rec, xp.minimum(ide, rec)
+
+
+def _conditional_events(det: Any, rec: Any, ide: Any, xp: Any) -> tuple[Any, Any, Any]:
+    recognised = det * rec
+    return det, recognised, recognised * ide
+
+
+ACQUISITION_SEMANTICS: Mapping[str, Semantics] = MappingProxyType(
+    {
+        "nested": Semantics(
+            "nested",
+            _nested_events,
+            "Johnson's curves are marginal probabilities of each task (Sonesson 2004 §3.5); "
+            "nothing is recognised that was not detected, so P_rec <= P_det and "
+            "P_id <= P_rec are enforced; P(identified) = P_effect = P_id",
+        ),
+        "conditional": Semantics(
+            "conditional",
+            _conditional_events,
+            "Eq. (2.5) in Sonesson (2004): recognition given detection, identification given "
+            "recognition; P(recognised) = P_det·P_rec, P(identified) = P_effect = "
+            "P_det·P_rec·P_id",
+        ),
+    }
+)
+"""Acquisition semantics by name (read-only); ``nested`` is the default.
+
+Both are sampled by the same nested draw (one uniform ``u``; detected ``u < P(detected)``,
+recognised ``u < P(recognised)``, identified ``u < P(identified)``): with the conditional event
+probabilities this gives ``P(recognised | detected) = P_rec`` and
+``P(identified | recognised) = P_id`` exactly, so the sampled frequencies are the reported
+probabilities for either semantics.
+"""
+
+
+def get_motion_rule(name: str | MotionRule) -> MotionRule:
+    """Resolve a motion rule by name (``ValueError`` listing the valid names if unknown)."""
+    return name if isinstance(name, MotionRule) else lookup(MOTION_RULES, name, "motion rule")
+
+
+def get_semantics(name: str | Semantics) -> Semantics:
+    """Resolve acquisition semantics by name (``ValueError`` listing the valid names)."""
+    return name if isinstance(name, Semantics) else lookup(ACQUISITION_SEMANTICS, name, "semantics")
+
+
 def _detection_in_clutter(
     n: Any,
     n_noisy: Any,
     n50: Any,
+    uncluttered: Any,
     *,
     scr: Any,
     region: str | None,
@@ -61,32 +221,49 @@ def _detection_in_clutter(
     moving: Any,
     snr: Any,
     noise: NoiseModel | None,
+    motion: MotionRule,
+    transform: _transforms.Transform,
+    options: Mapping[str, Any],
     xp: Any,
 ) -> Any:
-    """P(detection) from Table 3.5 (Schmieder–Weathersby), with noise per the noise model.
+    """P(detection) in clutter, of hot spots and of moving targets.
 
-    With a noise model that combines with clutter and an SCR, the curve is read at the effective
-    ratio (:func:`targetacq.noise.effective_scr`) with the noise-free N; otherwise at the SCR with
-    the noisy N. Hot spots use the low-clutter curve (§3.9); moving targets are detected
-    (§1.3). ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``.
+    - Clutter (an SCR or a region): the Schmieder–Weathersby transform (Table 3.5, continuous
+      in the SCR), read at the effective ratio of clutter and noise
+      (:func:`targetacq.noise.effective_scr`) with the noise-free N where the noise model
+      combines with clutter, else at the SCR with the noisy N; never above the uncluttered
+      probability ``uncluttered`` (clutter can only make detection harder).
+    - Hot spots: the low-clutter curve (§3.9) at the noisy N, whatever the clutter.
+    - Moving targets: the motion rule (:data:`MOTION_RULES`) at the noisy N, whatever the
+      clutter; a moving hot spot takes the better of the two.
+
+    ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``.
     """
-    if noise is not None and noise.combines_with_clutter and scr is not None:
-        scr = effective_scr(scr, snr)  # read at R_eff, with the noise-free N
-    else:
-        n = n_noisy
     out = None
     if scr is not None or region is not None:
-        out = _transforms.schmieder_weathersby(n, n50, scr=scr, region=region)
+        if noise is not None and noise.combines_with_clutter and scr is not None:
+            seen = _transforms.schmieder_weathersby(n, n50, scr=effective_scr(scr, snr))
+        else:
+            seen = _transforms.schmieder_weathersby(n_noisy, n50, scr=scr, region=region)
+        out = xp.minimum(_arrays.as_float(seen, xp), uncluttered)
+    special = None
     if hot_spot is not False:
-        hot = _transforms.schmieder_weathersby(n, n50, hot_spot=True)
-        out = hot if out is None or hot_spot is True else xp.where(_flag(hot_spot, xp), hot, out)
+        hot = _arrays.as_float(_transforms.schmieder_weathersby(n_noisy, n50, hot_spot=True), xp)
+        special = hot if hot_spot is True else xp.where(_flag(hot_spot, xp), hot, xp.nan)
     if moving is not False:
-        seen = xp.where(xp.isnan(n), n, xp.ones_like(n))
-        out = seen if out is None or moving is True else xp.where(_flag(moving, xp), seen, out)
+        go = motion.detection(n_noisy, n50, transform, options, xp)
+        go = go if moving is True else xp.where(_flag(moving, xp), go, xp.nan)
+        special = (
+            go if special is None else xp.where(xp.isnan(special), go, xp.maximum(special, go))
+        )
+    if special is not None:
+        fallback = uncluttered if out is None else out
+        ordinary = xp.isnan(special) & ~xp.isnan(n)  # neither flag set here
+        out = xp.where(ordinary, fallback, special)
     if out is None:
         raise ValueError(
-            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
-            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
+            "detection in clutter needs the clutter: give scr (signal-to-clutter ratio), "
+            "region ('low', 'medium', 'high'), a hot spot or a moving target"
         )
     return out
 
@@ -103,14 +280,18 @@ def ordered_probabilities(
     moving: Any = False,
     snr: Any = None,
     noise: NoiseModel | None = None,
+    motion: MotionRule | str = "low-clutter",
+    semantics: Semantics | str = "nested",
 ) -> tuple[Any, Any, Any]:
-    """Ordered probabilities of detection, recognition and identification (no input checks).
+    """Probabilities of being detected, recognised and identified (no input checks).
 
     The one implementation behind :func:`acquisition_probabilities`, the array core and the
     range solver. Recognition and identification come from ``transform``; detection too, except
-    in clutter (an SCR, a region, or where ``hot_spot`` or ``moving``), where it comes from the
-    Schmieder–Weathersby transform (§3.8). Noise multiplies every N50 by the noise model's
-    factor. Then ``P_rec <= P_det`` and ``P_id <= P_rec``. Traceable by JAX.
+    in clutter (an SCR, a region), for hot spots and for moving targets, where it comes from
+    :func:`_detection_in_clutter` (§3.8–3.9). Noise multiplies every N50 by the noise model's
+    factor. The semantics then turn the three curves into the probabilities of the three events
+    (:data:`ACQUISITION_SEMANTICS`; ``nested``: ``P_rec <= P_det``, ``P_id <= P_rec``).
+    Traceable by JAX.
 
     Parameters
     ----------
@@ -124,6 +305,10 @@ def ordered_probabilities(
     scr, region, hot_spot, moving, snr, noise
         The clutter (``hot_spot`` and ``moving`` bools or bool arrays), the SNR [dB] and the
         noise model (None: no noise).
+    motion : MotionRule or str
+        How a moving target is detected (:data:`MOTION_RULES`).
+    semantics : Semantics or str
+        :data:`ACQUISITION_SEMANTICS`.
 
     Returns
     -------
@@ -139,29 +324,25 @@ def ordered_probabilities(
             _arrays.as_float(transform.forward(n_noisy, v, task, **options), xp)
             for v, task in zip(n50, _TASKS, strict=True)
         )
-    if scr is not None or region is not None:
-        flagged: Any = True
-    elif isinstance(hot_spot, bool) and isinstance(moving, bool):
-        flagged = hot_spot or moving
-    else:
-        flagged = xp.asarray(hot_spot) | xp.asarray(moving)
-    if flagged is not False:
-        in_clutter = _detection_in_clutter(
+    if scr is not None or region is not None or hot_spot is not False or moving is not False:
+        det = _detection_in_clutter(
             n,
             n_noisy,
             n50[0],
+            det,
             scr=scr,
             region=region,
             hot_spot=hot_spot,
             moving=moving,
             snr=snr,
             noise=noise,
+            motion=get_motion_rule(motion),
+            transform=transform,
+            options=options,
             xp=xp,
         )
-        det = in_clutter if flagged is True else xp.where(flagged, in_clutter, det)
     xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
-    rec = xp.minimum(rec, det)
-    return det, rec, xp.minimum(ide, rec)
+    return get_semantics(semantics).events(det, rec, ide, xp)
 
 
 def probability(
@@ -176,13 +357,15 @@ def probability(
     moving: bool = False,
     snr: Any = None,
     noise_model: Any = "variance-sum",
+    motion: str = "low-clutter",
     **options: Any,
 ) -> Any:
     """Probability of one task from cycles on target (the task's marginal curve).
 
-    Detection in clutter (``scr``, ``region``, ``hot_spot`` or ``moving`` given) comes from the
-    Schmieder–Weathersby transform (§3.8); everything else from ``transform``. Noise (``snr``)
-    moves the curves as the noise model says (:mod:`targetacq.noise`).
+    Detection in clutter (``scr`` or ``region``), of a hot spot or of a moving target comes
+    from the Schmieder–Weathersby transform and the motion rule (§3.8–3.9), capped in clutter
+    by the uncluttered curve; everything else from ``transform``. Noise (``snr``) moves the
+    curves as the noise model says (:mod:`targetacq.noise`).
 
     Parameters
     ----------
@@ -202,6 +385,8 @@ def probability(
         Signal-to-noise ratio [dB]; None or +inf for no noise.
     noise_model : str, NoiseModel or callable
         See :mod:`targetacq.noise`.
+    motion : str
+        How a moving target is detected, :data:`MOTION_RULES`.
     **options
         The transform's options (e.g. ``bound=`` for c2nveo); anything else raises ``ValueError``.
 
@@ -209,30 +394,49 @@ def probability(
     -------
     array_like
         P in [0, 1].
+
+    Examples
+    --------
+    >>> round(float(probability(1.0, "detection")), 3)  # Johnson's N50 for detection
+    0.5
+    >>> float(probability(1.0, "detection", snr=float("-inf")))  # no signal left
+    0.0
     """
     n50 = get_criterion(criterion).n50(task)
     chosen = _transforms.get_transform(transform)
     noise = get_noise_model(noise_model) if snr is not None else None
+    rule = get_motion_rule(motion)
     chosen.check(task, options)
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
     n_noisy = _noisy(n, snr, noise, xp)
+    if chosen.tasks == ("detection",):
+        # A detection-in-clutter transform chosen by name: the clutter is its own input.
+        given = {"scr": scr, "region": region, "hot_spot": hot_spot, "moving": moving}
+        clutter = {k: v for k, v in given.items() if v is not None and v is not False}
+        chosen.check(task, {**clutter, **options})
+        return chosen.forward(n_noisy, n50, task, **clutter, **options)
+    plain = chosen.forward(n_noisy, n50, task, **options)
     if task == "detection" and (scr is not None or region is not None or hot_spot or moving):
         _transforms.check_clutter(scr, region, xp)
         found = _detection_in_clutter(
             n,
             n_noisy,
             n50,
+            _arrays.as_float(plain, xp),
             scr=scr,
             region=region,
             hot_spot=hot_spot,
             moving=moving,
             snr=snr,
             noise=noise,
+            motion=rule,
+            transform=chosen,
+            options=options,
             xp=xp,
         )
         return _arrays.result(found)
-    return chosen.forward(n_noisy, n50, task, **options)
+    return plain
 
 
 def effect_probability(detection: Any, recognition: Any, identification: Any) -> Any:
@@ -256,17 +460,23 @@ class Acquisition:
     Attributes
     ----------
     detection, recognition, identification : array_like
-        Probabilities with ``identification <= recognition <= detection``.
+        Probabilities of being detected, recognised and identified under ``semantics``, with
+        ``identification <= recognition <= detection``.
+    semantics : str
+        :data:`ACQUISITION_SEMANTICS`.
     """
 
     detection: Any
     recognition: Any
     identification: Any
+    semantics: str = field(default="nested", kw_only=True)
 
     @property
     def effect(self) -> Any:
-        """``P_effect = P_det · P_rec · P_id``, Eq. (2.5), computed when asked for."""
-        return effect_probability(self.detection, self.recognition, self.identification)
+        """``P_effect``, the probability that all three tasks succeed: the probability of being
+        identified under the semantics (``nested``: ``P_id``; ``conditional``: Eq. (2.5),
+        ``P_det · P_rec · P_id`` of the curves)."""
+        return self.identification
 
 
 def _ttpf_three_numpy(n: np.ndarray, n50s: tuple[float, ...]) -> list[np.ndarray]:
@@ -317,14 +527,17 @@ def acquisition_probabilities(
     moving: bool = False,
     snr: Any = None,
     noise_model: Any = "variance-sum",
+    motion: str = "low-clutter",
+    semantics: str = "nested",
     **options: Any,
 ) -> Acquisition:
     """Probabilities of detection, recognition and identification, ordered, and P_effect.
 
     Recognition and identification come from ``transform``; so does detection, unless the
     clutter is given (``scr``, ``region``, ``hot_spot`` or ``moving``), in which case detection
-    comes from the Schmieder–Weathersby transform (clutter acts on detection, §3.8).
-    The result is capped so that ``P_id <= P_rec <= P_det`` (module docstring).
+    comes from the Schmieder–Weathersby transform and the motion rule (clutter acts on
+    detection, §3.8), never above the uncluttered value. The semantics say what the three
+    numbers mean (:data:`ACQUISITION_SEMANTICS`); either way ``P_id <= P_rec <= P_det``.
 
     Parameters
     ----------
@@ -346,6 +559,10 @@ def acquisition_probabilities(
         broadcasting with ``cycles``; None or +inf for no noise.
     noise_model : str, NoiseModel or callable
         How noise moves the transforms, see :mod:`targetacq.noise` (default "variance-sum").
+    motion : str
+        How a moving target is detected, :data:`MOTION_RULES` (default "low-clutter").
+    semantics : str
+        :data:`ACQUISITION_SEMANTICS` (default "nested").
     **options
         Options of ``transform`` (e.g. ``bound=``).
 
@@ -366,6 +583,7 @@ def acquisition_probabilities(
     for task in _TASKS:
         chosen.check(task, options)
     noise = get_noise_model(noise_model) if snr is not None else None
+    rule, meaning = get_motion_rule(motion), get_semantics(semantics)
     xp, (n,) = _arrays.arrays(cycles)
     _arrays.require_nonnegative("cycles", n, xp)
     _transforms.check_clutter(scr, region, xp)
@@ -380,9 +598,12 @@ def acquisition_probabilities(
         moving=moving,
         snr=snr,
         noise=noise,
+        motion=rule,
+        semantics=meaning,
     )
     return Acquisition(
         detection=_arrays.result(det),
         recognition=_arrays.result(rec),
         identification=_arrays.result(ide),
+        semantics=meaning.name,
     )

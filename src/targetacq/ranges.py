@@ -29,6 +29,7 @@ from typing import Any
 
 from targetacq import _arrays, optics
 from targetacq import transforms as _transforms
+from targetacq.acquisition import get_motion_rule
 from targetacq.core.cases import RangeCase, case_acquisition, case_probability
 from targetacq.criteria import Criterion, get_criterion
 
@@ -130,6 +131,9 @@ def dri_ranges(
     return case_ranges(case, probability, tolerance)
 
 
+_DRI_TASKS = ("detection", "recognition", "identification")
+
+
 def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9) -> dict[str, Any]:
     """Range at which each task of a case reaches a probability (the DRI ranges of a case).
 
@@ -167,10 +171,19 @@ def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9
         }
     chosen = _transforms.get_transform(case.transform)
     tasks = [t for t in crit.tasks if chosen.tasks is None or t in chosen.tasks]
+    conditional = case.semantics == "conditional" and set(_DRI_TASKS) <= set(tasks)
     ranges: dict[str, Any] = {}
     for task in tasks:
         r_free = _noise_free_range(case, crit, chosen, task, probability)
-        if case.attenuates:
+        if conditional and task in _DRI_TASKS and task != "detection":
+            # P(recognised) = P_det · P_rec <= P_rec: the curve's range bounds it.
+            r_free = _solve(
+                lambda rr, task=task: getattr(case_acquisition(case, rr), task),
+                probability,
+                r_free,
+                tolerance,
+            )
+        elif case.noisy:
             r_free = _solve(
                 lambda rr, task=task: case_probability(case, rr, task),
                 probability,
@@ -182,25 +195,54 @@ def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9
     return {task: _arrays.result(r) for task, r in ranges.items()}
 
 
+def _cycles_needed(
+    case: RangeCase, crit: Criterion, chosen: Any, task: str, probability: Any
+) -> Any:
+    """Cycles for a probability without noise (+inf: never reached), as the model reads the
+    curves (:func:`targetacq.acquisition.ordered_probabilities`): detection in clutter is the
+    lesser of the transform's curve and Table 3.5's, so it needs the more cycles of the two; a
+    hot spot reads the low-clutter curve, a moving target its motion rule, either the better."""
+    n50 = crit.n50(task)
+    if chosen.tasks == ("detection",):  # a detection-in-clutter transform chosen by name
+        given = {k: v for k, v in case.clutter.items() if v is not None and v is not False}
+        return chosen.inverse(probability, n50, task, **given, **case.options)
+    needed = _transforms.inverse_transform(
+        probability, n50, task, method=chosen.name, **case.options
+    )
+    if task != "detection" or not case.in_clutter:
+        return needed
+    xp, (needed,) = _arrays.arrays(needed)
+    if case.scr is not None or case.region is not None:
+        sw = _transforms.schmieder_weathersby_inverse(
+            probability, n50, scr=case.scr, region=case.region
+        )
+        needed = xp.maximum(needed, _arrays.as_float(sw, xp))
+    special = None
+    if case.hot_spot:
+        special = _arrays.as_float(
+            _transforms.schmieder_weathersby_inverse(probability, n50, hot_spot=True), xp
+        )
+    if case.moving:
+        go = _arrays.as_float(
+            get_motion_rule(case.motion).cycles_needed(probability, n50, chosen, case.options), xp
+        )
+        special = go if special is None else xp.minimum(special, go)
+    return needed if special is None else special
+
+
 def _noise_free_range(
     case: RangeCase, crit: Criterion, chosen: Any, task: str, probability: Any
 ) -> Any:
-    """The closed-form range of a task without the path's noise (NaN: never reached)."""
-    if task == "detection" and case.in_clutter:
-        needed = _transforms.schmieder_weathersby_inverse(
-            probability, crit.n50(task), **case.clutter
-        )
-    else:
-        needed = _transforms.inverse_transform(
-            probability, crit.n50(task), task, method=chosen.name, **case.options
-        )
+    """The closed-form range of a task without noise (NaN: never reached)."""
+    needed = _cycles_needed(case, crit, chosen, task, probability)
     xp, (n,) = _arrays.arrays(needed)
     never = xp.isinf(n)
     r = optics.range_for_cycles(
         case.critical_dimension, xp.where(never, 1.0, n), **case.resolution()
     )
     xp, (r,) = _arrays.arrays(r)
-    return xp.where(never, xp.nan, r)
+    r = xp.where(never, xp.nan, r)
+    return xp.where(n == 0, xp.inf, r)
 
 
 def _solve(prob: Any, p: Any, r_free: Any, tolerance: float) -> Any:
@@ -245,8 +287,6 @@ def _order(ranges: dict[str, Any]) -> None:
 CASE_KEYS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(RangeCase))
 """Keys of a case of :func:`range_performance` given as a mapping: the fields of
 :class:`RangeCase` (``options``: the transform's options)."""
-
-_DRI_TASKS = ("detection", "recognition", "identification")
 
 
 @dataclass(frozen=True)

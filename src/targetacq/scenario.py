@@ -39,6 +39,7 @@ from pydantic import (
 )
 
 from targetacq import atmosphere as _atmosphere
+from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
@@ -147,7 +148,10 @@ class Sensor(_Strict):
     """An imaging sensor.
 
     ``type`` "thermal" sees emitted radiation in its ``band``; "tv" sees reflected light
-    (visible band, the background's ``irradiance``). The resolution is given one way: ``pitch``
+    (visible band, the background's ``irradiance``). The sensor's own noise: ``netd`` of a
+    thermal sensor (quoted at ``netd_temperature``, 300 K by default), ``nec`` (noise-equivalent
+    contrast, relative to the background) of a TV sensor; without them only the atmosphere adds
+    noise. The resolution is given one way: ``pitch``
     with ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
     or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
     every target is taken to be in view.
@@ -167,6 +171,9 @@ class Sensor(_Strict):
     look_at: Position | None = None
     azimuth: Angle | None = None
     depression: Angle | None = None
+    netd: TemperatureDifference | None = None
+    netd_temperature: Temperature = 300.0
+    nec: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
@@ -198,6 +205,14 @@ class Sensor(_Strict):
             raise ValueError("azimuth and depression go together")
         if self.pixels is None and (self.look_at is not None or self.azimuth is not None):
             raise ValueError("pointing needs pixels = [width, height] for the field of view")
+        if self.netd is not None and not (self.netd >= 0 and math.isfinite(self.netd)):
+            raise ValueError("netd must be a finite temperature difference >= 0 K, e.g. '50 mK'")
+        if not (self.netd_temperature > 0 and math.isfinite(self.netd_temperature)):
+            raise ValueError("netd_temperature must be > 0 K")
+        if self.netd is not None and self.type != "thermal":
+            raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
+        if self.nec is not None and self.type != "tv":
+            raise ValueError("nec is the noise-equivalent contrast of a TV sensor; give netd")
         return self
 
     @property
@@ -405,8 +420,10 @@ class Atmosphere(_Strict):
 
 
 class ModelChoices(_Strict):
-    """Model choices: criterion (or a user N50 triple), transform, noise model, fusion, and the
-    search model's time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default)."""
+    """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
+    (how a moving target is detected), semantics (nested or conditional: what the three
+    probabilities mean, hence what is reported and sampled), fusion, and the search model's
+    time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default)."""
 
     criterion: str = "johnson"
     n50: (
@@ -420,6 +437,8 @@ class ModelChoices(_Strict):
     transform: str = "ttpf"
     bound: str | None = None
     noise_model: str = "variance-sum"
+    motion: str = "low-clutter"
+    semantics: str = "nested"
     fusion: Literal["sensor-level"] = "sensor-level"
     search_time: Time = 3.4
 
@@ -428,6 +447,8 @@ class ModelChoices(_Strict):
         lookup(CRITERIA, self.criterion, "criterion")
         lookup(TRANSFORMS, self.transform, "transform")
         lookup(NOISE_MODELS, self.noise_model, "noise model")
+        lookup(MOTION_RULES, self.motion, "motion rule")
+        lookup(ACQUISITION_SEMANTICS, self.semantics, "semantics")
         if self.bound is not None and self.bound not in C2NVEO_BOUNDS:
             raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
         if not self.search_time > 0:

@@ -1,6 +1,6 @@
 """Transforms from resolution (cycles on target) to the probability of a task.
 
-Three methods, kept in the registry :data:`TRANSFORMS` and reached through one dispatcher,
+Four methods, kept in the registry :data:`TRANSFORMS` and reached through one dispatcher,
 :func:`transform` (and :func:`inverse_transform` for the cycles needed for a probability):
 
 ``ttpf``
@@ -10,10 +10,25 @@ Three methods, kept in the registry :data:`TRANSFORMS` and reached through one d
     Table 3.3 of Sonesson (2004): cycles needed for seven probabilities per task, each a range
     whose low end is the optimistic and high end the pessimistic curve (``bound``); ``nominal``
     is the geometric mean of each cell.
+``schmieder-weathersby-observed``
+    Table 3.4 of Sonesson (2004), the observations behind Table 3.5: a monotone fit through
+    P(detection) observed at four SCRs (:mod:`targetacq.observed_detection`). Detection only.
 ``schmieder-weathersby``
     Table 3.5 of Sonesson (2004): cycles needed for detection in low (SCR > 10), medium
     (1 <= SCR <= 10) and high (SCR < 1) clutter. Detection only (§3.8). Hot spots use the
-    low-clutter curve (§3.9); a moving target is always detected (§1.3, §7.5).
+    low-clutter curve (§3.9); here a moving target is always detected (§1.3, §7.5; the model
+    chain uses the motion rules of :mod:`targetacq.acquisition` instead).
+
+    Continuous in the SCR. Given by ``region`` the printed curves hold as they are. Given an
+    ``scr``, the curves are anchored at the lower edge of each region (low clutter for
+    SCR >= 10, medium at SCR = 1, high at SCR <= 0.33, the lowest observed SCR) and the
+    probability is interpolated linearly in ``log SCR`` between anchors. Table 3.5 bins
+    observations (Table 3.4) into three regions, so a probability that jumps where the SCR
+    crosses 1 or 10 is an artefact of the binning, and with noise the effective SCR moves
+    with range: a jump in SCR became a jump in range (P from 1.00 to 0.57 over 2 m). The blend
+    is this project's assumption; it keeps every printed point at its anchor, is monotone in
+    SCR and N (the curves are ordered pointwise: low >= medium >= high), and follows Table 3.4
+    closer than the bins (SCR 5.8, N = 1: observed 0.87, blend 0.84, medium bin 0.50).
 
 Table curves are interpolated linearly in ``log N`` between the printed points (the thesis's
 Figs. 3.5 and 3.7 use a logarithmic cycles axis), linearly in ``N`` from ``P = 0`` at ``N = 0``
@@ -52,6 +67,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import _arrays
+from targetacq import observed_detection as _observed
 from targetacq._arrays import Array
 from targetacq.registry import lookup
 from targetacq.tables import load_table
@@ -442,10 +458,27 @@ def check_clutter(scr: Any, region: str | None, xp: Any) -> None:
 def _sw_select(
     values: Mapping[str, Array], scr: Array | None, region: str | None, xp: Any
 ) -> Array:
+    """The region's curve, or with an SCR the curves blended continuously in ``log SCR``.
+
+    Anchors: the low-clutter curve for SCR >= 10, the medium-clutter curve at SCR = 1 and the
+    high-clutter curve at SCR <= 0.33 (the lowest SCR observed, Table 3.4), the lower edges of
+    Table 3.5's regions; between two anchors the probability is interpolated linearly in
+    ``log SCR`` (module docstring).
+    """
     if scr is None:
         return values[region or "low"]
-    out = xp.where(scr > 10, values["low"], values["high"])
-    out = xp.where((scr >= 1) & (scr <= 10), values["medium"], out)
+    scr_low = _sw_high_anchor()[0]
+    safe = xp.where(scr > 0, scr, scr_low)
+    upper = xp.minimum(xp.maximum(xp.log10(xp.where(safe >= 1.0, safe, 1.0)), 0.0), 1.0)
+    lower = xp.minimum(
+        xp.maximum(
+            xp.log(xp.where(safe < 1.0, safe, 1.0) / scr_low) / math.log(1.0 / scr_low), 0.0
+        ),
+        1.0,
+    )
+    above = values["medium"] + upper * (values["low"] - values["medium"])
+    below = values["high"] + lower * (values["medium"] - values["high"])
+    out = xp.where(scr >= 1.0, above, below)
     return xp.where(xp.isnan(scr), scr, out)
 
 
@@ -505,8 +538,9 @@ def schmieder_weathersby_inverse(
     moving: bool = False,
 ) -> Any:
     """Cycles needed for a probability of detection in clutter (inverse of
-    :func:`schmieder_weathersby`): +inf where the region never reaches it (high clutter
-    above 0.9); 0 for a moving target."""
+    :func:`schmieder_weathersby`): the smallest N with ``P(N) >= p``; +inf where the curve
+    never reaches it (high clutter above 0.9); 0 for a moving target. With an SCR (curves
+    blended in ``log SCR``) it is found by bisection in ``log N`` to 1e-12 relative."""
     xp, (p, n50_) = _arrays.arrays(probability, n50)
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
@@ -516,12 +550,28 @@ def schmieder_weathersby_inverse(
         return _arrays.result(xp.where(xp.isnan(p), p, xp.zeros_like(p)) * scale)
     if hot_spot:
         return _arrays.result(_sw_curves()["low"].inverse(p, xp) * scale)
-    values = {name: curve.inverse(p, xp) for name, curve in _sw_curves().items()}
-    needed = _sw_select(values, s, region, xp) * scale
-    if s is not None:
-        stretch = _sw_stretch(s, xp)
-        needed = xp.where(stretch > 0, needed / xp.where(stretch > 0, stretch, 1.0), xp.inf)
-    return _arrays.result(needed)
+    if s is None:
+        return _arrays.result(_sw_curves()[region or "low"].inverse(p, xp) * scale)
+    p, s = p + 0.0 * s, s + 0.0 * p
+    stretch = _sw_stretch(s, xp)
+    curves = _sw_curves()
+    top = _sw_select(
+        {name: xp.full_like(s, c.probabilities[-1]) for name, c in curves.items()}, s, None, xp
+    )
+    # Bracket [lo, hi] in ln N on the unstretched axis: every curve is below p at lo (linear
+    # from 0) and at its last value from the largest printed N on.
+    lo = xp.full_like(p, math.log(1e-9))
+    hi = xp.full_like(p, math.log(max(c.cycles[-1] for c in curves.values())))
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        n_mid = xp.exp(mid)
+        values = {name: curve.forward(n_mid, xp) for name, curve in curves.items()}
+        ok = _sw_select(values, s, None, xp) >= p
+        lo, hi = xp.where(ok, lo, mid), xp.where(ok, mid, hi)
+    needed = xp.exp(hi) * scale
+    needed = xp.where(p > top, xp.inf, needed)
+    needed = xp.where(stretch > 0, needed / xp.where(stretch > 0, stretch, 1.0), xp.inf)
+    return _arrays.result(xp.where(xp.isnan(p) | xp.isnan(s), xp.nan, needed))
 
 
 # --------------------------------------------------------------------------------------------
@@ -610,6 +660,15 @@ TRANSFORMS: Mapping[str, Transform] = MappingProxyType(
                 {"scr": None, "region": None, "hot_spot": False, "moving": False}
             ),
             source="Sonesson (2004) Table 3.5 (Schmieder & Weathersby 1983)",
+        ),
+        _observed.NAME: Transform(
+            _observed.NAME,
+            _observed.forward,
+            _observed.inverse,
+            tasks=("detection",),
+            options=MappingProxyType({"scr": None}),
+            source="Sonesson (2004) Table 3.4 (Schmieder & Weathersby 1983): a monotone fit "
+            "through the observed points",
         ),
     }
 )

@@ -28,9 +28,15 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from targetacq import _arrays, atmosphere, optics
+from targetacq import _arrays, atmosphere, optics, sensor_noise
 from targetacq import transforms as _transforms
-from targetacq.acquisition import Acquisition, acquisition_probabilities, probability
+from targetacq.acquisition import (
+    Acquisition,
+    acquisition_probabilities,
+    get_motion_rule,
+    get_semantics,
+    probability,
+)
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import get_noise_model
 
@@ -76,7 +82,21 @@ class RangeCase:
     hot_spot, moving : bool
         See :func:`targetacq.transforms.schmieder_weathersby`.
     noise_model : str, NoiseModel or callable
-        How the path's noise moves the transforms (:mod:`targetacq.noise`).
+        How the noise moves the transforms (:mod:`targetacq.noise`).
+    contrast : array_like, optional
+        Target–background contrast at the scene, in the unit of ``noise_equivalent_contrast``
+        (a thermal sensor: ΔT [K]); with ``noise_equivalent_contrast``, the sensor's own noise
+        (:mod:`targetacq.sensor_noise`).
+    noise_equivalent_contrast : array_like, optional
+        The sensor's noise-equivalent contrast, >= 0 (a thermal sensor: its NETD [K]).
+    target_area : array_like, optional
+        Area of the target's outline as seen [m²], > 0, for the pixels on target of the
+        sensor's SNR; default the critical dimension squared (the fewest pixels a target of that
+        critical dimension can cover).
+    motion : str
+        How a moving target is detected (:data:`targetacq.acquisition.MOTION_RULES`).
+    semantics : str
+        What the three probabilities mean (:data:`targetacq.acquisition.ACQUISITION_SEMANTICS`).
 
     Examples
     --------
@@ -105,6 +125,11 @@ class RangeCase:
     hot_spot: bool = False
     moving: bool = False
     noise_model: Any = "variance-sum"
+    contrast: Any = None
+    noise_equivalent_contrast: Any = None
+    target_area: Any = None
+    motion: str = "low-clutter"
+    semantics: str = "nested"
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(self.critical_dimension, self.ifov)
@@ -122,6 +147,9 @@ class RangeCase:
             _arrays.require_unit_interval("foliage", _arrays.as_float(self.foliage, xp), xp)
         _transforms.check_clutter(self.scr, self.region, xp)
         get_noise_model(self.noise_model)
+        get_motion_rule(self.motion)
+        get_semantics(self.semantics)
+        self._check_sensor_noise()
         if crit.gives_probabilities:
             self._check_transform(crit)
         else:
@@ -153,6 +181,20 @@ class RangeCase:
             xp, (sigma,) = _arrays.arrays(self.blur_sigma)
             _arrays.require_nonnegative("blur_sigma", sigma, xp, "rad")
 
+    def _check_sensor_noise(self) -> None:
+        if (self.contrast is None) != (self.noise_equivalent_contrast is None):
+            raise ValueError(
+                "give both the target's contrast (e.g. delta_t) and the sensor's noise-equivalent "
+                "contrast (e.g. netd) for the sensor's noise, or neither"
+            )
+        if self.contrast is not None:
+            xp, (c, nec) = _arrays.arrays(self.contrast, self.noise_equivalent_contrast)
+            _arrays.require_finite("contrast", c, xp)
+            _arrays.require_nonnegative("noise_equivalent_contrast", nec, xp)
+        if self.target_area is not None:
+            xp, (a,) = _arrays.arrays(self.target_area)
+            _arrays.require_positive("target_area", a, xp, "m²")
+
     def _check_transform(self, crit: Criterion) -> None:
         chosen = _transforms.get_transform(self.transform)
         tasks = [t for t in crit.tasks if chosen.tasks is None or t in chosen.tasks]
@@ -172,6 +214,8 @@ class RangeCase:
             "moving": self.moving,
             "extinction": self.extinction,
             "foliage": self.foliage,
+            "contrast": self.contrast,
+            "noise_equivalent_contrast": self.noise_equivalent_contrast,
         }
         extras = [name for name, value in given.items() if value is not None and value is not False]
         extras = [name for name in extras if name != "extinction" or bool(self.extinction)]
@@ -185,6 +229,11 @@ class RangeCase:
     def attenuates(self) -> bool:
         """Whether the path attenuates (an extinction or foliage is given), adding noise."""
         return self.extinction is not None or self.foliage is not None
+
+    @property
+    def noisy(self) -> bool:
+        """Whether any noise acts: the path's (it attenuates) or the sensor's own."""
+        return self.attenuates or self.contrast is not None
 
     @property
     def in_clutter(self) -> bool:
@@ -243,7 +292,8 @@ class CaseAcquisition(Acquisition):
     transmittance : array_like
         τ of the path, foliage included [1].
     snr : array_like
-        SNR of Eq. (7.7) [dB] (+inf where the path does not attenuate).
+        Total SNR [dB]: the path's of Eq. (7.7) and the sensor's own, added in variance
+        (+inf where neither is given).
     """
 
     cycles: Any
@@ -255,7 +305,9 @@ def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
     ``N`` from :func:`targetacq.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in Sonesson
-    (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); SNR of Eqs. (7.5)–(7.7).
+    (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); the SNR of Eqs. (7.5)–(7.7) added
+    in variance to the sensor's own (:func:`targetacq.sensor_noise.sensor_snr`, with the pixels
+    the target's area covers at the sensor's IFOV).
 
     Parameters
     ----------
@@ -279,7 +331,13 @@ def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     tau = atmosphere.transmittance(gamma, range)
     if case.foliage is not None:
         tau = tau * case.foliage
-    return cycles, tau, atmosphere.snr_from_transmittance(tau)
+    snr = atmosphere.snr_from_transmittance(tau)
+    if case.contrast is not None:
+        area = case.critical_dimension**2 if case.target_area is None else case.target_area
+        pixels = sensor_noise.pixels_on_target(area, range, case.resolution()["ifov"])
+        own = sensor_noise.sensor_snr(case.contrast, case.noise_equivalent_contrast, tau, pixels)
+        snr = sensor_noise.combined_snr(snr, own)
+    return cycles, tau, snr
 
 
 def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
@@ -314,8 +372,10 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
         cycles,
         case.criterion,
         case.transform,
-        snr=snr if case.attenuates else None,
+        snr=snr if case.noisy else None,
         noise_model=case.noise_model,
+        motion=case.motion,
+        semantics=case.semantics,
         **case.clutter,
         **case.options,
     )
@@ -323,6 +383,7 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
         detection=acq.detection,
         recognition=acq.recognition,
         identification=acq.identification,
+        semantics=acq.semantics,
         cycles=cycles,
         transmittance=tau,
         snr=snr,
@@ -360,8 +421,9 @@ def case_probability(case: RangeCase, range: Any, task: str) -> Any:
         task,
         case.criterion,
         case.transform,
-        snr=snr if case.attenuates else None,
+        snr=snr if case.noisy else None,
         noise_model=case.noise_model,
+        motion=case.motion,
         **case.clutter,
         **case.options,
     )

@@ -119,6 +119,17 @@ def _sensors(scenario: Any) -> SensorArrays:
             for s in sensors
         ]
     ).reshape(len(sensors), len(atm.segments))
+    noise = np.array(
+        [
+            get_sensor_type(s.type).noise_equivalent(
+                s, get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
+            )
+            if s.netd is not None or s.nec is not None
+            else 0.0
+            for s in sensors
+        ],
+        dtype=float,
+    ).reshape(len(sensors))
     return SensorArrays(
         cycle=np.array([get_sensor_type(s.type).cycle_angle(s) for s in sensors]),
         ifov=np.array([s.pixel_ifov for s in sensors]),
@@ -127,12 +138,14 @@ def _sensors(scenario: Any) -> SensorArrays:
         pointing=pointing,
         extinction=extinction,
         segment_extinction=segment_extinction,
+        noise_equivalent=noise,
         names=tuple(s.name for s in sensors),
         types=tuple(s.type for s in sensors),
         pointed=tuple(
             s.look_at is not None or (s.azimuth is not None and s.depression is not None)
             for s in sensors
         ),
+        has_noise=bool(np.any(noise > 0)),
     )
 
 
@@ -239,6 +252,8 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         noise_model=model.noise_model,
         region=scenario.background.clutter,
         search_time=model.search_time,
+        motion=model.motion,
+        semantics=model.semantics,
     )
     scene = SceneArrays(
         sensors=_sensors(scenario),

@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import _arrays, atmosphere, geometry
+from targetacq import _arrays, atmosphere, geometry, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import ordered_probabilities
 from targetacq.clutter import signal_to_clutter_ratio
@@ -101,7 +101,8 @@ class Factors:
     transmittance : array
         τ [1].
     snr : array
-        SNR of Eq. (7.7) [dB].
+        Total SNR [dB]: the path's of Eq. (7.7) and, where a sensor has noise of its own, the
+        sensor's (:func:`targetacq.sensor_noise.sensor_snr`), added in variance.
     scr : array or None
         Signal-to-clutter ratio, where a clutter measure is given.
     """
@@ -267,14 +268,29 @@ def factors(
         depth = depth + path.cloud_extinction[c] * chord
     if scr is None and scene.signature.scr is not None:
         scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
+    tau = xp.exp(-depth)
+    snr = atmosphere.snr_from_optical_depth(depth)
+    if sensors.has_noise:
+        # The area seen: the outline's horizontal side times the visible part of its height.
+        area = horizontal * vertical * _per_target(targets.visible_fraction, batch, xp)
+        footprint = xp.maximum(rng, 1e-9) * _per_sensor(sensors.ifov, batch, xp)
+        own = sensor_noise.sensor_snr(
+            xp.reshape(
+                _arrays.as_float(scene.signature.contrast, xp), (*scene.shape,) + (1,) * batch
+            ),
+            _per_sensor(sensors.noise_equivalent, batch, xp),
+            tau,
+            area / (footprint * footprint),
+        )
+        snr = sensor_noise.combined_snr(snr, own)
     return Factors(
         range=rng,
         critical_dimension=critical,
         cycles=cycles,
         in_view=in_view,
         optical_depth=depth,
-        transmittance=xp.exp(-depth),
-        snr=atmosphere.snr_from_optical_depth(depth),
+        transmittance=tau,
+        snr=snr,
         scr=scr,
     )
 
@@ -330,6 +346,8 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
             moving=flag(moving),
             snr=pick(snr),
             noise=noise,
+            motion=choices.motion,
+            semantics=choices.semantics,
         )
 
     table = targets.n50
@@ -351,7 +369,7 @@ def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
     """Probabilities of every pair from its factors, zero outside the field of view, NaN where
     the geometry is NaN, and their sensor-level fusion (8.4)."""
     xp, (rng,) = _arrays.arrays(found.range)
-    snr = found.snr if scene.path.attenuates else None
+    snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
     tasks = task_probabilities(found.cycles, snr, found.scr, scene)
     unknown = xp.isnan(rng)
     out = [

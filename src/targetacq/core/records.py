@@ -100,12 +100,18 @@ class SensorArrays:
         Extinction of the path in the sensor's band outside the segments [Np/m].
     segment_extinction : array (n_s, n_seg)
         Extinction of each segment in the sensor's band [Np/m].
+    noise_equivalent : array (n_s,)
+        Signal difference equal to the sensor's own noise [W/m²]; 0 where none is given
+        (:mod:`targetacq.sensor_noise`).
     names : tuple of str
     types : tuple of str
         Sensor types (:data:`targetacq.sensors.SENSOR_TYPES`).
     pointed : tuple of bool
         Whether the scenario points each sensor (look_at or angles); unpointed sensors see every
         target.
+    has_noise : bool
+        Whether any sensor has noise of its own (static, so the noise-free path stays exactly
+        as it was when none has).
     """
 
     cycle: Any
@@ -115,9 +121,11 @@ class SensorArrays:
     pointing: Any
     extinction: Any
     segment_extinction: Any
+    noise_equivalent: Any
     names: tuple[str, ...] = _static()
     types: tuple[str, ...] = _static()
     pointed: tuple[bool, ...] = _static()
+    has_noise: bool = _static(False)
 
 
 @pytree_record
@@ -211,6 +219,10 @@ class ModelChoices:
         A Table 3.5 clutter region for every pair.
     search_time : float
         t_s of the search model [s].
+    motion : str
+        :data:`targetacq.acquisition.MOTION_RULES`.
+    semantics : str
+        :data:`targetacq.acquisition.ACQUISITION_SEMANTICS`.
     """
 
     transform: str = "ttpf"
@@ -218,6 +230,8 @@ class ModelChoices:
     noise_model: str = "variance-sum"
     region: str | None = None
     search_time: float = 3.4
+    motion: str = "low-clutter"
+    semantics: str = "nested"
 
 
 @pytree_record

@@ -64,6 +64,9 @@ class SensorType:
         [W/m²], [W²/m⁴]; None where the type cannot use a terrain map.
     cycle_angle : callable
         ``cycle_angle(sensor) -> float`` [rad]: the resolution model.
+    noise_equivalent : callable
+        ``noise_equivalent(sensor, signature) -> float`` [W/m²]: the signal difference equal
+        to the sensor's own noise (0: none given), :mod:`targetacq.sensor_noise`.
     source : str
     """
 
@@ -73,6 +76,7 @@ class SensorType:
     requirements: Callable[[Any], list[str]]
     class_signature: Callable[[Any, Any, Sequence[Any]], tuple[Any, Any]] | None
     cycle_angle: Callable[[Any], float] = imaging.cycle_angle
+    noise_equivalent: Callable[[Any, Signature], float] = imaging.no_noise
     source: str = ""
 
 
@@ -84,6 +88,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             thermal.signature,
             thermal.requirements,
             thermal.class_signature,
+            noise_equivalent=thermal.noise_equivalent,
             source="Sonesson (2004) ch. 5-6",
         ),
         "tv": SensorType(
@@ -92,6 +97,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             tv.signature,
             tv.requirements,
             None,
+            noise_equivalent=tv.noise_equivalent,
             source="Sonesson (2004) §6.2, §9.4.1",
         ),
     }

@@ -29,3 +29,8 @@ def emissivity(thing: Any, band: tuple[float, float]) -> float:
     if thing.material is not None:
         return radiometry.material_emissivity(thing.material, band)
     return 1.0
+
+
+def no_noise(sensor: Any, seen: Any) -> float:
+    """A sensor type without a noise model of its own: no sensor noise (0 W/m²)."""
+    return 0.0

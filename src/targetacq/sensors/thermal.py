@@ -36,6 +36,16 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     return Signature(m_t, m_b, spread)
 
 
+def noise_equivalent(sensor: Any, seen: Any) -> float:
+    """``NETD · ∂M_bb,band/∂T`` at the NETD's reference temperature [W/m²]; 0 without a NETD
+    (:func:`targetacq.sensor_noise.netd_exitance`)."""
+    from targetacq.sensor_noise import netd_exitance
+
+    if sensor.netd is None:
+        return 0.0
+    return float(netd_exitance(sensor.netd, sensor.limits, sensor.netd_temperature))
+
+
 def class_signature(sensor: Any, background: Any, classes: Sequence[Any]) -> tuple[Any, Any]:
     """Mean exitance and exitance variance of each terrain class in the sensor's band (§6.7)."""
     band = sensor.limits

@@ -26,6 +26,14 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     return Signature(m_t, m_b, None)
 
 
+def noise_equivalent(sensor: Any, seen: Any) -> float:
+    """``NEC · M_background`` [W/m²]: the noise-equivalent contrast of the camera relative to
+    the background's reflected exitance; 0 without an NEC."""
+    if sensor.nec is None:
+        return 0.0
+    return float(sensor.nec * seen.background)
+
+
 def requirements(scenario: Any) -> list[str]:
     """What a scenario lacks for TV sensors."""
     problems = []

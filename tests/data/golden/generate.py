@@ -1,9 +1,14 @@
 """Write the golden numbers of ModelChain.evaluate for the golden scenarios.
 
-Run once, at commit 2d5239a (the version before the array core), from the repository root:
-``python tests/data/golden/generate.py``. The golden test compares every later version with
-these files; regenerate them only for a deliberate change of the model, and say so in the
-commit.
+First written at commit 2d5239a (the version before the array core), from the repository
+root: ``python tests/data/golden/generate.py``. The golden test compares every later version
+with these files; regenerate them only for a deliberate change of the model, and say so in the
+commit and here.
+
+Regenerated (deliberate model changes of the physical-fidelity issue): the noise law
+``variance-sum`` (quadrature), the Schmieder–Weathersby transform continuous in the SCR,
+detection in clutter capped by the uncluttered value, moving targets detected as in low
+clutter (not always), hot spots under noise read at the noisy N.
 """
 
 from pathlib import Path

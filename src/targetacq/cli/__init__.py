@@ -137,4 +137,4 @@ def main(argv: list[str] | None = None) -> None:
 
 
 # The commands register themselves on `app` when their modules are imported.
-from targetacq.cli import dri, figures, images, scenarios  # noqa: E402, F401
+from targetacq.cli import dri, figures, images, scenarios, validation  # noqa: E402, F401

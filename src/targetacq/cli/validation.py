@@ -1,0 +1,36 @@
+"""The `validation` command: the page of published values against the model's."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from targetacq.cli import app
+from targetacq.outputs import output_path
+from targetacq.validation import (
+    render_validation,
+    validation_sections,
+    validation_summary,
+    write_validation,
+)
+
+
+@app.command("validation")
+def validation_command(
+    out: Annotated[str, typer.Option(help="Output file, .html.")] = "validation.html",
+) -> None:
+    """Write the validation page: every published table the model reproduces (Sonesson 2004,
+    and a vendor's DRI ranges), published value against model value with the residuals and
+    figures, as one self-contained HTML file."""
+    output_path(out, ("html", "htm"), "the validation page")  # before any work
+    if Path(out).is_dir():
+        raise ValueError(f"cannot write {out!r}: it is a folder")
+    sections = validation_sections()
+    page = render_validation(sections)
+    try:
+        written = write_validation(out, page)
+    except OSError as error:
+        raise ValueError(f"cannot write {out!r}: {error.strerror or error}") from error
+    typer.echo(f"wrote {written}: {validation_summary(sections).line()}")

@@ -1,5 +1,6 @@
 """The `targetacq` command through its entry point."""
 
+import itertools
 import json
 import math
 import re
@@ -47,13 +48,49 @@ def test_dri_json_gives_range_m_per_task(capsys):
     [
         ["--pitch", "17um", "--focal-length", "75mm"],
         ["--ifov", "0.22666667mrad"],
-        ["--hfov", f"{math.degrees(2 * math.atan(640 * 17e-6 / 0.15)):.10f}deg", "--pixels", "640"],
+        [
+            "--hfov",
+            f"{math.degrees(2 * math.atan(640 * 17e-6 / 0.15)):.10f}deg",
+            "--pixels",
+            "640",
+            "--projection",
+            "rectilinear",
+        ],
+        ["--hfov", f"{math.degrees(640 * 17e-6 / 75e-3):.10f}deg", "--pixels", "640"],
     ],
 )
 def test_three_ways_to_give_the_sensor_agree(capsys, sensor):
     code, out, _ = run(capsys, "dri", *sensor, "--critical-dimension", "2.3m", "--format", "json")
     assert code == 0
     assert json.loads(out)["ranges"][0]["range_m"] == pytest.approx(5073.53, rel=1e-6)
+
+
+def test_datasheet_hfov_is_the_mean_angle_per_pixel(capsys):
+    # IFOV = 1.7453 rad / 640 = 2.727 mrad; detection at N = 0.75 cycles, 2 pixels a cycle:
+    # R = 2.3 m / (0.75 · 2 · 2.727e-3) = 562.2 m.
+    args = ["--hfov", "100deg", "--pixels", "640", "--n50", "0.75,3,6"]
+    code, out, _ = run(capsys, "dri", *args, "--critical-dimension", "2.3m", "--format", "json")
+    assert code == 0
+    report = json.loads(out)
+    ifov = math.radians(100) / 640
+    assert report["sensor"]["ifov_rad"] == pytest.approx(ifov, rel=1e-15)
+    assert report["ranges"][0]["range_m"] == pytest.approx(2.3 / (0.75 * 2 * ifov), rel=1e-9)
+    assert round(report["ranges"][0]["range_m"]) == 562
+    code, out, _ = run(capsys, "dri", *args, "--critical-dimension", "2.3m")
+    assert "field of view 100° × 640 pixels (angular)" in out and "IFOV 2.727 mrad" in out
+
+
+def test_f_number_gives_the_aperture(capsys):
+    base = ["dri", "--pitch", "12um", "--focal-length", "100mm", "--wavelength", "10um"]
+    code, out, _ = run(
+        capsys, *base, "--f-number", "2", "--critical-dimension", "2.3m", "--format", "json"
+    )
+    assert code == 0
+    assert json.loads(out)["sensor"]["aperture_m"] == pytest.approx(0.05, rel=1e-15)
+    code, _, err = run(
+        capsys, *base, "--f-number", "2", "--aperture", "50mm", "--critical-dimension", "2.3m"
+    )
+    assert code == 2 and "--aperture or --f-number" in err
 
 
 def test_table_and_csv_formats(capsys):
@@ -571,3 +608,68 @@ def test_dri_scr_from_a_temperature_spread(capsys):
     assert target["contrast_w_per_m2"] == pytest.approx(contrast, rel=1e-12)
     assert target["clutter_w_per_m2"] == pytest.approx(slope * 2.0, rel=1e-6)
     assert target["scr"] == pytest.approx(contrast / (slope * 2.0), rel=1e-6)
+
+
+def _bench_curve(path):
+    """The example bench curve read with the csv module: (cycles/rad, K) rows."""
+    import csv
+
+    lines = [line for line in path.read_text().splitlines() if not line.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    return [(float(r["frequency"]) * 1e3, float(r["mrtd"])) for r in rows]
+
+
+def _resolved_frequency(curve, delta_t):
+    # ln MRTD linear in f between the points (the documented law); delta_t inside the table.
+    for (f0, m0), (f1, m1) in itertools.pairwise(curve):
+        if m0 <= delta_t <= m1:
+            return f0 + (f1 - f0) * math.log(delta_t / m0) / math.log(m1 / m0)
+    raise AssertionError("delta_t outside the tabulated MRTDs")
+
+
+def test_mrtd_range_equals_an_independent_bisection(capsys):
+    """dri --mrtd: the range where N(R) = f*(τ(R)·ΔT)·d/R reaches N50 (P = 0.5 with TTPF),
+    solved here by bisection on the bench CSV itself, to 0.1 %."""
+    from pathlib import Path
+
+    csv_path = Path(__file__).parents[1] / "src/targetacq/data/example_mrtd.csv"
+    curve = _bench_curve(csv_path)
+    d, delta_t, gamma, n50 = 2.3, 0.07, 1e-3, 1.0
+
+    def cycles(r):
+        return _resolved_frequency(curve, delta_t * math.exp(-gamma * r)) * d / r
+
+    lo, hi = 200.0, 3000.0  # N(lo) > N50 > N(hi), τ·ΔT inside the table
+    assert cycles(lo) > n50 > cycles(hi)
+    for _ in range(100):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if cycles(mid) >= n50 else (lo, mid)
+    args = ["dri", "--ifov", "0.34mrad", "--critical-dimension", "2.3m", "--mrtd", str(csv_path)]
+    args += ["--delta-t", "70mK", "--extinction", "1/km", "--noise-model", "none"]
+    code, out, _ = run(capsys, *args, "--format", "json")
+    assert code == 0
+    report = json.loads(out)
+    assert report["resolution_model"] == "mrtd"
+    assert report["ranges"][0]["range_m"] == pytest.approx(lo, rel=1e-3)
+
+
+def test_zero_contrast_is_never_detected_with_a_netd(capsys):
+    code, out, _ = run(capsys, "dri", "--example", "--netd", "50mK", "--delta-t", "0K")
+    assert code == 0 and out.count("not reached") == 4
+
+
+def test_sensor_noise_needs_a_contrast(capsys):
+    code, _, err = run(capsys, "dri", "--example", "--netd", "50mK")
+    assert code == 2 and "--delta-t" in err and "Traceback" not in err
+    code, _, err = run(capsys, "dri", "--example", "--mrtd", "/no/such.csv", "--delta-t", "2K")
+    assert code == 2 and "cannot read" in err
+
+
+def test_conditional_semantics_shortens_recognition(capsys):
+    ranges = {}
+    for semantics in ("nested", "conditional"):
+        code, out, _ = run(capsys, "dri", "--example", "--semantics", semantics, "--format", "json")
+        assert code == 0
+        ranges[semantics] = {r["task"]: r["range_m"] for r in json.loads(out)["ranges"]}
+    assert ranges["conditional"]["detection"] == ranges["nested"]["detection"]
+    assert ranges["conditional"]["recognition"] < ranges["nested"]["recognition"]

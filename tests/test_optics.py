@@ -24,7 +24,25 @@ def test_field_of_view_eq_5_1():
 def test_ifov_from_field_of_view_inverts_eq_5_1():
     pitch, f, n = 17e-6, 50e-3, 640
     fov = ta.field_of_view(n * pitch, f)
-    assert ta.ifov_from_field_of_view(fov, n) == pytest.approx(pitch / f, rel=1e-12)
+    got = ta.ifov_from_field_of_view(fov, n, projection="rectilinear")
+    assert got == pytest.approx(pitch / f, rel=1e-12)
+
+
+def test_datasheet_ifov_is_the_mean_angle_per_pixel():
+    # A 100° lens over 640 pixels: 1.7453 rad / 640 = 2.727 mrad (the datasheet convention).
+    assert ta.ifov_from_field_of_view(math.radians(100), 640) == pytest.approx(
+        1.7453292519943295 / 640, rel=1e-15
+    )
+    with pytest.raises(ValueError, match="unknown projection 'fisheye'"):
+        ta.ifov_from_field_of_view(1.0, 640, projection="fisheye")
+
+
+@pytest.mark.parametrize("projection", ["angular", "rectilinear"])
+def test_field_of_view_from_ifov_inverts(projection):
+    from targetacq.optics import field_of_view_from_ifov
+
+    ifov = ta.ifov_from_field_of_view(1.2, 640, projection=projection)
+    assert field_of_view_from_ifov(ifov, 640, projection) == pytest.approx(1.2, rel=1e-14)
 
 
 def test_fig_3_3_a_target_two_and_a_half_pixel_rows_high_is_1_25_cycles():

@@ -112,7 +112,7 @@ def test_to_si_errors_name_the_input(value, match):
 
 
 def test_to_si_unknown_kind():
-    with pytest.raises(ValueError, match="kind must be one of length, angle"):
+    with pytest.raises(ValueError, match="kind must be one of length, area, angle"):
         to_si(1.0, "mass", "x")
 
 

@@ -23,20 +23,25 @@ One *cycle* (line pair) is the angle of two adjacent pixel rows, ``2·IFOV`` (Fi
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Any
 
 from targetacq import _arrays
 from targetacq._arrays import Array
+from targetacq.registry import lookup
 
 __all__ = [
     "BLUR_CYCLE_PER_SIGMA",
     "DIFFRACTION_THRESHOLD_MODULATION",
+    "FIELD_OF_VIEW_PROJECTIONS",
     "RAYLEIGH_FACTOR",
     "blur_cycle_angle",
     "cycles_on_target",
     "diffraction_angle",
     "diffraction_spot",
     "field_of_view",
+    "field_of_view_from_ifov",
     "gaussian_psf",
     "ifov",
     "ifov_from_field_of_view",
@@ -107,11 +112,26 @@ def field_of_view(detector_size: Any, focal_length: Any) -> Any:
     return _arrays.result(2.0 * xp.atan(a / (2.0 * f)))
 
 
-def ifov_from_field_of_view(field_of_view: Any, pixels: Any) -> Any:
-    """IFOV of the central pixel of a pinhole camera with a given field of view.
+FIELD_OF_VIEW_PROJECTIONS: Mapping[str, str] = MappingProxyType(
+    {
+        "angular": "IFOV = FOV / pixels: the mean angle per pixel, as thermal-camera datasheets "
+        "quote it; exact for an equiangular (f-theta) lens and close to the barrel distortion "
+        "of wide lenses",
+        "rectilinear": "IFOV = 2 tan(FOV/2) / pixels: the central pixel of a distortion-free "
+        "pinhole camera, inverting Eq. (5.1) in Sonesson (2004)",
+    }
+)
+"""How a field of view over a number of pixels gives the IFOV, by name (read-only)."""
 
-    Inverting Eq. (5.1): the array side is ``A = 2 f tan(FOV/2)``, so one pixel subtends
-    ``p/f = 2 tan(FOV/2) / n`` at the centre of the image.
+
+def ifov_from_field_of_view(field_of_view: Any, pixels: Any, projection: str = "angular") -> Any:
+    """IFOV of a camera given by its field of view and pixels across it.
+
+    ``angular`` (default): ``IFOV = FOV / n``, the mean angle per pixel (the datasheet
+    convention: a 100° lens over 640 pixels is 2.727 mrad). ``rectilinear``: inverting
+    Eq. (5.1), the array side is ``A = 2 f tan(FOV/2)``, so the central pixel subtends
+    ``p/f = 2 tan(FOV/2) / n`` (1.87 mrad for the same lens: 31 % finer at the centre, which a
+    wide lens with barrel distortion does not deliver). See :data:`FIELD_OF_VIEW_PROJECTIONS`.
 
     Parameters
     ----------
@@ -119,18 +139,48 @@ def ifov_from_field_of_view(field_of_view: Any, pixels: Any) -> Any:
         Full field of view along the array side [rad], in (0, π).
     pixels : array_like
         Number of pixels along that side, > 0.
+    projection : {"angular", "rectilinear"}
 
     Returns
     -------
     array_like
         IFOV [rad].
+
+    Examples
+    --------
+    >>> import math
+    >>> round(float(ifov_from_field_of_view(math.radians(100.0), 640)) * 1e3, 4)  # mrad
+    2.7271
+    >>> round(float(ifov_from_field_of_view(math.radians(100.0), 640, "rectilinear")) * 1e3, 4)
+    3.7238
     """
+    lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
     xp, (fov, n) = _arrays.arrays(field_of_view, pixels)
     _arrays.require_positive("field_of_view", fov, xp, "rad")
     _arrays.require_positive("pixels", n, xp)
-    if bool(xp.any(fov >= xp.pi)):
-        raise ValueError("field_of_view must be < π rad (180°) for a pinhole camera")
+    if _arrays.any_known(fov >= xp.pi, xp):
+        raise ValueError("field_of_view must be < π rad (180°)")
+    if projection == "angular":
+        return _arrays.result(fov / n)
     return _arrays.result(2.0 * xp.tan(fov / 2.0) / n)
+
+
+def field_of_view_from_ifov(ifov: Any, pixels: Any, projection: str = "angular") -> Any:
+    """Full field of view [rad] of ``pixels`` of a given IFOV: the inverse of
+    :func:`ifov_from_field_of_view` (``n · IFOV``, or ``2 atan(n · IFOV / 2)`` rectilinear).
+
+    Examples
+    --------
+    >>> round(float(field_of_view_from_ifov(2e-3, 100, "rectilinear")), 6)
+    0.197396
+    """
+    lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
+    xp, (i, n) = _arrays.arrays(ifov, pixels)
+    _arrays.require_positive("ifov", i, xp, "rad")
+    _arrays.require_positive("pixels", n, xp)
+    if projection == "angular":
+        return _arrays.result(n * i)
+    return _arrays.result(2.0 * xp.atan(n * i / 2.0))
 
 
 def diffraction_angle(wavelength: Any, aperture: Any) -> Any:

@@ -183,7 +183,7 @@ def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9
                 r_free,
                 tolerance,
             )
-        elif case.noisy:
+        elif case.noisy or case.mrtd is not None:
             r_free = _solve(
                 lambda rr, task=task: case_probability(case, rr, task),
                 probability,
@@ -233,13 +233,21 @@ def _cycles_needed(
 def _noise_free_range(
     case: RangeCase, crit: Criterion, chosen: Any, task: str, probability: Any
 ) -> Any:
-    """The closed-form range of a task without noise (NaN: never reached)."""
+    """The closed-form range of a task without noise (NaN: never reached); with an MRTD curve,
+    an upper bound for the bisection."""
     needed = _cycles_needed(case, crit, chosen, task, probability)
     xp, (n,) = _arrays.arrays(needed)
     never = xp.isinf(n)
-    r = optics.range_for_cycles(
-        case.critical_dimension, xp.where(never, 1.0, n), **case.resolution()
-    )
+    if case.mrtd is not None:
+        # N(R) <= f_cutoff · d / R: the range at the MRTD's cut-off frequency bounds it.
+        xp, (d, cut, safe_n) = _arrays.arrays(
+            case.critical_dimension, case.mrtd.cutoff, xp.where(never | (n == 0), 1.0, n)
+        )
+        r = d * cut / safe_n
+    else:
+        r = optics.range_for_cycles(
+            case.critical_dimension, xp.where(never, 1.0, n), **case.resolution()
+        )
     xp, (r,) = _arrays.arrays(r)
     r = xp.where(never, xp.nan, r)
     return xp.where(n == 0, xp.inf, r)

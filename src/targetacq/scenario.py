@@ -43,6 +43,7 @@ from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
+from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
 from targetacq.sensors import SENSOR_TYPES, get_sensor_type
@@ -148,7 +149,10 @@ class Sensor(_Strict):
     """An imaging sensor.
 
     ``type`` "thermal" sees emitted radiation in its ``band``; "tv" sees reflected light
-    (visible band, the background's ``irradiance``). The sensor's own noise: ``netd`` of a
+    (visible band, the background's ``irradiance``). ``projection`` says how ``hfov`` over
+    ``pixels`` gives the IFOV: "angular" (default, IFOV = hfov / pixels, the datasheet
+    convention) or "rectilinear" (a pinhole camera, 2 tan(hfov/2) / pixels). ``f_number`` gives
+    the aperture as ``focal_length / f_number``. The sensor's own noise: ``netd`` of a
     thermal sensor (quoted at ``netd_temperature``, 300 K by default), ``nec`` (noise-equivalent
     contrast, relative to the background) of a TV sensor; without them only the atmosphere adds
     noise. The resolution is given one way: ``pitch``
@@ -171,6 +175,8 @@ class Sensor(_Strict):
     look_at: Position | None = None
     azimuth: Angle | None = None
     depression: Angle | None = None
+    projection: str = "angular"
+    f_number: Annotated[float, Field(gt=0.0, allow_inf_nan=False)] | None = None
     netd: TemperatureDifference | None = None
     netd_temperature: Temperature = 300.0
     nec: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] | None = None
@@ -194,6 +200,14 @@ class Sensor(_Strict):
             raise ValueError("hfov must be in (0, 180) degrees")
         if self.hfov is not None and self.pixels is None:
             raise ValueError("hfov needs pixels = [width, height]")
+        lookup(FIELD_OF_VIEW_PROJECTIONS, self.projection, "projection")
+        if self.f_number is not None:
+            if self.focal_length is None:
+                raise ValueError("f_number needs focal_length (aperture = focal_length / f_number)")
+            if self.aperture is not None:
+                raise ValueError("give aperture or f_number, not both")
+            # The aperture diameter a datasheet's F-number stands for: D = f / F#.
+            object.__setattr__(self, "aperture", self.focal_length / self.f_number)
         if self.band is None and self.type == "thermal":
             raise ValueError("a thermal sensor needs its band, e.g. 'lwir' or '8-12 um'")
         if self.band is not None:
@@ -230,7 +244,7 @@ class Sensor(_Strict):
         if self.ifov is not None:
             return self.ifov
         if self.hfov is not None and self.pixels is not None:
-            return float(optics.ifov_from_field_of_view(self.hfov, self.pixels[0]))
+            return float(optics.ifov_from_field_of_view(self.hfov, self.pixels[0], self.projection))
         assert self.pitch is not None
         assert self.focal_length is not None
         return self.pitch / self.focal_length
@@ -238,10 +252,20 @@ class Sensor(_Strict):
     @property
     def field_of_view(self) -> tuple[float, float] | None:
         """(horizontal, vertical) full field of view [rad], if pixels are given."""
+        from targetacq import optics
+
         if self.pixels is None:
             return None
-        half_tan = [n * self.pixel_ifov / 2.0 for n in self.pixels]
-        return 2.0 * math.atan(half_tan[0]), 2.0 * math.atan(half_tan[1])
+        # A pitch-and-focal-length (or IFOV) sensor is a pinhole camera; an hfov sensor follows
+        # its projection.
+        projection = self.projection if self.hfov is not None else "rectilinear"
+        h, v = (
+            float(optics.field_of_view_from_ifov(self.pixel_ifov, n, projection))
+            for n in self.pixels
+        )
+        if h >= math.pi or v >= math.pi:
+            raise ValueError("the field of view must be < 180 degrees on both sides")
+        return h, v
 
 
 class Target(_Strict):

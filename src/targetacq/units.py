@@ -21,6 +21,7 @@ __all__ = ["DIMENSIONS", "is_quantity", "parse_quantity", "si_magnitude", "to_si
 DIMENSIONS: dict[str, tuple[str, str]] = {
     # kind: (SI unit it is converted to, an example for error messages)
     "length": ("meter", "17 um, 75 mm, 2.5 km"),
+    "area": ("meter ** 2", "10 m^2, 4 m**2"),
     "angle": ("radian", "0.227 mrad, 12 deg"),
     "temperature": ("kelvin", "305 K, 22 degC"),
     "temperature difference": ("kelvin", "2 K, 0.05 K"),
@@ -34,6 +35,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
 # Scenario files hold thousands of quantities, and pint takes tens of microseconds for each.
 _PLAIN_UNITS: dict[str, dict[str, float]] = {
     "length": {"m": 1.0, "km": 1e3, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "nm": 1e-9},
+    "area": {"m^2": 1.0, "m**2": 1.0, "cm^2": 1e-4},
     "angle": {"rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "µrad": 1e-6, "deg": math.pi / 180.0},
     "temperature": {"K": 1.0},
     "temperature difference": {"K": 1.0, "mK": 1e-3},
@@ -54,7 +56,7 @@ _SI_BASE: dict[str, str] = {
 }
 
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
-_DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER (MODEL.md erratum)
+_DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER
 
 
 @functools.cache

@@ -11,6 +11,7 @@ import typer
 import typer.main
 
 from targetacq import atmosphere, optics, ranges
+from targetacq.acquisition import ACQUISITION_SEMANTICS
 from targetacq.atmosphere import (
     EXTINCTION_LEVELS,
     OBSCURANTS,
@@ -84,7 +85,8 @@ def _sensor_ifov(
     ifov: str | None,
     hfov: str | None,
     pixels: int | None,
-) -> tuple[float, dict[str, float]]:
+    projection: str,
+) -> tuple[float, dict[str, Any]]:
     ways = [
         pitch is not None or focal_length is not None,
         ifov is not None,
@@ -95,6 +97,9 @@ def _sensor_ifov(
             "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
             "--hfov and --pixels (or --example)"
         )
+    _choice(projection, optics.FIELD_OF_VIEW_PROJECTIONS, "--projection")
+    if not ways[2] and projection != "angular":
+        raise ValueError("--projection applies to --hfov and --pixels")
     if ways[0]:
         if pitch is None or focal_length is None:
             raise ValueError("--pitch and --focal-length go together")
@@ -110,8 +115,75 @@ def _sensor_ifov(
     if hfov is None or pixels is None:
         raise ValueError("--hfov and --pixels go together")
     fov = parse_quantity(hfov, "angle", "--hfov")
-    value = float(optics.ifov_from_field_of_view(fov, pixels))
-    return value, {"hfov_rad": fov, "pixels": float(pixels)}
+    value = float(optics.ifov_from_field_of_view(fov, pixels, projection))
+    return value, {"hfov_rad": fov, "pixels": float(pixels), "projection": projection}
+
+
+PIXEL_DENSITY_DEFINITIONS = {
+    "plane": "rectilinear",  # EN 62676-4: pixels across the scene width 2 R tan(HFOV/2)
+    "arc": "angular",  # pixels across the arc R · HFOV
+}
+"""EN 62676-4 pixel density from a field of view: the definition → the projection it uses."""
+
+
+def _sensor_noise(
+    netd: str | None,
+    netd_temperature: str,
+    delta_t: str | None,
+    nec: float | None,
+    contrast: float | None,
+    mrtd: str | None,
+    scene: dict[str, Any],
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """RangeCase keywords of the sensor's noise and MRTD, from --netd/--delta-t, --nec/--contrast
+    and --mrtd; a ΔT from the temperatures where --delta-t is not given."""
+    from targetacq.radiometry import band_exitance_derivative
+
+    if (nec is None) != (contrast is None):
+        raise ValueError("--nec and --contrast go together (a TV camera's noise)")
+    if nec is not None and (netd is not None or mrtd is not None):
+        raise ValueError("--nec (a TV camera) and --netd or --mrtd (a thermal camera) exclude")
+    if nec is not None:
+        assert contrast is not None
+        if not (math.isfinite(nec) and nec >= 0):
+            raise ValueError(f"--nec must be finite and >= 0; got {nec}")
+        if not math.isfinite(contrast):
+            raise ValueError(f"--contrast must be finite; got {contrast}")
+        return {"contrast": contrast, "noise_equivalent_contrast": nec}
+    if netd is None and mrtd is None:
+        if delta_t is not None:
+            raise ValueError("--delta-t is used with --netd or --mrtd")
+        return {}
+    reference = parse_quantity(netd_temperature, "temperature", "--netd-temperature")
+    if not (math.isfinite(reference) and reference > 0):
+        raise ValueError(f"--netd-temperature must be > 0 K; got {netd_temperature!r}")
+    if delta_t is not None:
+        dt = parse_quantity(delta_t, "temperature difference", "--delta-t")
+        if not math.isfinite(dt):
+            raise ValueError(f"--delta-t must be finite; got {delta_t!r}")
+    elif "contrast_w_per_m2" in scene and band is not None:
+        # The blackbody ΔT at the reference temperature that gives the same exitance contrast.
+        dt = scene["contrast_w_per_m2"] / float(band_exitance_derivative(reference, band))
+    else:
+        raise ValueError(
+            "--netd and --mrtd need the target's contrast: --delta-t (e.g. 2K), or "
+            "--target-temperature and --background-temperature with --band"
+        )
+    out: dict[str, Any] = {"contrast": dt}
+    if netd is not None:
+        value = parse_quantity(netd, "temperature difference", "--netd")
+        if not (math.isfinite(value) and value >= 0):
+            raise ValueError(f"--netd must be finite and >= 0 K; got {netd!r}")
+        out["noise_equivalent_contrast"] = value
+    if mrtd is not None:
+        from targetacq.mrtd import MrtdCurve
+
+        try:
+            out["mrtd"] = MrtdCurve.from_csv(mrtd)
+        except OSError as error:
+            raise ValueError(f"--mrtd: cannot read {mrtd!r}: {error.strerror}") from None
+    return out
 
 
 def _band(text: str) -> tuple[float, float]:
@@ -251,8 +323,25 @@ def dri(
     ifov: Annotated[str | None, typer.Option(help="Pixel IFOV, e.g. 0.227mrad.")] = None,
     hfov: Annotated[str | None, typer.Option(help="Horizontal field of view, e.g. 12deg.")] = None,
     pixels: Annotated[int | None, typer.Option(help="Pixels across --hfov, e.g. 640.")] = None,
+    projection: Annotated[
+        str,
+        typer.Option(
+            help="How --hfov over --pixels gives the IFOV: angular (HFOV / pixels, datasheets) "
+            "or rectilinear (2 tan(HFOV/2) / pixels)."
+        ),
+    ] = "angular",
+    pixel_density: Annotated[
+        str,
+        typer.Option(
+            help="EN 62676-4 pixel density from --hfov: plane (scene width 2R tan(HFOV/2)) or "
+            "arc (R · HFOV)."
+        ),
+    ] = "plane",
     aperture: Annotated[
         str | None, typer.Option(help="Lens aperture diameter for diffraction, e.g. 75mm.")
+    ] = None,
+    f_number: Annotated[
+        float | None, typer.Option(help="Lens F-number: aperture = focal length / F#.")
     ] = None,
     wavelength: Annotated[
         str | None, typer.Option(help="Wavelength for diffraction, e.g. 10um.")
@@ -303,6 +392,32 @@ def dri(
     noise_model: Annotated[
         str, typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)}.")
     ] = "variance-sum",
+    netd: Annotated[
+        str | None, typer.Option(help="Thermal camera's NETD, e.g. 50mK (needs --delta-t).")
+    ] = None,
+    netd_temperature: Annotated[
+        str, typer.Option(help="Temperature at which the NETD is quoted.")
+    ] = "300K",
+    delta_t: Annotated[
+        str | None, typer.Option(help="Target-background temperature difference, e.g. 2K.")
+    ] = None,
+    nec: Annotated[
+        float | None, typer.Option(help="TV camera's noise-equivalent contrast, e.g. 0.01.")
+    ] = None,
+    contrast: Annotated[
+        float | None, typer.Option(help="Target contrast for --nec, e.g. 0.3.")
+    ] = None,
+    target_area: Annotated[
+        str | None,
+        typer.Option(help="Area of the target as seen, for its pixels (default: dimension²)."),
+    ] = None,
+    mrtd: Annotated[
+        str | None,
+        typer.Option(help="MRTD curve CSV (frequency [cycles/mrad], mrtd [K]); needs --delta-t."),
+    ] = None,
+    semantics: Annotated[
+        str, typer.Option(help=f"Acquisition semantics: {', '.join(ACQUISITION_SEMANTICS)}.")
+    ] = "nested",
     probability: Annotated[
         str, typer.Option(help="Probability, or several separated by commas, e.g. 0.5,0.8.")
     ] = "0.5",
@@ -351,7 +466,10 @@ def _setup(
     ifov: str | None,
     hfov: str | None,
     pixels: int | None,
+    projection: str,
+    pixel_density: str,
     aperture: str | None,
+    f_number: float | None,
     wavelength: str | None,
     blur: str | None,
     critical_dimension: str | None,
@@ -372,6 +490,14 @@ def _setup(
     visibility: str | None,
     visibility_convention: str | None,
     noise_model: str,
+    netd: str | None,
+    netd_temperature: str,
+    delta_t: str | None,
+    nec: float | None,
+    contrast: float | None,
+    target_area: str | None,
+    mrtd: str | None,
+    semantics: str,
     probability: str,
     example: bool,
 ) -> _Setup:
@@ -390,12 +516,26 @@ def _setup(
     d = parse_quantity(critical_dimension, "length", "--critical-dimension")
     if not d > 0:
         raise ValueError(f"--critical-dimension must be > 0; got {critical_dimension!r}")
-    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels)
+    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
     optics_kw: dict[str, Any] = {}
-    if (aperture is None) != (wavelength is None):
+    if f_number is not None:
+        if aperture is not None:
+            raise ValueError("give --aperture or --f-number, not both")
+        if "focal_length_m" not in sensor:
+            raise ValueError("--f-number needs --focal-length (aperture = focal length / F#)")
+        if not (math.isfinite(f_number) and f_number > 0):
+            raise ValueError(f"--f-number must be finite and > 0; got {f_number}")
+        sensor["f_number"] = f_number
+        if wavelength is None:
+            raise ValueError("--f-number gives the aperture for diffraction: give --wavelength")
+    if (aperture is None and f_number is None) != (wavelength is None):
         raise ValueError("--aperture and --wavelength go together (diffraction limit)")
-    if aperture is not None and wavelength is not None:
-        optics_kw["aperture"] = parse_quantity(aperture, "length", "--aperture")
+    if wavelength is not None:
+        optics_kw["aperture"] = (
+            sensor["focal_length_m"] / f_number
+            if f_number is not None
+            else parse_quantity(str(aperture), "length", "--aperture")
+        )
         optics_kw["wavelength"] = parse_quantity(wavelength, "length", "--wavelength")
     if blur is not None:
         optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
@@ -422,10 +562,31 @@ def _setup(
         band_limits_m,
     )
     _choice(noise_model, NOISE_MODELS, "--noise-model")
+    _choice(semantics, ACQUISITION_SEMANTICS, "--semantics")
+    _choice(pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
+    if not crit.gives_probabilities and "hfov_rad" in sensor:
+        # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
+        ifov_rad = float(
+            optics.ifov_from_field_of_view(
+                sensor["hfov_rad"], pixels, PIXEL_DENSITY_DEFINITIONS[pixel_density]
+            )
+        )
+        sensor["pixel_density"] = pixel_density
+    elif pixel_density != "plane":
+        raise ValueError("--pixel-density applies to a pixel-density criterion with --hfov")
+    noise_kw = _sensor_noise(
+        netd, netd_temperature, delta_t, nec, contrast, mrtd, scene, band_limits_m
+    )
+    if target_area is not None:
+        if "noise_equivalent_contrast" not in noise_kw:
+            raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
+        noise_kw["target_area"] = parse_quantity(target_area, "area", "--target-area")
     case = RangeCase(
         d,
         ifov_rad,
         **optics_kw,
+        **noise_kw,
+        semantics=semantics,
         criterion=crit,
         transform=transform,
         options=options,
@@ -468,15 +629,38 @@ def _dri_report(setup: _Setup) -> dict[str, Any]:
             **setup.sensor,
             **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in setup.optics.items()},
         },
-        "target": {"critical_dimension_m": case.critical_dimension, **setup.scene},
+        "target": {
+            "critical_dimension_m": case.critical_dimension,
+            **setup.scene,
+            **_noise_report(case),
+        },
         "path": setup.path,
         "criterion": crit.name,
         "criterion_kind": crit.kind,
         "transform": case.transform if crit.gives_probabilities else None,
         "options": case.options,
-        "noise_model": case.noise_model if setup.path else None,
+        "noise_model": case.noise_model if case.noisy else None,
+        "semantics": case.semantics,
+        "resolution_model": case.resolution_model,
         "ranges": rows,
     }
+
+
+def _noise_report(case: RangeCase) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    if case.contrast is not None:
+        out[
+            "delta_t_k"
+            if case.mrtd is not None or case.noise_equivalent_contrast is None
+            else "contrast"
+        ] = float(case.contrast)
+    if case.noise_equivalent_contrast is not None:
+        out["noise_equivalent_contrast"] = float(case.noise_equivalent_contrast)
+    if case.target_area is not None:
+        out["target_area_m2"] = float(case.target_area)
+    if case.mrtd is not None:
+        out["mrtd_cutoff_cycles_per_mrad"] = case.mrtd.cutoff * 1e-3
+    return out
 
 
 @app.command("atmosphere")
@@ -548,11 +732,23 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         f"criterion {report['criterion']}"
         + (f", transform {report['transform']}" if report["transform"] else "")
         + "".join(f", {k} {v}" for k, v in report["options"].items()),
-        f"sensor: IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
+        _fov_line(sensor) + f"IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
         f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
         f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
         + _scene_line(report["target"]),
     ]
+    target = report["target"]
+    if report["resolution_model"] == "mrtd":
+        lines.append(
+            f"resolution: MRTD-limited, ΔT {target['delta_t_k']:.4g} K, curve cut-off "
+            f"{target['mrtd_cutoff_cycles_per_mrad']:.4g} cycles/mrad"
+        )
+    if "noise_equivalent_contrast" in target:
+        lines.append(
+            f"sensor noise: noise-equivalent contrast {target['noise_equivalent_contrast']:.4g} "
+            f"(target contrast {target.get('delta_t_k', target.get('contrast')):.4g}), "
+            f"noise model {report['noise_model']}, semantics {report['semantics']}"
+        )
     if report["path"]:
         path = report["path"]
         lines.append(
@@ -573,6 +769,16 @@ def _render(report: dict[str, Any], output_format: str) -> str:
             r = f"{row['range_m']:,.0f}"
         lines.append(f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {r:>12}")
     return "\n".join(lines) + "\n"
+
+
+def _fov_line(sensor: dict[str, Any]) -> str:
+    if "hfov_rad" not in sensor:
+        return "sensor: "
+    how = sensor.get("pixel_density") and f"pixel density {sensor['pixel_density']}"
+    return (
+        f"sensor: field of view {math.degrees(sensor['hfov_rad']):.4g}° × "
+        f"{sensor['pixels']:.0f} pixels ({how or sensor['projection']}) → "
+    )
 
 
 def _scene_line(target: dict[str, Any]) -> str:

@@ -24,8 +24,9 @@ model is not applied).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 from targetacq import _arrays, atmosphere, optics, sensor_noise
@@ -40,7 +41,15 @@ from targetacq.acquisition import (
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import get_noise_model
 
-__all__ = ["CaseAcquisition", "RangeCase", "case_acquisition", "case_factors", "case_probability"]
+__all__ = [
+    "RESOLUTION_MODELS",
+    "CaseAcquisition",
+    "RangeCase",
+    "ResolutionModel",
+    "case_acquisition",
+    "case_factors",
+    "case_probability",
+]
 
 
 @dataclass(frozen=True)
@@ -93,6 +102,10 @@ class RangeCase:
         Area of the target's outline as seen [m²], > 0, for the pixels on target of the
         sensor's SNR; default the critical dimension squared (the fewest pixels a target of that
         critical dimension can cover).
+    mrtd : MrtdCurve, optional
+        The sensor's MRTD curve (:class:`targetacq.mrtd.MrtdCurve`): the cycles on target are
+        then MRTD-limited (:data:`RESOLUTION_MODELS` "mrtd"), with ``contrast`` the target's
+        ΔT [K].
     motion : str
         How a moving target is detected (:data:`targetacq.acquisition.MOTION_RULES`).
     semantics : str
@@ -128,6 +141,7 @@ class RangeCase:
     contrast: Any = None
     noise_equivalent_contrast: Any = None
     target_area: Any = None
+    mrtd: Any = None
     motion: str = "low-clutter"
     semantics: str = "nested"
 
@@ -182,14 +196,31 @@ class RangeCase:
             _arrays.require_nonnegative("blur_sigma", sigma, xp, "rad")
 
     def _check_sensor_noise(self) -> None:
-        if (self.contrast is None) != (self.noise_equivalent_contrast is None):
+        if self.noise_equivalent_contrast is not None and self.contrast is None:
             raise ValueError(
-                "give both the target's contrast (e.g. delta_t) and the sensor's noise-equivalent "
-                "contrast (e.g. netd) for the sensor's noise, or neither"
+                "the sensor's noise (noise_equivalent_contrast, e.g. a NETD) needs the target's "
+                "contrast (e.g. delta_t)"
+            )
+        if self.mrtd is not None:
+            from targetacq.mrtd import MrtdCurve
+
+            if not isinstance(self.mrtd, MrtdCurve):
+                raise ValueError(f"mrtd must be an MrtdCurve, got {type(self.mrtd).__name__}")
+            if self.contrast is None:
+                raise ValueError("the MRTD resolution model needs the target's contrast ΔT [K]")
+            if self.cycle is not None:
+                raise ValueError("give the cycle or an MRTD curve, not both")
+        elif self.contrast is not None and self.noise_equivalent_contrast is None:
+            raise ValueError(
+                "the target's contrast is used with the sensor's noise (e.g. a NETD) or an MRTD "
+                "curve; give one of them"
             )
         if self.contrast is not None:
-            xp, (c, nec) = _arrays.arrays(self.contrast, self.noise_equivalent_contrast)
+            xp, (c,) = _arrays.arrays(self.contrast)
             _arrays.require_finite("contrast", c, xp)
+        if self.noise_equivalent_contrast is not None:
+            xp, (nec,) = _arrays.arrays(self.noise_equivalent_contrast)
+            _arrays.require_finite("noise_equivalent_contrast", nec, xp)
             _arrays.require_nonnegative("noise_equivalent_contrast", nec, xp)
         if self.target_area is not None:
             xp, (a,) = _arrays.arrays(self.target_area)
@@ -233,7 +264,12 @@ class RangeCase:
     @property
     def noisy(self) -> bool:
         """Whether any noise acts: the path's (it attenuates) or the sensor's own."""
-        return self.attenuates or self.contrast is not None
+        return self.attenuates or self.noise_equivalent_contrast is not None
+
+    @property
+    def resolution_model(self) -> str:
+        """The name of the resolution model in :data:`RESOLUTION_MODELS`."""
+        return "geometric" if self.mrtd is None else "mrtd"
 
     @property
     def in_clutter(self) -> bool:
@@ -301,6 +337,45 @@ class CaseAcquisition(Acquisition):
     snr: Any
 
 
+@dataclass(frozen=True)
+class ResolutionModel:
+    """How a case's sensor resolves its target: ``cycles(case, range, transmittance) -> N``."""
+
+    name: str
+    cycles: Callable[[RangeCase, Any, Any], Any]
+    source: str
+
+
+def _geometric_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
+    return optics.cycles_on_target(case.critical_dimension, range, **case.resolution())
+
+
+def _mrtd_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
+    from targetacq.mrtd import mrtd_cycles
+
+    return mrtd_cycles(range, case.critical_dimension, case.contrast, transmittance, case.mrtd)
+
+
+RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
+    {
+        "geometric": ResolutionModel(
+            "geometric",
+            _geometric_cycles,
+            "Johnson's pixel model: N = d / (R · cycle), one cycle two pixels or the optics "
+            "limit (Sonesson 2004 §3.5, Fig. 3.3, Eqs. (5.2), (5.3))",
+        ),
+        "mrtd": ResolutionModel(
+            "mrtd",
+            _mrtd_cycles,
+            "MRTD-limited, STANAG 4347 style: N = f*(R) · d / R with MRTD(f*) = τ(R) ΔT "
+            "(:func:`targetacq.mrtd.mrtd_cycles`)",
+        ),
+    }
+)
+"""Resolution models of a range case, by name (read-only); ``geometric`` is the default and
+``mrtd`` applies where the case has an MRTD curve."""
+
+
 def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
@@ -326,13 +401,13 @@ def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     >>> round(float(n), 12), round(float(tau), 6), round(float(snr), 3)
     (5.0, 0.316637, -6.682)
     """
-    cycles = optics.cycles_on_target(case.critical_dimension, range, **case.resolution())
     gamma = 0.0 if case.extinction is None else case.extinction
     tau = atmosphere.transmittance(gamma, range)
     if case.foliage is not None:
         tau = tau * case.foliage
+    cycles = RESOLUTION_MODELS[case.resolution_model].cycles(case, range, tau)
     snr = atmosphere.snr_from_transmittance(tau)
-    if case.contrast is not None:
+    if case.noise_equivalent_contrast is not None:
         area = case.critical_dimension**2 if case.target_area is None else case.target_area
         pixels = sensor_noise.pixels_on_target(area, range, case.resolution()["ifov"])
         own = sensor_noise.sensor_snr(case.contrast, case.noise_equivalent_contrast, tau, pixels)

@@ -8,7 +8,8 @@ commit and here.
 Regenerated (deliberate model changes of the physical-fidelity issue): the noise law
 ``variance-sum`` (quadrature), the Schmieder–Weathersby transform continuous in the SCR,
 detection in clutter capped by the uncluttered value, moving targets detected as in low
-clutter (not always), hot spots under noise read at the noisy N.
+clutter (not always), hot spots under noise read at the noisy N; then the datasheet field-of-view
+convention (``hfov`` over pixels is IFOV = hfov / pixels by default, features.toml).
 """
 
 from pathlib import Path

@@ -345,3 +345,34 @@ def test_docstring_examples_run():
     for module in (simulation, targetacq.search):
         failures, tried = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert tried > 0 and failures == 0
+
+
+def _noise_sim(netd, temperature, **sensor):
+    return Simulation(
+        [{**_sensor("a", 0.0), "netd": netd, **sensor}],
+        [{**_TARGETS["truck"], "temperature": temperature}],
+        background={"temperature": 295.0},
+    )
+
+
+@pytest.mark.parametrize("distance", [500.0, 2000.0, 10000.0])
+def test_a_target_at_the_background_temperature_is_not_detected(distance):
+    # Zero contrast with a NETD: the sensor's SNR is 0, so no task succeeds at any range.
+    sim = _noise_sim("50 mK", 295.0)
+    out = sim.probabilities(0.0, np.array([[0.0, 0.0, 10.0]]), np.array([[distance, 0.0, 0.0]]))
+    assert float(np.max(out.detection)) < 0.01
+    # Without a NETD the thesis's geometry alone detects it (no path, no noise).
+    quiet = Simulation(
+        [_sensor("a", 0.0)],
+        [{**_TARGETS["truck"], "temperature": 295.0}],
+        background={"temperature": 295.0},
+    )
+    got = quiet.probabilities(0.0, np.array([[0.0, 0.0, 10.0]]), np.array([[distance, 0.0, 0.0]]))
+    assert float(got.detection[0, 0]) > 0.1
+
+
+def test_a_hotter_target_is_recognised_with_more_probability():
+    sensor_pos, target_pos = np.array([[0.0, 0.0, 10.0]]), np.array([[2500.0, 0.0, 0.0]])
+    cold = _noise_sim("100 mK", 295.05).probabilities(0.0, sensor_pos, target_pos)
+    hot = _noise_sim("100 mK", 340.0).probabilities(0.0, sensor_pos, target_pos)
+    assert float(hot.recognition[0, 0]) > float(cold.recognition[0, 0]) + 0.01

@@ -1,18 +1,14 @@
 """The HTML report: content, self-containment, and rendering in a real headless browser."""
 
 import re
-import shutil
-import subprocess
 from html.parser import HTMLParser
 from pathlib import Path
 
-import numpy as np
 import pytest
-from PIL import Image
 
+from browser import BROWSER, screenshot, shows_figures
 from targetacq.cli import main
 
-BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
 REPORT_ARGS = [
     "report",
     "--example",
@@ -78,33 +74,8 @@ def test_report_content(report_file):
 
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium installed (.ci/run installs Debian's)")
 def test_report_renders_in_headless_chromium(report_file, tmp_path):
-    shot = tmp_path / "shot.png"
-    subprocess.run(
-        [
-            BROWSER,
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            f"--user-data-dir={tmp_path / 'profile'}",
-            "--window-size=1200,2400",
-            f"--screenshot={shot}",
-            report_file.as_uri(),
-        ],
-        check=True,
-        capture_output=True,
-        timeout=120,
-    )
-    image = np.asarray(Image.open(shot).convert("RGB")).astype(int)
-    assert image.shape[:2] == (2400, 1200)
-    # The page is not blank: text and the embedded figures' curves are drawn.
-    assert np.mean(image.sum(axis=-1) < 600) > 0.01
-    detection_blue = np.array([0x1F, 0x77, 0xB4])
-    assert np.sum(np.all(np.abs(image - detection_blue) < 20, axis=-1)) > 200
+    image = screenshot(report_file, tmp_path, 2400)
+    assert shows_figures(image)
 
 
 def test_report_of_a_scenario(tmp_path):

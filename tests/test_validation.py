@@ -4,8 +4,6 @@ reproductions within the printed precision, with the published values taken from
 import base64
 import io
 import math
-import shutil
-import subprocess
 from html.parser import HTMLParser
 from typing import ClassVar
 
@@ -14,6 +12,7 @@ import pytest
 import scipy.constants as codata
 from PIL import Image
 
+from browser import BROWSER, screenshot, shows_figures
 from targetacq.cli import main
 from targetacq.tables import load_table
 from targetacq.validation import (
@@ -26,7 +25,6 @@ from targetacq.validation import (
 )
 from targetacq.validation._transforms import observed_section
 
-BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
 SECTIONS = (
     "table-3-1",
     "table-3-3",
@@ -106,34 +104,8 @@ def test_page_is_self_contained_with_every_section(page_file):
 
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium installed (.ci/run installs Debian's)")
 def test_page_renders_in_headless_chromium(page_file, tmp_path):
-    shot = tmp_path / "shot.png"
-    subprocess.run(
-        [
-            BROWSER,
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            f"--user-data-dir={tmp_path / 'profile'}",
-            "--window-size=1200,4000",
-            f"--screenshot={shot}",
-            page_file.as_uri(),
-        ],
-        check=True,
-        capture_output=True,
-        timeout=120,
-    )
-    image = np.asarray(Image.open(shot).convert("RGB")).astype(int)
-    assert image.shape[:2] == (4000, 1200)
-    # Not blank: text and table rules are drawn, and the first figure's curves (the TTPF of
-    # detection in the task colour) are on screen.
-    assert np.mean(image.sum(axis=-1) < 600) > 0.01
-    detection_blue = np.array([0x1F, 0x77, 0xB4])
-    assert np.sum(np.all(np.abs(image - detection_blue) < 20, axis=-1)) > 200
+    image = screenshot(page_file, tmp_path, 4000)
+    assert shows_figures(image)
 
 
 def _within(frame):

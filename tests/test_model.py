@@ -257,3 +257,17 @@ def test_terrain_chunks_equal_the_whole():
         part = whole.isel(target=targets).sel(time=times)
         np.testing.assert_array_equal(arrays["scr"], part["scr"].values)
         np.testing.assert_array_equal(arrays["detection"], part["detection"].values)
+
+
+def test_range_cases_carry_the_sensor_noise_and_the_model_choices():
+    from targetacq.scenario import Scenario
+
+    base = load_scenario(EXAMPLES / "uav_haze.toml")
+    data = base.model_dump(mode="python", exclude_none=True)
+    data["sensors"][0]["netd"] = 0.05
+    data["model"]["semantics"] = "conditional"
+    cases = ModelChain(Scenario.model_validate(data)).range_cases()
+    case = next(iter(cases.values()))
+    assert case.semantics == "conditional"
+    assert case.noise_equivalent_contrast > 0 and case.contrast > 0
+    assert next(iter(ModelChain(base).range_cases().values())).contrast is None

@@ -253,8 +253,11 @@ class ModelChain:
         (default: the scenario's start); the resolution is the sensor type's cycle and IFOV; the
         path is the base extinction of each sensor's band where the scenario has an atmosphere
         (segments and local clouds depend on where the target stands, so they are left out of
-        range curves); the clutter (SCR or region), criterion, transform and noise model are the
-        scenario's.
+        range curves); the clutter (SCR or region), criterion, transform, noise model, motion
+        rule and semantics are the scenario's, and so is a sensor's own noise (its
+        noise-equivalent exitance against the pair's exitance contrast), with the pixels on
+        target counted over the critical dimension squared (the fewest a target of that critical
+        dimension covers: the range curves do not follow the outline's other side).
 
         Examples
         --------
@@ -267,6 +270,18 @@ class ModelChain:
         seen = self.compute([t])["critical_dimension"][..., 0]
         scene = self.compiled.scene
         sensors, targets, choices = scene.sensors, scene.targets, scene.choices
+        noise = [
+            [
+                {
+                    "contrast": float(scene.signature.contrast[s, g]),
+                    "noise_equivalent_contrast": float(sensors.noise_equivalent[s]),
+                }
+                if sensors.noise_equivalent[s] > 0
+                else {}
+                for g in range(len(targets.names))
+            ]
+            for s in range(len(sensors.names))
+        ]
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
             for g, target in enumerate(targets.names):
@@ -283,6 +298,9 @@ class ModelChain:
                     hot_spot=targets.hot_spot[g],
                     moving=targets.moving[g],
                     noise_model=choices.noise_model,
+                    motion=choices.motion,
+                    semantics=choices.semantics,
+                    **noise[s][g],
                 )
         return cases
 

@@ -183,3 +183,14 @@ def test_recognition_never_beyond_detection():
     r = ta.dri_ranges(2.3, 2e-4, probability=0.85, scr=0.5)
     assert r["recognition"] <= r["detection"]
     assert r["identification"] <= r["recognition"]
+
+
+def test_dri_ranges_carry_the_sensor_noise():
+    # With a NETD, a zero ΔT is never reached; a larger ΔT never shortens a range; without
+    # noise the geometric closed form d / (N50 · 2 IFOV).
+    zero = ta.dri_ranges(2.3, 2e-4, delta_t=0.0, netd=0.05)
+    assert all(np.isnan(r) for r in zero.values())
+    cold = ta.dri_ranges(2.3, 2e-4, delta_t=0.05, netd=0.1, extinction=0.4e-3)
+    hot = ta.dri_ranges(2.3, 2e-4, delta_t=45.0, netd=0.1, extinction=0.4e-3)
+    assert all(hot[t] > cold[t] for t in hot)
+    assert ta.dri_ranges(2.3, 2e-4)["detection"] == pytest.approx(2.3 / (1.0 * 2 * 2e-4))

@@ -179,3 +179,14 @@ def test_negative_temperature_is_an_error():
     with pytest.raises(ValueError, match="temperature must be >= 0"):
         ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", -3.0, 290.0)
     assert math.isfinite(ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", 0.0, 290.0).contrast)
+
+
+def test_zero_contrast_with_a_netd_is_never_detected():
+    # The case: a target at the background's temperature. Without the sensor's noise
+    # the thesis's model detects it (only the atmosphere's noise, none here); with a NETD the
+    # sensor's SNR is 0 and nothing is detected, at any range.
+    ranges = np.geomspace(10.0, 1e5, 50)
+    quiet = ta.scene_acquisition(ranges, 2.3, 2e-4, "lwir", 295.0, 295.0)
+    noisy = ta.scene_acquisition(ranges, 2.3, 2e-4, "lwir", 295.0, 295.0, netd=0.05)
+    assert quiet.detection[0] > 0.9
+    assert np.all(noisy.detection < 0.01)

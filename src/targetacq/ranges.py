@@ -63,6 +63,12 @@ def dri_ranges(
     wavelength: Any = None,
     aperture: Any = None,
     blur_sigma: Any = None,
+    delta_t: Any = None,
+    netd: Any = None,
+    target_area: Any = None,
+    mrtd: Any = None,
+    motion: str = "low-clutter",
+    semantics: str = "nested",
     tolerance: float = 1e-9,
     **options: Any,
 ) -> dict[str, Any]:
@@ -92,6 +98,15 @@ def dri_ranges(
         How the atmosphere's noise moves the transforms (:mod:`targetacq.noise`).
     wavelength, aperture, blur_sigma : array_like, optional
         Optics limits on the cycle, see :func:`targetacq.optics.resolvable_cycle_angle`.
+    delta_t, netd : array_like, optional
+        The target's temperature difference and the sensor's NETD [K]: the sensor's own noise
+        (:mod:`targetacq.sensor_noise`); ``delta_t`` with ``mrtd`` for the MRTD resolution model.
+    target_area : array_like, optional
+        Area of the target as seen [m²] for its pixels; default the critical dimension squared.
+    mrtd : MrtdCurve, optional
+        The sensor's MRTD curve (:class:`targetacq.mrtd.MrtdCurve`): MRTD-limited cycles.
+    motion, semantics : str
+        As in :func:`targetacq.acquisition_probabilities`.
     tolerance : float
         Relative tolerance on the range when it is solved numerically (module docstring).
     **options
@@ -127,6 +142,12 @@ def dri_ranges(
         hot_spot=hot_spot,
         moving=moving,
         noise_model=noise_model,
+        contrast=delta_t,
+        noise_equivalent_contrast=netd,
+        target_area=target_area,
+        mrtd=mrtd,
+        motion=motion,
+        semantics=semantics,
     )
     return case_ranges(case, probability, tolerance)
 

@@ -198,6 +198,11 @@ def scene_acquisition(
     wavelength: Any = None,
     aperture: Any = None,
     blur_sigma: Any = None,
+    netd: Any = None,
+    netd_temperature: Any = 300.0,
+    target_area: Any = None,
+    motion: str = "low-clutter",
+    semantics: str = "nested",
     **options: Any,
 ) -> SceneAcquisition:
     """Probabilities of detection, recognition and identification from the physical scene.
@@ -242,6 +247,13 @@ def scene_acquisition(
         As in :func:`targetacq.transforms.schmieder_weathersby`.
     wavelength, aperture, blur_sigma : array_like, optional
         Optics limits on the cycle (:func:`targetacq.optics.resolvable_cycle_angle`).
+    netd : array_like, optional
+        The sensor's NETD [K], >= 0, quoted at ``netd_temperature`` [K]: the sensor's own noise
+        against the exitance contrast (:mod:`targetacq.sensor_noise`); None for none.
+    target_area : array_like, optional
+        Area of the target as seen [m²] for its pixels; default the critical dimension squared.
+    motion, semantics : str
+        As in :func:`targetacq.acquisition_probabilities`.
     **options
         Options of ``transform``.
 
@@ -272,6 +284,17 @@ def scene_acquisition(
         clutter_exitance_std=clutter_exitance_std,
     )
     scr_value = seen.scr if seen.scr is not None else scr
+    noise: dict[str, Any] = {}
+    if netd is not None:
+        from targetacq.sensor_noise import netd_exitance
+
+        noise = {
+            "contrast": seen.contrast,
+            "noise_equivalent_contrast": netd_exitance(netd, band, netd_temperature),
+            "target_area": target_area,
+        }
+    elif target_area is not None:
+        raise ValueError("target_area is used with the sensor's noise (netd)")
     case = RangeCase(
         critical_dimension,
         ifov,
@@ -288,6 +311,9 @@ def scene_acquisition(
         hot_spot=hot_spot,
         moving=moving,
         noise_model=noise_model,
+        motion=motion,
+        semantics=semantics,
+        **noise,
     )
     found = case_acquisition(case, range)
     xp, (det, rec, ide, contrast) = _arrays.arrays(

@@ -50,6 +50,7 @@ __all__ = [
     "effect_probability",
     "get_motion_rule",
     "get_semantics",
+    "given_clutter",
     "ordered_probabilities",
     "probability",
 ]
@@ -97,7 +98,8 @@ class MotionRule:
 
 def _low_clutter_scale() -> float:
     """Table 3.5's low-clutter 50 % point over its medium-clutter reference (0.5 / 1.0)."""
-    return float(_transforms.clutter_n50(float("inf"))) / float(_transforms.clutter_n50(1.0))
+    n50 = _transforms._sw_region_n50()  # computed once
+    return n50["low"] / n50["medium"]
 
 
 def _moving_low_clutter(n: Any, n50: Any, transform: Any, options: Any, xp: Any) -> Any:
@@ -345,6 +347,12 @@ def ordered_probabilities(
     return get_semantics(semantics).events(det, rec, ide, xp)
 
 
+def given_clutter(**clutter: Any) -> dict[str, Any]:
+    """The clutter keywords given (not None, not False): the options of a detection-in-clutter
+    transform chosen by name."""
+    return {k: v for k, v in clutter.items() if v is not None and v is not False}
+
+
 def probability(
     cycles: Any,
     task: str,
@@ -412,8 +420,7 @@ def probability(
     n_noisy = _noisy(n, snr, noise, xp)
     if chosen.tasks == ("detection",):
         # A detection-in-clutter transform chosen by name: the clutter is its own input.
-        given = {"scr": scr, "region": region, "hot_spot": hot_spot, "moving": moving}
-        clutter = {k: v for k, v in given.items() if v is not None and v is not False}
+        clutter = given_clutter(scr=scr, region=region, hot_spot=hot_spot, moving=moving)
         chosen.check(task, {**clutter, **options})
         return chosen.forward(n_noisy, n50, task, **clutter, **options)
     plain = chosen.forward(n_noisy, n50, task, **options)

@@ -155,10 +155,11 @@ def _variance_sum_factor(snr: Any) -> Any:
     """``f = sqrt(1 + k²/SNR_lin²)``, written as ``hypot(1, k·10^(−SNR/20))`` (no overflow)."""
     xp, (s,) = _arrays.arrays(snr)
     # 10^(-SNR/20) is the noise-to-signal amplitude: 0 at +inf (f = 1), +inf at -inf (f = inf).
-    inverse = _amplitude(-s, xp) if not isinstance(s, np.ndarray) else None
-    if inverse is None:
+    if isinstance(s, np.ndarray):
         with np.errstate(over="ignore"):
             inverse = 10.0 ** (-s / 20.0)
+    else:
+        inverse = _amplitude(-s, xp)  # a zero, not NaN, gradient at ±inf
     ratio = QUADRATURE_CONSTANT * inverse
     # sqrt(1 + r²) as r · sqrt(1 + 1/r²) for r > 1: no overflow for a vanishing signal.
     big = ratio > 1.0

@@ -130,8 +130,9 @@ def ifov_from_field_of_view(field_of_view: Any, pixels: Any, projection: str = "
     ``angular`` (default): ``IFOV = FOV / n``, the mean angle per pixel (the datasheet
     convention: a 100° lens over 640 pixels is 2.727 mrad). ``rectilinear``: inverting
     Eq. (5.1), the array side is ``A = 2 f tan(FOV/2)``, so the central pixel subtends
-    ``p/f = 2 tan(FOV/2) / n`` (1.87 mrad for the same lens: 31 % finer at the centre, which a
-    wide lens with barrel distortion does not deliver). See :data:`FIELD_OF_VIEW_PROJECTIONS`.
+    ``p/f = 2 tan(FOV/2) / n`` (3.724 mrad for the same lens: the centre pixel of a
+    distortion-free wide lens is 37 % coarser than the mean angle per pixel, so its ranges are
+    27 % shorter than a datasheet's). See :data:`FIELD_OF_VIEW_PROJECTIONS`.
 
     Parameters
     ----------
@@ -152,7 +153,7 @@ def ifov_from_field_of_view(field_of_view: Any, pixels: Any, projection: str = "
     >>> round(float(ifov_from_field_of_view(math.radians(100.0), 640)) * 1e3, 4)  # mrad
     2.7271
     >>> round(float(ifov_from_field_of_view(math.radians(100.0), 640, "rectilinear")) * 1e3, 4)
-    3.7238
+    3.7242
     """
     lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
     xp, (fov, n) = _arrays.arrays(field_of_view, pixels)
@@ -172,7 +173,7 @@ def field_of_view_from_ifov(ifov: Any, pixels: Any, projection: str = "angular")
     Examples
     --------
     >>> round(float(field_of_view_from_ifov(2e-3, 100, "rectilinear")), 6)
-    0.197396
+    0.199337
     """
     lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
     xp, (i, n) = _arrays.arrays(ifov, pixels)

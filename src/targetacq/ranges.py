@@ -29,7 +29,7 @@ from typing import Any
 
 from targetacq import _arrays, optics
 from targetacq import transforms as _transforms
-from targetacq.acquisition import get_motion_rule
+from targetacq.acquisition import get_motion_rule, given_clutter
 from targetacq.core.cases import RangeCase, case_acquisition, case_probability
 from targetacq.criteria import Criterion, get_criterion
 
@@ -225,7 +225,7 @@ def _cycles_needed(
     hot spot reads the low-clutter curve, a moving target its motion rule, either the better."""
     n50 = crit.n50(task)
     if chosen.tasks == ("detection",):  # a detection-in-clutter transform chosen by name
-        given = {k: v for k, v in case.clutter.items() if v is not None and v is not False}
+        given = given_clutter(**case.clutter)
         return chosen.inverse(probability, n50, task, **given, **case.options)
     needed = _transforms.inverse_transform(
         probability, n50, task, method=chosen.name, **case.options

@@ -192,11 +192,12 @@ def combined_snr(*snr: Any) -> Any:
     if not snr:
         raise ValueError("combined_snr needs at least one SNR")
     xp, values = _arrays.arrays(*snr)
+    if len(values) == 1:
+        return _arrays.result(values[0])
     # 1/SNR_lin² = 10^(−SNR/10): 0 at +inf, +inf at −inf.
-    with np.errstate(over="ignore"):
+    with np.errstate(over="ignore", divide="ignore"):
         total = sum((10.0 ** (-v / 10.0) for v in values), start=xp.zeros_like(values[0]))
-        exact = values[0] if len(values) == 1 else None
-        db = -10.0 * xp.log10(total) if exact is None else exact
+        db = -10.0 * xp.log10(total)
     unknown = xp.zeros_like(total, dtype=bool)
     for v in values:
         unknown = unknown | xp.isnan(v)

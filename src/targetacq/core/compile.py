@@ -26,7 +26,7 @@ from targetacq.core.records import (
     TargetArrays,
 )
 from targetacq.criteria import Criterion, get_criterion
-from targetacq.sensors import get_sensor_type
+from targetacq.sensors import Signature, get_sensor_type
 
 __all__ = ["CompiledScenario", "TerrainArrays", "compile_scenario", "scenario_positions"]
 
@@ -83,7 +83,7 @@ def _criteria(scenario: Any) -> tuple[Criterion, ...]:
     )
 
 
-def _sensors(scenario: Any) -> SensorArrays:
+def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
     sensors = scenario.sensors
     atm = scenario.atmosphere
     half = np.full((len(sensors), 2), np.nan)
@@ -121,12 +121,8 @@ def _sensors(scenario: Any) -> SensorArrays:
     ).reshape(len(sensors), len(atm.segments))
     noise = np.array(
         [
-            get_sensor_type(s.type).noise_equivalent(
-                s, get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
-            )
-            if s.netd is not None or s.nec is not None
-            else 0.0
-            for s in sensors
+            get_sensor_type(s.type).noise_equivalent(s, sig)
+            for s, sig in zip(sensors, seen, strict=True)
         ],
         dtype=float,
     ).reshape(len(sensors))
@@ -183,13 +179,12 @@ def _image_scr(scenario: Any) -> np.ndarray:
     return np.asarray(image_clutter(pixels, [t.image_box for t in scenario.targets]).scr)
 
 
-def _signature(scenario: Any) -> SignatureArrays:
+def _signature(scenario: Any, signatures: list[Signature]) -> SignatureArrays:
     bg = scenario.background
     shape = (len(scenario.sensors), len(scenario.targets))
     contrast, target = np.empty(shape), np.empty(shape)
     clutter = np.full(shape, np.nan)
-    for k, s in enumerate(scenario.sensors):
-        seen = get_sensor_type(s.type).signature(s, bg, scenario.targets)
+    for k, seen in enumerate(signatures):
         contrast[k] = np.abs(seen.target - seen.background)
         target[k] = seen.target
         if seen.clutter is not None:
@@ -245,6 +240,11 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     CompiledScenario
     """
     criteria = _criteria(scenario)
+    # Each sensor's signature once: the contrast and SCR and the sensor's noise both read it.
+    signatures = [
+        get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
+        for s in scenario.sensors
+    ]
     model = scenario.model
     choices = ModelChoices(
         transform=model.transform,
@@ -256,10 +256,10 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         semantics=model.semantics,
     )
     scene = SceneArrays(
-        sensors=_sensors(scenario),
+        sensors=_sensors(scenario, signatures),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
-        signature=_signature(scenario),
+        signature=_signature(scenario, signatures),
         choices=choices,
     )
     return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario))

@@ -273,14 +273,16 @@ def factors(
     if sensors.has_noise:
         # The area seen: the outline's horizontal side times the visible part of its height.
         area = horizontal * vertical * _per_target(targets.visible_fraction, batch, xp)
-        footprint = xp.maximum(rng, 1e-9) * _per_sensor(sensors.ifov, batch, xp)
+        pixels = sensor_noise.pixels_on_target(
+            area, xp.maximum(rng, 1e-9), _per_sensor(sensors.ifov, batch, xp)
+        )
         own = sensor_noise.sensor_snr(
             xp.reshape(
                 _arrays.as_float(scene.signature.contrast, xp), (*scene.shape,) + (1,) * batch
             ),
             _per_sensor(sensors.noise_equivalent, batch, xp),
             tau,
-            area / (footprint * footprint),
+            pixels,
         )
         snr = sensor_noise.combined_snr(snr, own)
     return Factors(

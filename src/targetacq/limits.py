@@ -1,0 +1,170 @@
+"""The limits every front-end checks at its boundary: physical domains and resource sizes.
+
+One place for them, so the CLI, the scenario schema and the Python records refuse the same
+values with the same words. A value outside its domain is not a model result waiting to happen:
+it is a typo (``"720 deg"``), an overflow (``1e400`` reads as infinity) or a unit slip, and the
+user is told which input and what the valid range is.
+
+Physical domains
+----------------
+Temperatures are bounded above by :data:`MAX_TEMPERATURE`: the model's materials are solids
+and vegetation, and far beyond it Planck's law overflows double precision in the thermal bands,
+so an answer would come from an infinity rather than from physics. Depression angles lie in
+[-90°, 90°] (straight up to straight down); azimuths and headings in [-360°, 360°] (one turn
+either way, enough for any convention).
+
+Resources
+---------
+A run's size (time steps × sensors × targets × runs) is known before anything is allocated.
+:func:`check_size` refuses a size whose arrays would not fit in the memory this machine has
+available, with a message saying how to make it smaller, instead of failing half-way with a
+``MemoryError`` (or being killed by the system).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any
+
+__all__ = [
+    "MAX_ANGLE_TURN",
+    "MAX_DEPRESSION",
+    "MAX_ELEMENTS",
+    "MAX_SEED",
+    "MAX_TEMPERATURE",
+    "available_memory",
+    "check_finite",
+    "check_range",
+    "check_seed",
+    "check_size",
+]
+
+MAX_TEMPERATURE = 1.0e4
+"""Highest temperature [K] accepted for a target, a background or a terrain class."""
+
+MAX_DEPRESSION = math.pi / 2
+"""Largest depression angle magnitude [rad]: 90° below (or above) the horizon."""
+
+MAX_ANGLE_TURN = 2 * math.pi
+"""Largest azimuth or heading magnitude [rad]: one full turn either way."""
+
+MAX_SEED = 2**128 - 1
+"""Largest seed: seeds are hashed as 16-byte unsigned integers (:mod:`targetacq.sampling`)."""
+
+MAX_ELEMENTS = 2**40
+"""Largest number of elements of any one result, whatever the memory (int64 index headroom)."""
+
+_FALLBACK_MEMORY = 4 * 2**30  # bytes, when the system does not say
+
+
+def available_memory() -> int:
+    """Bytes of memory available to a new allocation (``MemAvailable`` on Linux).
+
+    Falls back to the physical memory, then to 4 GiB, where the system does not report it.
+    """
+    try:
+        with open("/proc/meminfo", encoding="ascii") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (OSError, ValueError, AttributeError):
+        return _FALLBACK_MEMORY
+
+
+def check_size(elements: float, bytes_per_element: float, what: str, advice: str) -> None:
+    """Raise ``ValueError`` if ``elements`` × ``bytes_per_element`` would not fit in memory.
+
+    Parameters
+    ----------
+    elements : float
+        How many elements the run will hold (e.g. times × sensors × targets); a float so that
+        products of large counts do not overflow.
+    bytes_per_element : float
+        Bytes each element costs, all the run's arrays together.
+    what : str
+        The run, for the message (e.g. ``"time.step 1 ns from 0 s to 600 s"``).
+    advice : str
+        How to make it smaller (e.g. ``"use a longer time.step or a shorter time span"``).
+
+    Examples
+    --------
+    >>> check_size(1e3, 8, "a small run", "no advice needed")
+    >>> check_size(1e18, 8, "1e18 steps", "use fewer steps")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: 1e18 steps needs about 8e+18 bytes (7.3e+09 GiB); ...
+    """
+    needed = float(elements) * float(bytes_per_element)
+    if not math.isfinite(needed) or elements > MAX_ELEMENTS or needed > available_memory():
+        raise ValueError(
+            f"{what} needs about {needed:.3g} bytes ({needed / 2**30:.3g} GiB); "
+            f"this machine has {available_memory() / 2**30:.3g} GiB available: {advice}"
+        )
+
+
+def check_finite(name: str, value: Any) -> float:
+    """``value`` as a float, or ``ValueError`` naming ``name`` if it is NaN or infinite.
+
+    Examples
+    --------
+    >>> check_finite("pitch", 1.7e-5)
+    1.7e-05
+    >>> check_finite("pitch", float("inf"))
+    Traceback (most recent call last):
+    ...
+    ValueError: pitch must be finite; got inf (an overflowing number?)
+    """
+    number = float(value)
+    if math.isnan(number):
+        raise ValueError(f"{name} must be a number; got NaN")
+    if math.isinf(number):
+        raise ValueError(f"{name} must be finite; got {number:g} (an overflowing number?)")
+    return number
+
+
+def check_range(
+    name: str, value: float, low: float, high: float, unit: str = "", scale: float = 1.0
+) -> float:
+    """``value`` if finite and in [``low``, ``high``], else ``ValueError`` naming the range.
+
+    ``scale`` converts SI values to the ``unit`` shown in the message (e.g. 180/π for degrees).
+
+    Examples
+    --------
+    >>> import math
+    >>> check_range("depression", math.radians(720), -MAX_DEPRESSION, MAX_DEPRESSION, "deg",
+    ...             180 / math.pi)
+    Traceback (most recent call last):
+    ...
+    ValueError: depression must be in [-90, 90] deg; got 720 deg
+    """
+    number = check_finite(name, value)
+    if not low <= number <= high:
+        suffix = f" {unit}" if unit else ""
+        raise ValueError(
+            f"{name} must be in [{low * scale:g}, {high * scale:g}]{suffix}; "
+            f"got {number * scale:g}{suffix}"
+        )
+    return number
+
+
+def check_seed(seed: Any, name: str = "seed") -> int:
+    """``seed`` if it is an integer in [0, :data:`MAX_SEED`], else ``ValueError``.
+
+    Examples
+    --------
+    >>> check_seed(42)
+    42
+    >>> check_seed(-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: seed must be an integer in [0, 2**128 - 1]; got -1
+    """
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"{name} must be an integer in [0, 2**128 - 1]; got {seed!r}")
+    return seed

@@ -98,12 +98,32 @@ def test_to_si_strict_refuses_bare_numbers_but_not_quantities():
         ),
         (ureg.Quantity(17, "um/mm"), r"pitch: .* is not a length: .*got dimensionless"),
         (ureg.Quantity([1.0, 2.0], "um"), "pitch: expected one real length"),
-        (float("nan"), "pitch must be finite, got nan"),
-        (float("-inf"), "pitch must be finite, got -inf"),
-        (ureg.Quantity(float("inf"), "um"), "pitch must be finite, got inf"),
-        ("1e999 m", "pitch must be finite, got inf"),
+        (float("nan"), "pitch must be a number; got NaN"),
+        (float("-inf"), "pitch must be finite; got -inf"),
+        (ureg.Quantity(float("inf"), "um"), "pitch must be finite; got inf"),
+        (ureg.Quantity(float("nan"), "um"), "pitch must be a number; got NaN"),
+        ("1e999 m", r"pitch must be finite; got '1e999 m' \(the number overflows\)"),
+        # finite digits, infinite product: 1e300 light years do not fit in metres
+        ("1e300 lightyear", r"pitch must be finite; got '1e300 lightyear'"),
+        ("1e308 km", r"pitch must be finite; got '1e308 km'"),
+        ("nan m", "pitch must be a finite number with a unit"),
+        ("inf m", "pitch must be a finite number with a unit"),
+        ("-Infinity m", "pitch must be a finite number with a unit"),
+        ("NaN", "pitch must be a finite number with a unit"),
+        (10**400, r"pitch must be finite; got a number beyond 1\.798e\+308"),
+        (__import__("fractions").Fraction(10**400, 3), "pitch must be finite; got a number beyond"),
+        (ureg.Quantity(10**400, "um"), "pitch must be finite; got a number of micrometer beyond"),
         (True, "pitch: expected a length with a unit, or a number in meter"),
+        (__import__("numpy").bool_(True), "pitch: expected a length .*; got bool"),
         ([17e-6], "pitch: expected a length .*; got list"),
+        (1 + 2j, "pitch: expected a length .*; got complex"),
+        (b"17 um", "pitch: expected a length .*; got bytes"),
+        (__import__("datetime").datetime(2024, 1, 1), "pitch: expected a length .*; got datetime"),
+        (__import__("datetime").date(2024, 1, 1), "pitch: expected a length .*; got date"),
+        (__import__("decimal").Decimal("1.5"), "pitch: expected a length .*; got Decimal"),
+        (None, "pitch: expected a length .*; got NoneType"),
+        ("17", "pitch needs a unit: got '17'"),
+        ("2024-01-01", "pitch: cannot read '2024-01-01' as a length|pitch.*unit"),
     ],
 )
 def test_to_si_errors_name_the_input(value, match):
@@ -124,3 +144,28 @@ def test_is_quantity_and_si_magnitude():
     assert si_magnitude(ureg.Quantity(1, "W/cm^2")) == pytest.approx(1e4, rel=1e-15)
     assert si_magnitude(ureg.Quantity(1, "mrad")) == pytest.approx(1e-3, rel=1e-15)
     assert si_magnitude(ureg.Quantity(-40, "degC")) == pytest.approx(233.15, rel=1e-15)
+
+
+@pytest.mark.parametrize("text", ["1e400 um", "1e400um", "-1e400 K", "1" + "0" * 400 + " m"])
+def test_parse_quantity_refuses_literals_that_overflow(text):
+    kind = "temperature" if text.endswith("K") else "length"
+    with pytest.raises(
+        ValueError, match=r"^--x must be finite; got '.*' \(the number overflows\)$"
+    ):
+        parse_quantity(text, kind, "--x")
+
+
+def test_parse_quantity_underflow_is_zero_not_an_error():
+    # 1e-400 m is below the smallest double: it reads as 0 m, which the range checks judge.
+    assert parse_quantity("1e-400 m", "length", "--x") == 0.0
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), "1e400 m", True, 1j, "nan m"])
+def test_to_si_strict_refuses_non_finite_and_non_numbers_too(value):
+    with pytest.raises(ValueError, match=r"^pitch"):
+        to_si(value, "length", "pitch", strict=True)
+
+
+@pytest.mark.parametrize(("value", "si"), [(17, 17.0), (__import__("numpy").float32(0.5), 0.5)])
+def test_to_si_accepts_real_numbers_of_any_type(value, si):
+    assert to_si(value, "length", "pitch") == si

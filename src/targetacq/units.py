@@ -16,6 +16,8 @@ import re
 import sys
 from typing import Any
 
+from targetacq.limits import check_finite
+
 __all__ = ["DIMENSIONS", "is_quantity", "parse_quantity", "si_magnitude", "to_si"]
 
 DIMENSIONS: dict[str, tuple[str, str]] = {
@@ -56,6 +58,8 @@ _SI_BASE: dict[str, str] = {
 }
 
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+# Python's float() reads these words; a quantity never is one of them.
+_NOT_FINITE = re.compile(r"^\s*[-+]?(?:nan|inf|infinity)\b", re.IGNORECASE)
 _DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER
 
 
@@ -87,16 +91,29 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
     Raises
     ------
     ValueError
-        If the text is not a number with a unit of that kind; the message names the input and
-        gives an example.
+        If the text is not a finite number with a unit of that kind (``"nan m"``, or
+        ``"1e400 m"``, which overflows double precision); the message names the input and gives
+        an example.
     """
     if kind not in DIMENSIONS:
         raise ValueError(f"kind must be one of {', '.join(DIMENSIONS)}; got {kind!r}")
-    si_unit, example = DIMENSIONS[kind]
+    _, example = DIMENSIONS[kind]
+    if _NOT_FINITE.match(text):
+        raise ValueError(
+            f"{name} must be a finite number with a unit (e.g. {example}); got {text!r}"
+        )
     match = _NUMBER.match(text)
     if match is None:
         raise ValueError(f"{name}: cannot read {text!r} as a {kind} (e.g. {example})")
-    value, unit = float(match.group(1)), match.group(2)
+    result = _parse_match(float(match.group(1)), match.group(2), text, kind, name)
+    if not math.isfinite(result):  # a literal beyond double precision (1e400) reads as inf
+        raise ValueError(f"{name} must be finite; got {text!r} (the number overflows)")
+    return result
+
+
+def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> float:
+    """The number ``value`` [``unit``] of ``text`` in the SI unit of ``kind`` (maybe inf)."""
+    si_unit, example = DIMENSIONS[kind]
     if not unit:
         raise ValueError(f"{name} needs a unit: got {text!r}; write e.g. {example}")
     if kind == "extinction" and unit.replace(" ", "") in ("dB/km", "db/km"):
@@ -115,6 +132,8 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
         raise ValueError(f"{name}: unknown unit in {text!r} (e.g. {example})") from error
     try:
         return float(quantity.to(si_unit).magnitude)
+    except OverflowError:
+        return math.inf
     except Exception as error:
         raise ValueError(
             f"{name}: {text!r} is not a {kind} (e.g. {example}); its unit is {quantity.units}"
@@ -174,6 +193,11 @@ def _quantity_to(value: Any, kind: str, name: str) -> Any:
         value = value - type(value)(0, value.units)  # 2 degC as a difference is 2 K, as in text
     try:
         return value.to(si_unit).magnitude
+    except OverflowError:  # an integer magnitude too large for a float
+        raise ValueError(
+            f"{name} must be finite; got a number of {value.units} beyond "
+            f"{sys.float_info.max:.4g} (it overflows)"
+        ) from None
     except Exception as error:  # pint raises DimensionalityError or offset-unit errors
         expected = value._REGISTRY.get_dimensionality(si_unit)
         raise ValueError(
@@ -227,12 +251,17 @@ def to_si(value: Any, kind: str, name: str, *, strict: bool = False) -> float:
                 f"{name}: missing unit: got {value!r}; write the {kind} as a string with its "
                 f"unit, e.g. {example}"
             )
-        result = float(value)
+        try:
+            result = float(value)
+        except OverflowError:  # an integer (or fraction) beyond double precision
+            raise ValueError(
+                f"{name} must be finite; got a number beyond {sys.float_info.max:.4g} "
+                "(it overflows)"
+            ) from None
     else:
+        # bool, complex, bytes, dates, None, arrays...: never read as a number
         how = "as a string with a unit" if strict else f"with a unit, or a number in {si_unit}"
         raise ValueError(
             f"{name}: expected a {kind} {how} (e.g. {example}); got {type(value).__name__}"
         )
-    if not math.isfinite(result):
-        raise ValueError(f"{name} must be finite, got {result}")
-    return result
+    return check_finite(name, result)

@@ -125,7 +125,7 @@ def test_malformed_and_missing_files(tmp_path):
     bad.write_text("[[sensors]\nname = 'x'\n")
     with pytest.raises(ScenarioError, match=r"bad.toml: malformed TOML: .*line 1"):
         load_scenario(bad)
-    with pytest.raises(ScenarioError, match="no such scenario file"):
+    with pytest.raises(ScenarioError, match=r"no scenario file .*no such file"):
         load_scenario(tmp_path / "missing.toml")
 
 
@@ -170,9 +170,9 @@ def test_python_positions_and_temperatures():
     [
         ("pitch", 17 * ureg.K, r"pitch: 17 kelvin is not a length: expected dimension \[length\]"),
         ("focal_length", 75 * ureg.s, r"focal_length: .* is not a length"),
-        ("pitch", math.nan, "pitch must be finite, got nan"),
-        ("pitch", math.inf, "pitch must be finite, got inf"),
-        ("position", (0.0, math.nan, 10.0), "position must be finite, got nan"),
+        ("pitch", math.nan, "pitch must be (finite|a number)[,;] got (nan|NaN)"),
+        ("pitch", math.inf, "pitch must be finite[,;] got inf"),
+        ("position", (0.0, math.nan, 10.0), "position must be (finite|a number)[,;] got (nan|NaN)"),
         ("position", (0.0, 0.0, 1 * ureg.K), r"position: 1 kelvin is not a length"),
         ("position", (0.0, 0.0), "position: a position needs three coordinates x, y, z; got 2"),
         ("look_at", 5.0, r"look_at: a position is \[x, y, z\]"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -20,22 +21,30 @@ def read_image(path: str | Path) -> np.ndarray:
     Raises
     ------
     ValueError
-        If the file does not exist or is not an image Pillow can read.
+        If the file does not exist, is not a regular readable file
+        (:func:`targetacq.scenario.input_file`), is not an image Pillow can read, or has more
+        pixels than Pillow's decompression-bomb guard allows.
     """
     from PIL import Image, UnidentifiedImageError
 
-    source = Path(path)
-    if not source.is_file():
-        raise ValueError(f"no image file {str(source)!r}")
+    from targetacq.scenario import input_file
+
+    source = input_file(path, "image file")
     try:
-        with Image.open(source) as opened:
-            opened.load()
-            if opened.mode in ("P", "LA", "PA"):
-                pixels = np.asarray(opened.convert("RGBA" if "A" in opened.mode else "RGB"))
-            else:
-                pixels = np.asarray(opened)
+        with warnings.catch_warnings():
+            # Pillow warns of a possible decompression bomb before refusing one outright: one
+            # clear error instead of a warning printed ahead of it.
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(source) as opened:
+                opened.load()
+                if opened.mode in ("P", "LA", "PA"):
+                    pixels = np.asarray(opened.convert("RGBA" if "A" in opened.mode else "RGB"))
+                else:
+                    pixels = np.asarray(opened)
+    except (Image.DecompressionBombWarning, Image.DecompressionBombError) as error:
+        raise ValueError(f"{source}: too many pixels to read safely: {error}") from None
     except (UnidentifiedImageError, OSError) as error:
-        raise ValueError(f"cannot read {str(source)!r} as an image: {error}") from error
+        raise ValueError(f"cannot read {str(source)!r} as an image: {error}") from None
     if pixels.dtype == bool:
         pixels = pixels.astype(np.uint8)
     return pixels

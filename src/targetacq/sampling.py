@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.limits import check_seed
+
 __all__ = ["philox4x32", "stream_key", "uniforms"]
 
 _M0, _M1 = np.uint64(0xD2511F53), np.uint64(0xCD9E8D57)
@@ -64,10 +66,10 @@ def stream_key(seed: int, *names: str) -> tuple[int, int]:
     """A 64-bit Philox key from a seed and names (e.g. a sensor and a target), as two words.
 
     BLAKE2b of the seed and the names: the same on every machine and Python version, and
-    independent of the order in which things are listed in a scenario.
+    independent of the order in which things are listed in a scenario. The seed is hashed as 16
+    bytes, so it is an integer in [0, 2**128 - 1] (:func:`targetacq.limits.check_seed`).
     """
-    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
-        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
+    check_seed(seed)
     digest = hashlib.blake2b(digest_size=8)
     digest.update(seed.to_bytes(16, "little", signed=False))
     for name in names:

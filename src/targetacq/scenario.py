@@ -15,19 +15,38 @@ gives ``s`` back. A position is a sequence of three such quantities, or one stri
 Positions are map coordinates in metres, x east, y north, z up. A thing either stands at
 ``position`` or moves along ``waypoints`` (times and positions, linear in between, held before
 the first and after the last).
+
+Domains. Every quantity is finite; temperatures lie in (0, ``limits.MAX_TEMPERATURE``] K,
+temperature differences in [0, ``limits.MAX_TEMPERATURE``] K, depressions within
+±``limits.MAX_DEPRESSION`` and azimuths and headings within ±``limits.MAX_ANGLE_TURN``
+(:mod:`targetacq.limits`). Flags are ``true`` or ``false``, pixel counts and boxes whole numbers
+and plain numbers (fractions, SCR, N50) numbers, never quoted text. Contradictions are refused:
+two ways of giving one thing (``emissivity`` and ``material``), a choice that means nothing with
+the rest (``bound`` without the c2nveo transform, ``channel`` without an ``image``), or that the
+model cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
+itself).
+
+Errors. :class:`ScenarioError` holds every problem found, each located
+(``file: table[index].key: what``); its message is the first. Problems that need the files a
+scenario names (its image, its terrain map) or the size of its run are found when it is compiled
+(:func:`targetacq.core.compile.check_runnable`), which ``targetacq validate`` does too.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
+import numbers
+import os
+import stat
 import tomllib
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from difflib import get_close_matches
 from pathlib import Path
 from typing import Annotated, Any, Literal, get_args, get_origin
 
+import numpy as np
 from pydantic import (
     BaseModel,
     BeforeValidator,
@@ -35,6 +54,7 @@ from pydantic import (
     Field,
     ValidationError,
     ValidationInfo,
+    field_validator,
     model_validator,
 )
 
@@ -42,6 +62,13 @@ from targetacq import atmosphere as _atmosphere
 from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
+from targetacq.limits import (
+    MAX_ANGLE_TURN,
+    MAX_DEPRESSION,
+    MAX_TEMPERATURE,
+    check_range,
+    check_size,
+)
 from targetacq.noise import NOISE_MODELS
 from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.radiometry import MATERIALS
@@ -51,6 +78,7 @@ from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import is_quantity, to_si
 
 __all__ = [
+    "MAX_SCENARIO_BYTES",
     "Atmosphere",
     "Background",
     "Cloud",
@@ -64,13 +92,45 @@ __all__ = [
     "TerrainClassSpec",
     "TimeGrid",
     "Waypoint",
+    "input_file",
     "load_scenario",
     "parse_scenario",
 ]
 
+MAX_SCENARIO_BYTES = 10 * 1000**2
+"""Largest scenario file [bytes] read: 10 MB, far above any hand-written scene."""
+
+_TASKS = ("detection", "recognition", "identification")
+
+_GRID_ADVICE = "use a longer time.step or a shorter span (time.start to time.stop)"
+
 
 class ScenarioError(ValueError):
-    """A scenario that cannot be used; the message says where and what is wrong."""
+    """A scenario that cannot be used; the message says where and what is wrong.
+
+    Parameters
+    ----------
+    problems : str or sequence of str
+        One located problem, or every problem found (at least one).
+
+    Attributes
+    ----------
+    problems : tuple of str
+        Every problem, each located (``file: table[index].key: what``). The message is the
+        first, with the count of the others (``targetacq validate`` prints them all).
+    """
+
+    def __init__(self, problems: str | Sequence[str]) -> None:
+        self.problems = (problems,) if isinstance(problems, str) else tuple(problems)
+        if not self.problems:
+            raise TypeError("ScenarioError needs at least one problem")
+        others = len(self.problems) - 1
+        more = f" (and {others} more problem{'s' if others > 1 else ''})" if others else ""
+        super().__init__(self.problems[0] + more)
+
+    def in_file(self, source: str | Path) -> ScenarioError:
+        """The same problems, each prefixed with the file they are in."""
+        return ScenarioError([f"{source}: {problem}" for problem in self.problems])
 
 
 def _strict_units(info: ValidationInfo) -> bool:
@@ -78,28 +138,101 @@ def _strict_units(info: ValidationInfo) -> bool:
     return isinstance(info.context, Mapping) and bool(info.context.get("strict_units"))
 
 
-def _quantity(kind: str) -> Any:
+def _quantity(kind: str, domain: Callable[[str, float], Any] | None = None) -> Any:
+    """A quantity of ``kind`` in SI, checked finite (by :func:`targetacq.units.to_si`) and, where
+    given, by ``domain(name, value)``."""
+
     def parse(value: Any, info: ValidationInfo) -> float:
-        return to_si(value, kind, info.field_name or kind, strict=_strict_units(info))
+        name = info.field_name or kind
+        number = to_si(value, kind, name, strict=_strict_units(info))
+        if domain is not None:
+            domain(name, number)
+        return number
 
     return BeforeValidator(parse)
 
 
+def _absolute_temperature(name: str, value: float) -> None:
+    if not 0.0 < value <= MAX_TEMPERATURE:
+        raise ValueError(f"{name} must be in (0, {MAX_TEMPERATURE:g}] K; got {value:g} K")
+
+
+def _temperature_spread(name: str, value: float) -> None:
+    check_range(name, value, 0.0, MAX_TEMPERATURE, "K")
+
+
+def _within(limit: float) -> Callable[[str, float], Any]:
+    def check(name: str, value: float) -> None:
+        check_range(name, value, -limit, limit, "deg", 180.0 / math.pi)
+
+    return check
+
+
 Length = Annotated[float, _quantity("length")]
 Angle = Annotated[float, _quantity("angle")]
-Temperature = Annotated[float, _quantity("temperature")]
-TemperatureDifference = Annotated[float, _quantity("temperature difference")]
+Bearing = Annotated[float, _quantity("angle", _within(MAX_ANGLE_TURN))]
+"""An azimuth or heading: from north, clockwise, within one turn either way."""
+Depression = Annotated[float, _quantity("angle", _within(MAX_DEPRESSION))]
+Temperature = Annotated[float, _quantity("temperature", _absolute_temperature)]
+TemperatureDifference = Annotated[float, _quantity("temperature difference", _temperature_spread)]
 Extinction = Annotated[float, _quantity("extinction")]
 Time = Annotated[float, _quantity("time")]
 Irradiance = Annotated[float, _quantity("irradiance")]
-Fraction = Annotated[float, Field(ge=0.0, le=1.0)]
+
+
+def _show(value: Any) -> str:
+    """A value as the user wrote it: text quoted, numbers and flags as in TOML."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    return repr(value)
+
+
+def _flag(value: Any, info: ValidationInfo) -> bool:
+    """``true`` or ``false`` only: no "yes", no 1."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(
+        f"{info.field_name} must be true or false (without quotes); got {_show(value)}"
+    )
+
+
+def _whole(value: Any, info: ValidationInfo) -> int:
+    """A whole number: no quoted text, no 3.5 (nor 3.0), no flag."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)):
+        return int(value)
+    raise ValueError(f"{info.field_name} must hold whole numbers; got {_show(value)}")
+
+
+def _number(value: Any, info: ValidationInfo) -> float:
+    """A finite plain number: no quoted text, no flag."""
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        number = float(value)
+        if math.isfinite(number):
+            return number
+        raise ValueError(f"{info.field_name} must be a finite number; got {number:g}")
+    raise ValueError(f"{info.field_name} must be a number (without quotes); got {_show(value)}")
+
+
+def _name(value: Any, info: ValidationInfo) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise ValueError(f"{info.field_name} must be a non-empty text; got {_show(value)}")
+    return value
+
+
+Flag = Annotated[bool, BeforeValidator(_flag)]
+WholeNumber = Annotated[int, BeforeValidator(_whole)]
+Number = Annotated[float, BeforeValidator(_number)]
+Fraction = Annotated[Number, Field(ge=0.0, le=1.0)]
+Name = Annotated[str, BeforeValidator(_name)]
 
 
 def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
     name = info.field_name or "position"
     if isinstance(value, str):
-        *numbers, unit = value.replace(",", " ").split() or [""]
-        parts: list[Any] = [f"{n} {unit}" for n in numbers]
+        *numbers_, unit = value.replace(",", " ").split() or [""]
+        parts: list[Any] = [f"{n} {unit}" for n in numbers_]
     elif isinstance(value, Sequence) or (is_quantity(value) and getattr(value, "ndim", 0) == 1):
         parts = list(value)
     elif getattr(value, "ndim", None) == 1 and hasattr(value, "tolist"):  # a NumPy array
@@ -161,10 +294,12 @@ class Sensor(_Strict):
     every target is taken to be in view.
     """
 
-    name: str
+    name: Name
     type: Annotated[str, BeforeValidator(_sensor_type)] = "thermal"
     band: str | None = None
-    pixels: tuple[Annotated[int, Field(gt=0)], Annotated[int, Field(gt=0)]] | None = None
+    pixels: (
+        tuple[Annotated[WholeNumber, Field(gt=0)], Annotated[WholeNumber, Field(gt=0)]] | None
+    ) = None
     pitch: Length | None = None
     focal_length: Length | None = None
     hfov: Angle | None = None
@@ -173,13 +308,13 @@ class Sensor(_Strict):
     position: Position | None = None
     waypoints: list[Waypoint] | None = None
     look_at: Position | None = None
-    azimuth: Angle | None = None
-    depression: Angle | None = None
+    azimuth: Bearing | None = None
+    depression: Depression | None = None
     projection: str = "angular"
-    f_number: Annotated[float, Field(gt=0.0, allow_inf_nan=False)] | None = None
+    f_number: Annotated[Number, Field(gt=0.0)] | None = None
     netd: TemperatureDifference | None = None
     netd_temperature: Temperature = 300.0
-    nec: Annotated[float, Field(ge=0.0, allow_inf_nan=False)] | None = None
+    nec: Annotated[Number, Field(ge=0.0)] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
@@ -219,10 +354,12 @@ class Sensor(_Strict):
             raise ValueError("azimuth and depression go together")
         if self.pixels is None and (self.look_at is not None or self.azimuth is not None):
             raise ValueError("pointing needs pixels = [width, height] for the field of view")
-        if self.netd is not None and not (self.netd >= 0 and math.isfinite(self.netd)):
-            raise ValueError("netd must be a finite temperature difference >= 0 K, e.g. '50 mK'")
-        if not (self.netd_temperature > 0 and math.isfinite(self.netd_temperature)):
-            raise ValueError("netd_temperature must be > 0 K")
+        if self.look_at is not None and _on_path(self.look_at, self.position, self.waypoints):
+            raise ValueError(
+                "look_at is the sensor's own position (or lies on its waypoints' path): a "
+                "sensor cannot look at itself; give a point away from it"
+            )
+        self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
         if self.netd is not None and self.type != "thermal":
             raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
         if self.nec is not None and self.type != "tv":
@@ -270,11 +407,12 @@ class Sensor(_Strict):
 
 class Target(_Strict):
     """A target: a box ``dimensions`` = [length, width, height] with its long axis along
-    ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints)."""
+    ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
+    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``."""
 
-    name: str
+    name: Name
     dimensions: tuple[Length, Length, Length]
-    heading: Angle = 0.0
+    heading: Bearing = 0.0
     criterion: str | None = None
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
@@ -282,18 +420,28 @@ class Target(_Strict):
     reflectance: Fraction | None = None
     position: Position | None = None
     waypoints: list[Waypoint] | None = None
-    moving: bool = False
-    visible_fraction: Annotated[float, Field(gt=0.0, le=1.0)] = 1.0
-    hot_spot: bool = False
-    image_box: tuple[int, int, int, int] | None = None
+    moving: Flag = False
+    visible_fraction: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
+    hot_spot: Flag = False
+    image_box: tuple[WholeNumber, WholeNumber, WholeNumber, WholeNumber] | None = None
+
+    @field_validator("criterion")
+    @classmethod
+    def _known_criterion(cls, value: str | None) -> str | None:
+        return value if value is None else _probability_criterion(value)
 
     @model_validator(mode="after")
     def _check(self) -> Target:
         if any(not d > 0 for d in self.dimensions):
             raise ValueError("dimensions must be > 0")
         _one_place(self.position, self.waypoints, "target")
-        if self.criterion is not None:
-            lookup(CRITERIA, self.criterion, "criterion")
+        if self.image_box is not None:
+            x, y, width, height = self.image_box
+            if x < 0 or y < 0 or width < 1 or height < 1:
+                raise ValueError(
+                    "image_box is [x, y, width, height] in pixels with x, y >= 0 and width, "
+                    f"height >= 1; got {list(self.image_box)}"
+                )
         if self.material is not None and self.material not in MATERIALS:
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.emissivity is not None and self.material is not None:
@@ -305,15 +453,13 @@ class TerrainClassSpec(_Strict):
     """A terrain class of a thermal scene: its mean temperature and its temperature spread at a
     stated ground resolution (§6.7)."""
 
-    name: str
+    name: Name
     temperature: Temperature
     temperature_std: TemperatureDifference
     resolution: Length
 
     @model_validator(mode="after")
     def _check(self) -> TerrainClassSpec:
-        if not self.temperature_std >= 0:
-            raise ValueError("temperature_std must be >= 0")
         if not self.resolution > 0:
             raise ValueError("resolution must be > 0")
         return self
@@ -346,7 +492,7 @@ class Background(_Strict):
     reflectance: Fraction | None = None
     irradiance: Irradiance | None = None
     clutter: Literal["low", "medium", "high"] | None = None
-    scr: Annotated[float, Field(ge=0.0)] | None = None
+    scr: Annotated[Number, Field(ge=0.0)] | None = None
     clutter_std: TemperatureDifference | None = None
     image: str | None = None
     channel: Literal["luminance", "red", "green", "blue"] | None = None
@@ -359,8 +505,10 @@ class Background(_Strict):
             raise ValueError("give one of clutter, scr, clutter_std, image and terrain")
         if self.material is not None and self.material not in MATERIALS:
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
-        if self.clutter_std is not None and not self.clutter_std >= 0:
-            raise ValueError("clutter_std must be >= 0")
+        if self.emissivity is not None and self.material is not None:
+            raise ValueError("give emissivity or material, not both")
+        if self.channel is not None and self.image is None:
+            raise ValueError("channel picks the channel of background.image; give the image")
         return self
 
 
@@ -397,6 +545,46 @@ class Cloud(_Strict):
         return self
 
 
+def _probability_criterion(name: str) -> str:
+    """``name`` if it is a criterion with N50s for the three tasks, else ``ValueError``."""
+    criterion = lookup(CRITERIA, name, "criterion")
+    usable = [
+        key
+        for key, c in CRITERIA.items()
+        if c.gives_probabilities and all(task in c.tasks for task in _TASKS)
+    ]
+    if not criterion.gives_probabilities:
+        raise ValueError(
+            f"criterion {name!r} gives pixel-density thresholds, not probabilities (it is for "
+            f"ranges: targetacq dri); choose one of {', '.join(usable)}"
+        )
+    missing = [task for task in _TASKS if task not in criterion.tasks]
+    if missing:
+        raise ValueError(
+            f"criterion {name!r} has no N50 for {', '.join(missing)}; choose one of "
+            f"{', '.join(usable)}"
+        )
+    return name
+
+
+def _on_path(point: Sequence[float], position: Any, waypoints: Any) -> bool:
+    """Whether ``point`` is ``position``, or lies on the straight legs between ``waypoints``
+    (within a micrometre: where a boresight would have no direction)."""
+    if position is not None:
+        places = [np.asarray(position, dtype=float)]
+    else:
+        places = [np.asarray(w.position, dtype=float) for w in waypoints]
+    p = np.asarray(point, dtype=float)
+    legs = list(itertools.pairwise(places)) or [(places[0], places[0])]
+    for start, end in legs:
+        along = end - start
+        length2 = float(along @ along)
+        share = 0.0 if length2 == 0 else min(max(float((p - start) @ along) / length2, 0.0), 1.0)
+        if float(np.linalg.norm(start + share * along - p)) <= 1e-6:
+            return True
+    return False
+
+
 def _check_obscurant(text: str | None) -> None:
     if text is None:
         return
@@ -431,7 +619,9 @@ class Atmosphere(_Strict):
             if not self.visibility > 0:
                 raise ValueError("visibility must be > 0")
             if self.visibility_convention is None:
-                raise ValueError("visibility needs visibility_convention = 'koschmieder' or 'mor'")
+                raise ValueError('visibility needs visibility_convention = "koschmieder" or "mor"')
+        elif self.visibility_convention is not None:
+            raise ValueError("visibility_convention goes with visibility; give the visibility")
         _check_obscurant(self.obscurant)
         return self
 
@@ -452,9 +642,9 @@ class ModelChoices(_Strict):
     criterion: str = "johnson"
     n50: (
         tuple[
-            Annotated[float, Field(gt=0)],
-            Annotated[float, Field(gt=0)],
-            Annotated[float, Field(gt=0)],
+            Annotated[Number, Field(gt=0)],
+            Annotated[Number, Field(gt=0)],
+            Annotated[Number, Field(gt=0)],
         ]
         | None
     ) = None
@@ -466,19 +656,62 @@ class ModelChoices(_Strict):
     fusion: Literal["sensor-level"] = "sensor-level"
     search_time: Time = 3.4
 
+    @field_validator("criterion")
+    @classmethod
+    def _known_criterion(cls, value: str) -> str:
+        lookup(CRITERIA, value, "criterion")
+        return value
+
+    @field_validator("transform")
+    @classmethod
+    def _all_tasks(cls, value: str) -> str:
+        transform = lookup(TRANSFORMS, value, "transform")
+        if transform.tasks is not None and any(t not in transform.tasks for t in _TASKS):
+            every = [
+                k for k, t in TRANSFORMS.items() if t.tasks is None or set(_TASKS) <= set(t.tasks)
+            ]
+            raise ValueError(
+                f"transform {value!r} is for detection in clutter only, and the model's transform "
+                f"serves all three tasks: choose one of {', '.join(every)}, and give the clutter "
+                "in [background] (clutter, scr, clutter_std, image or terrain) for "
+                "Schmieder-Weathersby detection"
+            )
+        return value
+
+    @field_validator("noise_model")
+    @classmethod
+    def _known_noise_model(cls, value: str) -> str:
+        lookup(NOISE_MODELS, value, "noise model")
+        return value
+
+    @field_validator("motion")
+    @classmethod
+    def _known_motion(cls, value: str) -> str:
+        lookup(MOTION_RULES, value, "motion rule")
+        return value
+
+    @field_validator("semantics")
+    @classmethod
+    def _known_semantics(cls, value: str) -> str:
+        lookup(ACQUISITION_SEMANTICS, value, "semantics")
+        return value
+
     @model_validator(mode="after")
     def _check(self) -> ModelChoices:
-        lookup(CRITERIA, self.criterion, "criterion")
-        lookup(TRANSFORMS, self.transform, "transform")
-        lookup(NOISE_MODELS, self.noise_model, "noise model")
-        lookup(MOTION_RULES, self.motion, "motion rule")
-        lookup(ACQUISITION_SEMANTICS, self.semantics, "semantics")
-        if self.bound is not None and self.bound not in C2NVEO_BOUNDS:
-            raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
+        if self.bound is not None:
+            if self.bound not in C2NVEO_BOUNDS:
+                raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
+            if self.transform != "c2nveo":
+                raise ValueError('bound is an option of transform = "c2nveo"; give that transform')
         if not self.search_time > 0:
             raise ValueError("search_time must be > 0 s")
-        if not CRITERIA[self.criterion].gives_probabilities and self.n50 is None:
-            raise ValueError(f"criterion {self.criterion!r} gives no probabilities")
+        if self.n50 is None:
+            _probability_criterion(self.criterion)
+        elif any(b < a for a, b in itertools.pairwise(self.n50)):
+            raise ValueError(
+                "n50 = [detection, recognition, identification] must not decrease (a harder "
+                f"task needs at least as many cycles); got {list(self.n50)}"
+            )
         return self
 
 
@@ -497,11 +730,22 @@ class TimeGrid(_Strict):
             raise ValueError("stop must not be before start")
         return self
 
-    def times(self) -> Any:
-        import numpy as np
+    @property
+    def count(self) -> float:
+        """How many times the grid holds, counted without building it (a float, so that a
+        grid too large to build still has a size; +inf where the span over the step
+        overflows)."""
+        steps = (self.stop - self.start) / self.step
+        return math.floor(steps + 1e-9) + 1.0 if math.isfinite(steps) else math.inf
 
-        count = math.floor((self.stop - self.start) / self.step + 1e-9) + 1
-        return self.start + self.step * np.arange(count)
+    def times(self) -> Any:
+        """The times [s], after checking that they fit in memory."""
+        check_size(self.count, 8, f"the time grid ({self.describe()})", _GRID_ADVICE)
+        return self.start + self.step * np.arange(int(self.count))
+
+    def describe(self) -> str:
+        """The grid in the file's words, for messages."""
+        return f"time.step {self.step:g} s from {self.start:g} s to {self.stop:g} s"
 
 
 class Scenario(_Strict):
@@ -517,23 +761,38 @@ class Scenario(_Strict):
 
     @model_validator(mode="after")
     def _check(self) -> Scenario:
+        problems = self.problems()
+        if problems:
+            # Every problem of the whole scene at once, each located, one per line (split
+            # again by the error formatter).
+            raise ValueError("\n".join(problems))
+        return self
+
+    def problems(self) -> list[str]:
+        """What is wrong across tables (names, the sensors' needs, image boxes), each located."""
+        problems = []
         for what, items in (("sensor", self.sensors), ("target", self.targets)):
             counts = Counter(item.name for item in items)
             duplicates = sorted(n for n, count in counts.items() if count > 1)
             if duplicates:
-                raise ValueError(f"{what} names must be unique; repeated: {', '.join(duplicates)}")
-        for kind in dict.fromkeys(s.type for s in self.sensors):
-            problems = get_sensor_type(kind).requirements(self)
-            if problems:
-                raise ValueError(problems[0])
-        if self.background.image is not None:
-            missing = [t.name for t in self.targets if t.image_box is None]
-            if missing:
-                raise ValueError(
-                    f"background.image needs an image_box for every target; missing: "
-                    f"{', '.join(missing)}"
+                problems.append(
+                    f"{what}s: {what} names must be unique; repeated: {', '.join(duplicates)}"
                 )
-        return self
+        for kind in dict.fromkeys(s.type for s in self.sensors):
+            problems += get_sensor_type(kind).requirements(self)
+        image = self.background.image is not None
+        for k, target in enumerate(self.targets):
+            if image and target.image_box is None:
+                problems.append(
+                    f"targets[{k}].image_box: background.image needs an image_box for every "
+                    "target (where the target is in the image)"
+                )
+            elif not image and target.image_box is not None:
+                problems.append(
+                    f"targets[{k}].image_box: an image_box is a box in background.image; give "
+                    "the image"
+                )
+        return problems
 
 
 def _fields_of(model: Any) -> dict[str, Any]:
@@ -572,23 +831,72 @@ def _location(loc: Sequence[Any]) -> str:
     return text or "scenario"
 
 
-def _first_error(error: ValidationError) -> str:
-    detail = error.errors()[0]
-    loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
-    message = detail["msg"].removeprefix("Value error, ")
+def _number_text(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _count(ctx: Mapping[str, Any]) -> str:
+    return str(ctx.get("actual_length", "?"))
+
+
+def _message(detail: Mapping[str, Any], loc: Sequence[Any]) -> str:
+    """One pydantic error in the file's words (TOML vocabulary, no Python syntax)."""
+    kind, ctx = detail["type"], detail.get("ctx") or {}
+    given = detail.get("input")
+    if kind == "extra_forbidden":
+        key = str(loc[-1])
+        valid = list(_fields_of(_model_at(loc[:-1])))
+        close = get_close_matches(key, valid, 1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        return f"unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
+    if kind == "missing":
+        return (
+            "missing item: the list is too short"
+            if loc and isinstance(loc[-1], int)
+            else ("required key missing")
+        )
+    bounds = {
+        "greater_than": ">",
+        "greater_than_equal": ">=",
+        "less_than": "<",
+        "less_than_equal": "<=",
+    }
+    if kind in bounds:
+        limit = next(iter(ctx.values()))
+        return f"must be {bounds[kind]} {_number_text(limit)}; got {_show(given)}"
+    plain = {
+        "string_type": f"must be text in quotes; got {_show(given)}",
+        "list_type": f"must be a list [...]; got {_show(given)}",
+        "tuple_type": f"must be a list [...]; got {_show(given)}",
+        "model_type": "must be a table",
+        "model_attributes_type": "must be a table",
+        "dict_type": "must be a table",
+        "finite_number": f"must be finite; got {_show(given)}",
+        "recursion_loop": "nested too deeply",
+        "literal_error": f"must be {ctx.get('expected', '')}; got {_show(given)}",
+        "too_short": f"needs at least {ctx.get('min_length')} item(s); got {_count(ctx)}",
+        "too_long": f"takes at most {ctx.get('max_length')} items; got {_count(ctx)}",
+    }
+    if kind in plain:
+        return plain[kind]
+    message = str(detail["msg"]).removeprefix("Value error, ")
     field = next((p for p in reversed(loc) if isinstance(p, str)), None)
     if field is not None:  # quantity messages name their field; the location already does
         message = message.removeprefix(f"{field}: ")
-    if detail["type"] == "extra_forbidden":
-        key = str(loc[-1])
-        parent = _model_at(loc[:-1])
-        valid = list(_fields_of(parent))
-        close = get_close_matches(key, valid, 1)
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-        message = f"unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
-    elif detail["type"] == "missing":
-        message = "required key missing"
-    return f"{_location(loc)}: {message}"
+    return message
+
+
+def _problems(error: ValidationError) -> list[str]:
+    """Every error of a validation, each located (``table[index].key: what``)."""
+    problems: list[str] = []
+    for detail in error.errors():
+        loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
+        message = _message(detail, loc)
+        if not loc and detail["type"] == "value_error":
+            problems += message.splitlines()  # Scenario.problems(): located already
+        else:
+            problems.append(f"{_location(loc)}: {message}")
+    return list(dict.fromkeys(problems))
 
 
 def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
@@ -601,32 +909,101 @@ def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
     Raises
     ------
     ScenarioError
-        With one located message: ``source: table.key: what is wrong``.
+        With every problem found, each located: ``source: table.key: what is wrong``.
     """
     try:
         return Scenario.model_validate(data, context={"strict_units": True})
     except ValidationError as error:
-        raise ScenarioError(f"{source}: {_first_error(error)}") from None
+        raise ScenarioError([f"{source}: {problem}" for problem in _problems(error)]) from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: nested too deeply to be a scenario") from None
+
+
+def input_file(path: str | Path, what: str, limit: int | None = None) -> Path:
+    """``path`` if it is a regular file this process may read, else ``ValueError`` saying what
+    it is instead (missing, a directory, a device or fifo, unreadable, too large).
+
+    A fifo or a device is refused before it is opened: reading one could block for ever.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        What the file should be, for the message (e.g. ``"scenario file"``).
+    limit : int, optional
+        Largest size [bytes].
+
+    Examples
+    --------
+    >>> input_file("/dev/null", "scenario file")
+    Traceback (most recent call last):
+    ...
+    ValueError: /dev/null: not a regular file (a device, a fifo or a socket), so not a scenario file
+    """
+    source = Path(path)
+    try:
+        info = source.stat()
+    except (FileNotFoundError, NotADirectoryError):
+        raise ValueError(f"no {what} {str(source)!r} (no such file)") from None
+    except OSError as error:
+        raise ValueError(f"{source}: cannot read the {what}: {error.strerror}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise ValueError(f"{source}: is a directory, not a {what}")
+    if not stat.S_ISREG(info.st_mode):
+        raise ValueError(
+            f"{source}: not a regular file (a device, a fifo or a socket), so not a {what}"
+        )
+    if not os.access(source, os.R_OK):
+        raise ValueError(f"{source}: cannot read the {what}: permission denied")
+    if limit is not None and info.st_size > limit:
+        raise ValueError(
+            f"{source}: {what}s are limited to {limit / 1e6:g} MB; got {info.st_size / 1e6:.1f} MB"
+        )
+    return source
+
+
+def _read_text(source: Path) -> str:
+    """The scenario file's text: at most :data:`MAX_SCENARIO_BYTES`, UTF-8 with or without a
+    byte-order mark."""
+    input_file(source, "scenario file", MAX_SCENARIO_BYTES)
+    try:
+        with open(source, "rb") as handle:
+            raw = handle.read(MAX_SCENARIO_BYTES + 1)
+    except OSError as error:
+        raise ValueError(f"{source}: cannot read the scenario file: {error.strerror}") from None
+    if len(raw) > MAX_SCENARIO_BYTES:  # grew since it was looked at
+        raise ValueError(f"{source}: scenario files are limited to {MAX_SCENARIO_BYTES / 1e6:g} MB")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise ValueError(f"{source}: not a text (UTF-8) file") from None
 
 
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario TOML file.
 
+    The file is a regular file of at most :data:`MAX_SCENARIO_BYTES`, in UTF-8 (a byte-order
+    mark is allowed). Relative ``image`` and terrain ``map`` paths are taken from the file's
+    folder.
+
     Raises
     ------
     ScenarioError
-        Missing or unreadable file, malformed TOML (with its line and column), or an invalid
-        scenario (located message).
+        Missing, unreadable or oversized file, a directory or a device, malformed or too deeply
+        nested TOML (with its line and column), or an invalid scenario (every problem, each
+        located).
     """
     source = Path(path)
-    if not source.is_file():
-        raise ScenarioError(f"{source}: no such scenario file")
     try:
-        data = tomllib.loads(source.read_text(encoding="utf-8"))
+        text = _read_text(source)
+    except ValueError as error:
+        raise ScenarioError(str(error)) from None
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise ScenarioError(f"{source}: malformed TOML: {error}") from None
-    except UnicodeDecodeError:
-        raise ScenarioError(f"{source}: not a text (UTF-8) file") from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: malformed TOML: nested too deeply") from None
     scenario = parse_scenario(data, str(source))
     bg = scenario.background
     update: dict[str, Any] = {}

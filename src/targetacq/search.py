@@ -68,10 +68,10 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import _arrays
+from targetacq import _arrays, limits
 from targetacq.sampling import stream_key, uniforms
 
-__all__ = ["SimulationResult", "search_probability", "simulate"]
+__all__ = ["SimulationResult", "check_simulation_size", "search_probability", "simulate"]
 
 _TASKS = ("detection", "recognition", "identification")
 _CAPABILITY, _CLOCK = 1, 2  # purposes of the draws
@@ -110,10 +110,59 @@ def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> 
 
 
 def check_seed(seed: Any) -> int:
-    """``seed`` if it is an integer >= 0, else ``ValueError``."""
-    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
-        raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
-    return int(seed)
+    """``seed`` as an int if it is an integer in [0, 2**128 - 1] (a NumPy integer too), else
+    ``ValueError`` (:func:`targetacq.limits.check_seed`)."""
+    if isinstance(seed, np.integer):
+        seed = int(seed)
+    return limits.check_seed(seed)
+
+
+def check_simulation_size(
+    duration: float,
+    step: float,
+    runs: int,
+    pairs: int,
+    advice: str = "use fewer runs, a longer step or a shorter duration",
+) -> int:
+    """The number of steps of a simulation, after checking that it fits in memory.
+
+    :func:`simulate` holds the probabilities of every step and pair
+    (:data:`targetacq.core.compile.BYTES_PER_EVALUATION` each, as an evaluation does) and the
+    first times of every run, pair and task (two float64 arrays: per sensor and fused).
+
+    Parameters
+    ----------
+    duration, step : float
+        [s], > 0 and finite.
+    runs, pairs : int
+        Runs, and sensor-target pairs.
+    advice : str
+        How to make it smaller, in the caller's words.
+
+    Returns
+    -------
+    int
+        Steps, ``ceil(duration / step)`` (at least 1).
+
+    Raises
+    ------
+    ValueError
+        If either part would not fit (:func:`targetacq.limits.check_size`).
+    """
+    from targetacq.core.compile import BYTES_PER_EVALUATION
+
+    ratio = duration / step
+    steps = max(1.0, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
+    limits.check_size(
+        (steps + 1.0) * pairs,
+        BYTES_PER_EVALUATION,
+        f"{steps:.3g} steps of {step:g} s x {pairs} sensor-target pair(s)",
+        advice,
+    )
+    limits.check_size(
+        float(runs) * pairs * len(_TASKS), 2 * 8, f"{runs} runs x {pairs} pair(s)", advice
+    )
+    return int(steps)
 
 
 class _Streams:
@@ -340,7 +389,8 @@ def simulate(
     runs : int
         Independent runs, >= 1.
     seed : int
-        Seed, >= 0; the same seed gives the same outcomes for any ``batch`` and sensor order.
+        Seed in [0, 2**128 - 1]; the same seed gives the same outcomes for any ``batch`` and
+        sensor order.
     batch : int
         Runs simulated together (memory only; the outcomes do not depend on it).
     progress : callable, optional
@@ -349,6 +399,12 @@ def simulate(
     Returns
     -------
     SimulationResult
+
+    Raises
+    ------
+    ValueError
+        For a duration, step, runs, batch or seed outside its range, or a simulation too large
+        for memory (:func:`check_simulation_size`), before anything is allocated.
 
     Examples
     --------
@@ -368,7 +424,8 @@ def simulate(
         raise ValueError(f"batch must be an integer >= 1, got {batch!r}")
     check_seed(seed)
     sc = chain.scenario
-    n_steps = max(1, math.ceil(duration / step - 1e-9))
+    pairs = len(chain.sensor_names) * len(chain.target_names)
+    n_steps = check_simulation_size(duration, step, runs, pairs)
     edges = sc.time.start + np.minimum(np.arange(n_steps + 1) * step, duration)
     arrays = chain.compute(edges)
     n_s, n_g = arrays["in_view"].shape[:2]

@@ -28,7 +28,7 @@ import numpy as np
 
 from targetacq import _arrays
 
-__all__ = ["TerrainClass", "TerrainMap", "resolution_variance"]
+__all__ = ["TerrainClass", "TerrainMap", "read_class_map", "resolution_variance"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +56,36 @@ class TerrainClass:
             raise ValueError(f"terrain class {self.name!r}: variance must be >= 0")
         if not self.resolution > 0:
             raise ValueError(f"terrain class {self.name!r}: resolution must be > 0 m")
+
+
+def read_class_map(path: Any) -> np.ndarray:
+    """A class map from a CSV file: rows of whole class indices separated by commas.
+
+    The file is UTF-8, with or without a byte-order mark; row 0 is the map's first row (at the
+    origin's y). It must be a regular readable file (:func:`targetacq.scenario.input_file`).
+
+    Returns
+    -------
+    numpy.ndarray of int64
+        (rows, cols), not empty.
+
+    Raises
+    ------
+    ValueError
+        Naming the file: missing or unreadable, not whole numbers, ragged rows, empty.
+    """
+    from targetacq.scenario import input_file
+
+    source = input_file(path, "terrain map")
+    try:
+        with open(source, encoding="utf-8-sig") as handle:
+            grid = np.loadtxt(handle, delimiter=",", dtype=np.int64, ndmin=2)
+    except (OSError, ValueError) as error:  # UnicodeDecodeError is a ValueError
+        reason = " ".join(str(error).split())
+        raise ValueError(f"{source}: not a CSV map of whole class indices: {reason}") from None
+    if grid.size == 0:
+        raise ValueError(f"{source}: the terrain map is empty")
+    return grid
 
 
 def resolution_variance(variance: Any, reference: Any, footprint: Any) -> Any:

@@ -15,22 +15,35 @@ from targetacq.cli import (
     FORMATS,
     FormatOption,
     _choice,
+    _one_line,
     _render_rows,
     app,
 )
+from targetacq.core.compile import check_runnable
+from targetacq.limits import check_seed
 from targetacq.model import OUTPUT_FORMATS, ModelChain
 from targetacq.outputs import output_path
-from targetacq.scenario import load_scenario
+from targetacq.scenario import Scenario, ScenarioError, load_scenario
+from targetacq.search import check_simulation_size
 from targetacq.search import simulate as simulate_runs
 from targetacq.units import parse_quantity
 
 
-def _scenario_path(scenario: str | None) -> Any:
+def _scenario_path(scenario: str | None) -> tuple[Scenario, str]:
+    """The scenario and its file's name (the bundled example without one)."""
     if scenario is not None:
-        return load_scenario(scenario)
+        return load_scenario(scenario), scenario
     default = resources.files("targetacq").joinpath("examples").joinpath(DEFAULT_EXAMPLE)
     with resources.as_file(default) as path:
-        return load_scenario(path)
+        return load_scenario(path), str(path)
+
+
+def _chain(scenario: Scenario, source: str) -> ModelChain:
+    """The scenario compiled, its problems (files, sizes) located in its file."""
+    try:
+        return ModelChain(scenario)
+    except ScenarioError as error:
+        raise error.in_file(source) from None
 
 
 ScenarioArgument = Annotated[
@@ -41,12 +54,23 @@ ScenarioArgument = Annotated[
 
 @app.command()
 def validate(scenario: Annotated[str, typer.Argument(metavar="SCENARIO")]) -> None:
-    """Check a scenario file without running it."""
-    loaded = load_scenario(scenario)
-    times = loaded.time.times()
+    """Check a scenario file without running it: every check `evaluate` makes (the files it
+    names, image boxes, terrain classes, the run's size). Every problem is one line on stderr
+    (exit status 2)."""
+    try:
+        loaded = load_scenario(scenario)
+        problems = [f"{scenario}: {problem}" for problem in check_runnable(loaded)]
+    except ScenarioError as error:
+        problems = list(error.problems)
+    if problems:
+        for problem in problems:
+            sys.stderr.write(f"targetacq: error: {_one_line(problem)}\n")
+        raise typer.Exit(2)
+    grid = loaded.time
+    last = grid.start + grid.step * (grid.count - 1)
     typer.echo(
         f"{scenario}: valid — {len(loaded.sensors)} sensor(s), {len(loaded.targets)} target(s), "
-        f"{times.size} time(s) from {times[0]:g} s to {times[-1]:g} s"
+        f"{grid.count:.0f} time(s) from {grid.start:g} s to {last:g} s"
     )
 
 
@@ -63,8 +87,8 @@ def evaluate(
     _choice(output_format, FORMATS, "--format")
     if out is not None:
         output_path(out, OUTPUT_FORMATS, "output")  # before any work
-    loaded = _scenario_path(scenario)
-    results = ModelChain(loaded).evaluate()
+    loaded, source = _scenario_path(scenario)
+    results = _chain(loaded, source).evaluate()
     if out is not None:
         results.write(out)
     ds = results.dataset
@@ -105,7 +129,9 @@ def simulate(
     scenario: Annotated[str, typer.Argument(metavar="SCENARIO")],
     duration: Annotated[str, typer.Option(help="Simulated time, e.g. 60s.")] = "60 s",
     step: Annotated[str, typer.Option(help="Time step, e.g. 0.1s.")] = "0.1 s",
-    seed: Annotated[int, typer.Option(help="Seed (>= 0); same seed, same outcomes.")] = 0,
+    seed: Annotated[
+        int, typer.Option(help="Seed in [0, 2**128 - 1]; same seed, same outcomes.")
+    ] = 0,
     runs: Annotated[int, typer.Option(help="Independent runs.")] = 1000,
     output_format: FormatOption = "table",
 ) -> None:
@@ -118,9 +144,16 @@ def simulate(
         raise ValueError("--duration and --step must be > 0")
     if runs < 1:
         raise ValueError(f"--runs must be >= 1; got {runs}")
-    if seed < 0:
-        raise ValueError(f"--seed must be >= 0; got {seed}")
-    chain = ModelChain(load_scenario(scenario))
+    check_seed(seed, "--seed")
+    loaded = load_scenario(scenario)
+    check_simulation_size(
+        t_total,
+        dt,
+        runs,
+        len(loaded.sensors) * len(loaded.targets),
+        "use fewer --runs, a longer --step or a shorter --duration",
+    )
+    chain = _chain(loaded, scenario)
     from rich.progress import Progress
 
     with Progress(

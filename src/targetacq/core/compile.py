@@ -6,6 +6,12 @@ signature of each sensor-target pair (contrast, SCR from a clutter measure, an i
 and each target's criterion. File reads (a background image, a terrain map) happen here and
 nowhere else. The scripted paths of a scenario are turned into positions by
 :func:`scenario_positions`.
+
+Before anything is computed, every problem that would stop the scenario from running is
+collected (:func:`check_runnable`): files that cannot be read, image boxes outside the image,
+terrain class indices that name no class, a time grid (or a terrain map) too large for memory.
+They are raised together, each located, as one :class:`targetacq.scenario.ScenarioError`; the
+``validate`` command reports the same list, so a scenario it accepts compiles.
 """
 
 from __future__ import annotations
@@ -26,11 +32,25 @@ from targetacq.core.records import (
     TargetArrays,
 )
 from targetacq.criteria import Criterion, get_criterion
+from targetacq.limits import check_size
+from targetacq.scenario import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
 
-__all__ = ["CompiledScenario", "TerrainArrays", "compile_scenario", "scenario_positions"]
+__all__ = [
+    "BYTES_PER_EVALUATION",
+    "CompiledScenario",
+    "TerrainArrays",
+    "check_runnable",
+    "compile_scenario",
+    "scenario_positions",
+]
 
 TASKS = ("detection", "recognition", "identification")
+
+BYTES_PER_EVALUATION = 1024
+"""Memory [bytes] that one sensor × target × time of :meth:`targetacq.model.ModelChain.evaluate`
+takes at its peak, all its arrays together: measured between 180 and 800 bytes on the bundled
+examples (the intermediate arrays of the geometry and the transforms), rounded up."""
 
 
 @dataclass(frozen=True)
@@ -169,17 +189,14 @@ def _path(scenario: Any) -> PathArrays:
     )
 
 
-def _image_scr(scenario: Any) -> np.ndarray:
+def _image_scr(scenario: Any, pixels: np.ndarray) -> np.ndarray:
     """SCR of each target measured in the background image (Eqs. (3.12)-(3.15))."""
-    from targetacq.clutter import gray, image_clutter
-    from targetacq.images import read_image
+    from targetacq.clutter import image_clutter
 
-    bg = scenario.background
-    pixels = gray(read_image(bg.image), bg.channel)
     return np.asarray(image_clutter(pixels, [t.image_box for t in scenario.targets]).scr)
 
 
-def _signature(scenario: Any, signatures: list[Signature]) -> SignatureArrays:
+def _signature(scenario: Any, signatures: list[Signature], pixels: Any) -> SignatureArrays:
     bg = scenario.background
     shape = (len(scenario.sensors), len(scenario.targets))
     contrast, target = np.empty(shape), np.empty(shape)
@@ -192,24 +209,20 @@ def _signature(scenario: Any, signatures: list[Signature]) -> SignatureArrays:
     scr = None
     if bg.scr is not None:
         scr = np.full(shape, bg.scr)
-    elif bg.image is not None:
-        scr = np.broadcast_to(_image_scr(scenario), shape).copy()
+    elif pixels is not None:
+        scr = np.broadcast_to(_image_scr(scenario, pixels), shape).copy()
     elif bg.clutter_std is not None:
         scr = np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
     return SignatureArrays(contrast=contrast, target=target, scr=scr)
 
 
-def _terrain(scenario: Any) -> TerrainArrays | None:
+def _terrain(scenario: Any, grid: Any) -> TerrainArrays | None:
     from targetacq.terrain import TerrainClass, TerrainMap
 
     bg = scenario.background
     if bg.terrain is None:
         return None
     spec = bg.terrain
-    try:
-        grid = np.loadtxt(spec.map, delimiter=",", dtype=np.int64, ndmin=2)
-    except (OSError, ValueError) as error:
-        raise ValueError(f"background.terrain.map: cannot read {spec.map!r}: {error}") from None
     classes = [TerrainClass(c.name, 0.0, 0.0, c.resolution) for c in spec.classes]
     terrain = TerrainMap(classes, grid, spec.cell_size, spec.origin)
     mean = np.empty((len(scenario.sensors), len(spec.classes)))
@@ -217,7 +230,7 @@ def _terrain(scenario: Any) -> TerrainArrays | None:
     for k, s in enumerate(scenario.sensors):
         kind = get_sensor_type(s.type)
         if kind.class_signature is None:
-            raise ValueError(f"sensors[{k}]: a {s.type} sensor cannot use a terrain map")
+            raise ScenarioError(f"sensors[{k}].type: a {s.type} sensor cannot use a terrain map")
         mean[k], variance[k] = kind.class_signature(s, bg, spec.classes)
     return TerrainArrays(
         terrain=terrain,
@@ -226,6 +239,107 @@ def _terrain(scenario: Any) -> TerrainArrays | None:
         resolution=np.array([c.resolution for c in spec.classes]),
         window=np.array([6.0 * min(t.dimensions) for t in scenario.targets]),
     )
+
+
+def _background_image(scenario: Any, problems: list[str]) -> np.ndarray | None:
+    """The background image as one channel, and each target's box checked against it."""
+    from targetacq.clutter import as_boxes, gray
+    from targetacq.images import read_image
+
+    bg = scenario.background
+    if bg.image is None:
+        return None
+    try:
+        image = read_image(bg.image)
+    except ValueError as error:
+        problems.append(f"background.image: {error}")
+        return None
+    try:
+        pixels = np.asarray(gray(image, bg.channel))
+    except ValueError as error:
+        problems.append(f"background.channel: {error}")
+        return None
+    for k, target in enumerate(scenario.targets):
+        try:
+            as_boxes(target.image_box, pixels.shape)
+        except ValueError as error:  # the message counts boxes from 0: here there is one
+            problems.append(f"targets[{k}].image_box: {str(error).replace('box 0 ', 'box ', 1)}")
+    return pixels
+
+
+def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
+    """The terrain map's class indices, checked against the classes and the memory."""
+    from targetacq.terrain import read_class_map
+
+    spec = scenario.background.terrain
+    if spec is None:
+        return None
+    try:
+        grid = read_class_map(spec.map)
+    except ValueError as error:
+        problems.append(f"background.terrain.map: {error}")
+        return None
+    count = len(spec.classes)
+    wrong = np.argwhere((grid < 0) | (grid >= count))
+    if wrong.size:
+        row, col = (int(i) for i in wrong[0])
+        problems.append(
+            f"background.terrain.map: class index {int(grid[row, col])} at row {row + 1}, "
+            f"column {col + 1} names none of the {count} classes (0 to {count - 1}); "
+            f"{len(wrong)} cell(s) like it"
+        )
+        return None
+    rows, cols = grid.shape
+    try:  # one summed-area table per class (targetacq.terrain.TerrainMap)
+        check_size(
+            count * (rows + 1.0) * (cols + 1.0),
+            8,
+            f"the terrain map ({rows} x {cols} cells, {count} classes)",
+            "use a coarser map (fewer cells) or fewer classes",
+        )
+    except ValueError as error:
+        problems.append(f"background.terrain.map: {error}")
+        return None
+    return grid
+
+
+def _size_problems(scenario: Any) -> list[str]:
+    """The scenario's own time grid against the memory an evaluation of it needs."""
+    grid, n_s, n_g = scenario.time, len(scenario.sensors), len(scenario.targets)
+    try:
+        check_size(
+            grid.count * n_s * n_g,
+            BYTES_PER_EVALUATION,
+            f"evaluating {grid.count:.3g} times ({grid.describe()}) x {n_s} sensor(s) x "
+            f"{n_g} target(s)",
+            "use a longer time.step or a shorter span (time.start to time.stop)",
+        )
+    except ValueError as error:
+        return [f"time.step: {error}"]
+    return []
+
+
+def check_runnable(scenario: Any) -> list[str]:
+    """Every problem that stops a validated scenario from being compiled and evaluated over its
+    time grid, each located (``table[index].key: what``); empty when it runs.
+
+    This compiles the scenario (:func:`compile_scenario`: the files it names are read) without
+    evaluating anything: the ``validate`` command's check, the same as
+    :class:`targetacq.model.ModelChain` makes, so the two cannot disagree.
+
+    Parameters
+    ----------
+    scenario : targetacq.scenario.Scenario
+
+    Returns
+    -------
+    list of str
+    """
+    try:
+        compile_scenario(scenario)
+    except ScenarioError as error:
+        return list(error.problems)
+    return []
 
 
 def compile_scenario(scenario: Any) -> CompiledScenario:
@@ -238,7 +352,20 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     Returns
     -------
     CompiledScenario
+
+    Raises
+    ------
+    targetacq.scenario.ScenarioError
+        With every problem found (:func:`check_runnable`), each located: an image or a terrain
+        map that cannot be read, boxes outside the image, class indices naming no class, a
+        time grid too large for memory.
     """
+    problems: list[str] = []
+    pixels = _background_image(scenario, problems)
+    grid = _class_map(scenario, problems)
+    problems += _size_problems(scenario)
+    if problems:
+        raise ScenarioError(problems)
     criteria = _criteria(scenario)
     # Each sensor's signature once: the contrast and SCR and the sensor's noise both read it.
     signatures = [
@@ -259,10 +386,10 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         sensors=_sensors(scenario, signatures),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
-        signature=_signature(scenario, signatures),
+        signature=_signature(scenario, signatures, pixels),
         choices=choices,
     )
-    return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario))
+    return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario, grid))
 
 
 def _path_positions(items: Any, times: np.ndarray) -> np.ndarray:

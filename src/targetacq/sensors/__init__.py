@@ -58,7 +58,7 @@ class SensorType:
         ``signature(sensor, background, targets) -> Signature`` from the scenario's records.
     requirements : callable
         ``requirements(scenario) -> list of str``: what the scenario lacks for sensors of this
-        type (empty when nothing).
+        type (empty when nothing), each problem located as ``table[index].key: what``.
     class_signature : callable or None
         ``class_signature(sensor, background, classes) -> (mean, variance)`` of terrain classes
         [W/m²], [W²/m⁴]; None where the type cannot use a terrain map.

@@ -58,16 +58,20 @@ def class_signature(sensor: Any, background: Any, classes: Sequence[Any]) -> tup
 
 
 def requirements(scenario: Any) -> list[str]:
-    """What a scenario lacks for thermal sensors."""
+    """What a scenario lacks for thermal sensors, each problem located (``table.key: what``)."""
     problems = []
     if scenario.background.temperature is None:
-        problems.append("background.temperature is needed for thermal sensors")
-    missing = [t.name for t in scenario.targets if t.temperature is None]
-    if missing:
-        problems.append(f"targets {', '.join(missing)} need a temperature (thermal sensors)")
+        problems.append(
+            "background.temperature: missing: background.temperature is needed for thermal sensors"
+        )
+    problems += [
+        f"targets[{k}].temperature: thermal sensors need a temperature for every target"
+        for k, t in enumerate(scenario.targets)
+        if t.temperature is None
+    ]
     if scenario.atmosphere.visibility is not None:
         problems.append(
-            "visibility gives the visible-band extinction; with thermal sensors give "
+            "atmosphere.visibility: gives the visible-band extinction; with thermal sensors give "
             "extinction or obscurant"
         )
     return problems

@@ -35,16 +35,25 @@ def noise_equivalent(sensor: Any, seen: Any) -> float:
 
 
 def requirements(scenario: Any) -> list[str]:
-    """What a scenario lacks for TV sensors."""
-    problems = []
+    """What a scenario lacks for TV sensors, each problem located (``table.key: what``)."""
     bg = scenario.background
-    if bg.irradiance is None or bg.reflectance is None:
-        problems.append("TV sensors need background.irradiance and background.reflectance")
-    missing = [t.name for t in scenario.targets if t.reflectance is None]
-    if missing:
-        problems.append(f"targets {', '.join(missing)} need a reflectance (TV sensors)")
+    problems = [
+        f"background.{key}: required with TV sensors"
+        for key in ("irradiance", "reflectance")
+        if getattr(bg, key) is None
+    ]
+    problems += [
+        f"targets[{k}].reflectance: TV sensors need a reflectance for every target"
+        for k, t in enumerate(scenario.targets)
+        if t.reflectance is None
+    ]
     if bg.clutter_std is not None:
-        problems.append("clutter_std is a temperature spread; for TV sensors give clutter or scr")
+        problems.append(
+            "background.clutter_std: a temperature spread; for TV sensors give clutter or scr"
+        )
     if bg.terrain is not None:
-        problems.append("terrain clutter is given by class temperatures: thermal sensors only")
+        problems.append(
+            "background.terrain: terrain clutter is given by class temperatures: thermal "
+            "sensors only"
+        )
     return problems

@@ -39,7 +39,7 @@ import numpy as np
 from targetacq import core
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluate import footprint_scr
-from targetacq.outputs import output_path, write_atomically
+from targetacq.outputs import json_records, output_path, write_atomically
 from targetacq.registry import lookup
 from targetacq.scenario import Scenario
 
@@ -79,12 +79,22 @@ class Results:
 
     def write(self, path: str | Path) -> Path:
         """Write the table as CSV, JSON (records) or Parquet, by suffix; atomically, so a failed
-        write leaves nothing half-written."""
+        write leaves nothing half-written (:func:`targetacq.outputs.write_atomically`).
+
+        JSON is strict: NaN is ``null``, ±inf the strings ``"inf"`` and ``"-inf"``
+        (:func:`targetacq.outputs.json_records`).
+
+        Raises
+        ------
+        ValueError
+            If the suffix is not .csv, .json or .parquet, or (``OutputError``) the file cannot
+            be written: the message names the file and the reason.
+        """
         out, kind = output_path(path, OUTPUT_FORMATS, "output")
         frame = self.to_dataframe()
         writers = {
             "csv": lambda p: frame.to_csv(p, index=False),
-            "json": lambda p: frame.to_json(p, orient="records", indent=1, double_precision=15),
+            "json": lambda p: p.write_text(json_records(frame), encoding="utf-8"),
             "parquet": lambda p: frame.to_parquet(p, index=False),
         }
         return write_atomically(out, writers[kind])

@@ -1,18 +1,72 @@
-"""Writing result files: the output path is checked before any work, and the file appears whole
-or not at all (written to a temporary file in the same folder, then renamed)."""
+"""Writing result files and JSON text.
+
+Files
+-----
+The output path is checked before any work (:func:`output_path`), and the file appears whole or
+not at all (:func:`write_atomically`): it is written to a temporary file in the target's folder,
+then renamed onto the target.
+
+- **Failures.** Any failure to write (a folder as the output, a read-only folder, a full file
+  system, a file-size limit) raises :class:`OutputError`, a ``ValueError`` whose one-line message
+  names the path and the reason: ``cannot write 'out.csv': No space left on device``.
+- **Temporary files.** Named ``.NAME.targetacq-tmp-HOST-PID-RANDOM.SUFFIX`` next to the target
+  (hidden, recognisable), and removed on any exception, including the ``SystemExit`` the command
+  line raises on SIGTERM. A process killed outright (SIGKILL, power loss) cannot clean up: its
+  temporaries are removed by the next write of the same target on the same machine, once their
+  process no longer runs.
+- **Permissions.** A new file gets the mode the umask gives any new file (``0o666 & ~umask``,
+  e.g. 0644 under umask 022). A replaced file keeps its permission bits (not its owner or group:
+  the new file belongs to whoever writes it), as ``cp`` onto an existing file would.
+- **Symbolic links.** A link at the output path is written through: the link stays, and its
+  target is replaced atomically (the temporary file is created next to the target). A folder,
+  a device, a pipe or a socket at the path (or at the link's end) is refused, not replaced.
+
+JSON
+----
+JSON has no infinity and no NaN, and Python's ``json`` would write the invalid literals
+``Infinity`` and ``NaN``. Every JSON output of targetacq (the command line's ``--format json``
+and ``.json`` result files) goes through :func:`json_text`: NaN (no value, e.g. outside the
+model's domain) becomes ``null``, +inf becomes the string ``"inf"`` and -inf ``"-inf"`` (e.g. a
+first-detection time never reached), so the output is strict JSON and an infinity is never
+mistaken for a missing value.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import json
+import math
 import os
-import tempfile
-from collections.abc import Callable, Sequence
+import secrets
+import socket
+import stat
+import zlib
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
-__all__ = ["output_path", "write_atomically"]
+import numpy as np
+
+__all__ = [
+    "OutputError",
+    "json_records",
+    "json_text",
+    "json_value",
+    "output_path",
+    "write_atomically",
+]
+
+
+class OutputError(ValueError):
+    """An output file cannot be written; the message names the file and the reason."""
+
+    def __init__(self, path: str | os.PathLike[str], reason: str) -> None:
+        super().__init__(f"cannot write {str(path)!r}: {reason}")
 
 
 def output_path(path: str | Path, formats: Sequence[str], what: str) -> tuple[Path, str]:
-    """Check an output file name: its suffix is one of ``formats`` and its folder exists.
+    """Check an output file name before any work: its suffix is one of ``formats``, it is not a
+    folder, and its folder exists and is writable.
 
     Returns
     -------
@@ -22,7 +76,8 @@ def output_path(path: str | Path, formats: Sequence[str], what: str) -> tuple[Pa
     Raises
     ------
     ValueError
-        Naming the file, what it should end in, or its missing folder.
+        Naming the file and what it should end in, or (:class:`OutputError`) why it cannot be
+        written.
     """
     out = Path(path)
     kind = out.suffix.lower().lstrip(".")
@@ -30,22 +85,193 @@ def output_path(path: str | Path, formats: Sequence[str], what: str) -> tuple[Pa
         names = [f".{f}" for f in formats]
         allowed = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
         raise ValueError(f"{what} must end in {allowed}; got {str(out)!r}")
-    if not out.parent.is_dir():
+    target = _resolved(out)
+    _check_replaceable(out, target)
+    if not target.parent.is_dir():
         raise ValueError(f"the folder of {str(out)!r} does not exist")
+    if not os.access(target.parent, os.W_OK | os.X_OK):
+        raise OutputError(out, "its folder is not writable")
     return out, kind
 
 
 def write_atomically(out: Path, write: Callable[[Path], object]) -> Path:
-    """Call ``write(temporary_path)``, then rename the temporary file to ``out``.
+    """Call ``write(temporary_path)``, then rename the temporary file onto ``out``.
 
-    A failure leaves no partial file behind.
+    See the module docstring for the temporary file's name, its permissions and symbolic links.
+
+    Parameters
+    ----------
+    out : Path
+        The file to write (a symbolic link is written through).
+    write : callable
+        Writes the whole content to the path it is given.
+
+    Returns
+    -------
+    Path
+        ``out``.
+
+    Raises
+    ------
+    OutputError
+        If the file cannot be written (any ``OSError``); nothing is left behind.
     """
-    handle, temporary = tempfile.mkstemp(dir=out.parent, prefix=".", suffix=out.suffix)
-    os.close(handle)
+    target = _resolved(out)
+    _check_replaceable(out, target)
+    _remove_stale_temporaries(target)
+    temporary = target.with_name(f"{_temporary_prefix(target)}{os.getpid()}-{_random()}")
+    temporary = temporary.with_name(temporary.name + _short_suffix(target))
     try:
-        write(Path(temporary))
-        os.replace(temporary, out)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        # 0o666 and the kernel applies the umask, as for any new file (mkstemp would give 0600).
+        os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666))
+        write(temporary)
+        existing_mode = _permission_bits(target)
+        if existing_mode is not None:
+            os.chmod(temporary, existing_mode)
+        os.replace(temporary, target)
+    except BaseException as error:
+        temporary.unlink(missing_ok=True)
+        if isinstance(error, OSError):
+            raise OutputError(out, _reason(error)) from error
         raise
     return out
+
+
+def json_value(value: Any) -> Any:
+    """``value`` with every non-finite number spelled for strict JSON, recursively.
+
+    NaN → ``None`` (``null``), +inf → ``"inf"``, -inf → ``"-inf"``; NumPy scalars and arrays
+    become Python numbers and lists; mappings, lists and tuples are converted element by element.
+
+    Examples
+    --------
+    >>> json_value({"t50_s": float("inf"), "p": [0.5, float("nan")]})
+    {'t50_s': 'inf', 'p': [0.5, None]}
+    """
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    if isinstance(value, float | np.floating):
+        number = float(value)
+        if math.isfinite(number):
+            return number
+        return None if math.isnan(number) else ("inf" if number > 0 else "-inf")
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.ndarray):
+        return json_value(value.tolist())
+    if isinstance(value, Mapping):
+        return {key: json_value(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [json_value(item) for item in value]
+    return value
+
+
+def json_text(document: Any, indent: int | None = 2) -> str:
+    """``document`` as strict JSON text (no trailing newline), non-finite numbers spelled as in
+    :func:`json_value`.
+
+    Examples
+    --------
+    >>> json_text({"range_m": float("inf"), "snr_db": float("-inf"), "p": float("nan")}, None)
+    '{"range_m": "inf", "snr_db": "-inf", "p": null}'
+    """
+    return json.dumps(json_value(document), indent=indent, allow_nan=False)
+
+
+def json_records(frame: Any, indent: int = 1) -> str:
+    """A pandas DataFrame as strict JSON text: a list of one object per row, non-finite numbers
+    spelled as in :func:`json_value`.
+
+    Written by pandas' fast encoder (15 significant digits); only the columns that hold an
+    infinity go through :func:`json_value`, element by element.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> json_records(pd.DataFrame({"t50_s": [12.5, float("inf"), float("nan")]}), indent=0)
+    '[{"t50_s":12.5},{"t50_s":"inf"},{"t50_s":null}]'
+    """
+    spelled = frame.copy(deep=False)
+    for name in frame.columns:
+        column = frame[name]
+        floats = column.dtype.kind == "f"
+        if floats and np.isinf(column.to_numpy(dtype=float, na_value=np.nan)).any():
+            spelled[name] = column.map(json_value).astype(object)
+    # pandas writes NaN as null and never the literals NaN or Infinity: the text is strict JSON.
+    return str(spelled.to_json(orient="records", indent=indent, double_precision=15))
+
+
+_TEMPORARY_MARK = ".targetacq-tmp-"
+# Temporaries are told apart by the machine that writes them, so that a folder shared over the
+# network never loses another machine's write in progress to a stale-file cleanup.
+_HOST = f"{zlib.crc32(socket.gethostname().encode()):08x}"
+_NAME_BYTES = 80  # of the target's name kept in a temporary's name (file names are ≤ 255 bytes)
+
+
+def _resolved(out: Path) -> Path:
+    """``out``, or the file a symbolic link at ``out`` points to (links followed to the end)."""
+    return Path(os.path.realpath(out)) if out.is_symlink() else out
+
+
+def _check_replaceable(out: Path, target: Path) -> None:
+    """Refuse a folder, and a device, pipe or socket, which a rename would replace (not fill)."""
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        return  # no such file yet (or an unreadable one: the write reports it)
+    if stat.S_ISDIR(mode):
+        raise OutputError(out, "it is a folder")
+    if not stat.S_ISREG(mode):
+        raise OutputError(out, "it is not a regular file (a device, a pipe or a socket)")
+
+
+def _temporary_prefix(target: Path) -> str:
+    name = os.fsdecode(os.fsencode(target.name)[:_NAME_BYTES])
+    return f".{name}{_TEMPORARY_MARK}{_HOST}-"
+
+
+def _short_suffix(target: Path) -> str:
+    # Writers that infer a format or a compression from the suffix see the target's.
+    return target.suffix if len(target.suffix) <= 16 else ""
+
+
+def _random() -> str:
+    return secrets.token_hex(4)
+
+
+def _permission_bits(path: Path) -> int | None:
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode) & 0o777
+    except FileNotFoundError:
+        return None
+
+
+def _reason(error: OSError) -> str:
+    return error.strerror or str(error) or type(error).__name__
+
+
+def _remove_stale_temporaries(target: Path) -> None:
+    """Remove this machine's temporaries of ``target`` whose writing process no longer runs."""
+    prefix = _temporary_prefix(target)
+    try:
+        entries = list(os.scandir(target.parent))
+    except OSError:
+        return  # the write itself will report the folder's problem
+    for entry in entries:
+        if not entry.name.startswith(prefix):
+            continue
+        pid = entry.name[len(prefix) :].partition("-")[0]
+        if pid.isdigit() and not _running(int(pid)):
+            # Another run may be cleaning up too; the write itself reports a folder's problem.
+            with contextlib.suppress(OSError):
+                Path(entry.path).unlink(missing_ok=True)
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True  # another user's process, or not a pid of ours to judge
+    return True

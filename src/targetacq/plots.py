@@ -216,12 +216,14 @@ def plot_atmosphere(
 
 
 def save_figure(fig: Figure, path: str | Path) -> Path:
-    """Write a figure as PNG or SVG (by the file's suffix).
+    """Write a figure as PNG or SVG (by the file's suffix), atomically
+    (:func:`targetacq.outputs.write_atomically`).
 
     Raises
     ------
     ValueError
-        If the folder does not exist or the suffix is not .png or .svg.
+        If the folder does not exist, the suffix is not .png or .svg, or (``OutputError``) the
+        file cannot be written: the message names the file and the reason.
     """
     out, kind = output_path(path, FIGURE_FORMATS, "figure file")
     return write_atomically(out, lambda p: fig.savefig(p, format=kind))

@@ -123,6 +123,13 @@ def render_report(
 
 
 def write_report(path: str | Path, page: str) -> Path:
-    """Write the report; ``ValueError`` if the folder does not exist or the suffix is not .html."""
+    """Write the report atomically (:func:`targetacq.outputs.write_atomically`).
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not .html or .htm, the folder does not exist, or (``OutputError``) the
+        file cannot be written: the message names the file and the reason.
+    """
     out, _ = output_path(path, ("html", "htm"), "the report file")
     return write_atomically(out, lambda p: p.write_text(page, encoding="utf-8"))

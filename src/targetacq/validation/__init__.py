@@ -163,14 +163,13 @@ def render_validation(sections: Sequence[Section] | None = None) -> str:
 
 
 def write_validation(path: str | Path, page: str) -> Path:
-    """Write the page atomically.
+    """Write the page atomically (:func:`targetacq.outputs.write_atomically`).
 
     Raises
     ------
     ValueError
-        If the suffix is not .html/.htm or the folder does not exist.
-    OSError
-        If the file cannot be written.
+        If the suffix is not .html/.htm, the folder does not exist, or (``OutputError``) the file
+        cannot be written: the message names the file and the reason.
     """
     out, _ = output_path(path, ("html", "htm"), "the validation page")
     return write_atomically(out, lambda p: p.write_text(page, encoding="utf-8"))

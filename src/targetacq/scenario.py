@@ -360,6 +360,7 @@ class Sensor(_Strict):
                 "sensor cannot look at itself; give a point away from it"
             )
         self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
+        get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
         if self.netd is not None and self.type != "thermal":
             raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
         if self.nec is not None and self.type != "tv":
@@ -507,6 +508,8 @@ class Background(_Strict):
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.emissivity is not None and self.material is not None:
             raise ValueError("give emissivity or material, not both")
+        if self.irradiance is not None and not self.irradiance >= 0:
+            raise ValueError("irradiance must be >= 0 W/m^2")
         if self.channel is not None and self.image is None:
             raise ValueError("channel picks the channel of background.image; give the image")
         return self

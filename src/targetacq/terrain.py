@@ -20,6 +20,7 @@ The footprint of a pixel at range R is ``g = R · IFOV``.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -78,14 +79,16 @@ def read_class_map(path: Any) -> np.ndarray:
 
     source = input_file(path, "terrain map")
     try:
-        with open(source, encoding="utf-8-sig") as handle:
-            grid = np.loadtxt(handle, delimiter=",", dtype=np.int64, ndmin=2)
+        text = source.read_text(encoding="utf-8-sig")
     except (OSError, ValueError) as error:  # UnicodeDecodeError is a ValueError
+        raise ValueError(f"{source}: cannot read the terrain map as UTF-8 text: {error}") from None
+    if not text.strip():  # before NumPy, which would warn of it
+        raise ValueError(f"{source}: the terrain map is empty")
+    try:
+        return np.loadtxt(io.StringIO(text), delimiter=",", dtype=np.int64, ndmin=2)
+    except ValueError as error:
         reason = " ".join(str(error).split())
         raise ValueError(f"{source}: not a CSV map of whole class indices: {reason}") from None
-    if grid.size == 0:
-        raise ValueError(f"{source}: the terrain map is empty")
-    return grid
 
 
 def resolution_variance(variance: Any, reference: Any, footprint: Any) -> Any:
@@ -98,13 +101,20 @@ def resolution_variance(variance: Any, reference: Any, footprint: Any) -> Any:
     reference : array_like
         r0 [m], > 0.
     footprint : array_like
-        g, the pixel footprint on the ground [m], > 0.
+        g, the pixel footprint on the ground [m], >= 0. A zero footprint (a target at the
+        sensor's own position) is the limit of a fine one: the variance at ``r0``.
+
+    Examples
+    --------
+    >>> float(resolution_variance(4.0, 0.5, 1.0)), float(resolution_variance(4.0, 0.5, 0.0))
+    (1.0, 4.0)
     """
     xp, (v, r0, g) = _arrays.arrays(variance, reference, footprint)
     _arrays.require_nonnegative("variance", v, xp)
     _arrays.require_positive("reference", r0, xp, "m")
-    _arrays.require_positive("footprint", g, xp, "m")
-    ratio = xp.minimum(1.0, r0 / g)
+    _arrays.require_nonnegative("footprint", g, xp, "m")
+    coarse = g > r0  # only a coarser footprint averages the texture; no division by 0
+    ratio = xp.where(coarse, r0 / xp.where(coarse, g, 1.0), 1.0)
     return _arrays.result(v * ratio * ratio)
 
 

@@ -368,10 +368,14 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         raise ScenarioError(problems)
     criteria = _criteria(scenario)
     # Each sensor's signature once: the contrast and SCR and the sensor's noise both read it.
-    signatures = [
-        get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
-        for s in scenario.sensors
-    ]
+    signatures = []
+    for k, s in enumerate(scenario.sensors):
+        try:
+            signatures.append(
+                get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
+            )
+        except ValueError as error:  # a signal the schema let through but physics refuses
+            raise ScenarioError(f"sensors[{k}]: {error}") from None
     model = scenario.model
     choices = ModelChoices(
         transform=model.transform,

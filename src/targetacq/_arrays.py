@@ -26,15 +26,41 @@ staged, :func:`any_known`), they do nothing, and the kernel's NaN-masking carrie
 through as NaN. The public entry points (scenario compilation, the step API, the CLI) check
 their inputs on the host before anything is traced, so the clear ``ValueError`` stays where a
 user meets it.
+
+Infinities. Where a kernel's formula has a limit at infinity that its docstring states (an
+infinite SNR or SCR: no noise or no clutter; an infinite range or extinction: nothing
+transmitted; infinitely many cycles: P = 1) an infinite input gives that limit. Where it has none
+(angles, hours, positions), the kernel refuses it with ``ValueError`` naming the input
+(:func:`require_finite`), for the whole batch like any other out-of-range value.
+
+Data types. The kernels compute with real floating-point numbers. :func:`as_float` and
+:func:`arrays` take real floats as they are (float32 stays float32) and convert integers to
+float64; anything else raises ``TypeError`` naming the input where the kernel gives its name:
+complex numbers (whose imaginary part would be dropped silently), booleans (True is not a
+temperature or a range; flags such as ``hot_spot`` are separate parameters), strings and bytes
+(``"3"`` is not the number 3), dates and durations (give seconds), and object arrays (e.g. a
+list holding ``None``: give NaN for a missing value).
+
+Masked arrays (:class:`numpy.ma.MaskedArray`) are refused with ``TypeError``: the kernels would
+compute under the mask and return a plain array, so the mask would be lost silently. The missing
+value of the kernels is NaN: pass ``value.filled(numpy.nan)`` and every masked element comes out
+as NaN, the rest unchanged.
+
+Broadcasting. Inputs that broadcast together elementwise are checked up front by
+:func:`arrays` given their ``names``: inputs that do not broadcast raise ``ValueError`` naming
+each input and its shape (``cycles (3,) and snr (2,) do not broadcast``), not NumPy's text from
+the middle of the kernel.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import array_api_compat
 import numpy as np
 
+from targetacq.limits import check_finite
 from targetacq.units import is_quantity, si_magnitude
 
 Array = Any  # an array of any array-API namespace
@@ -62,34 +88,132 @@ def namespace(*values: object) -> Any:
     return array_api_compat.array_namespace(*arrays)
 
 
-def as_float(value: object, xp: Any) -> Array:
-    """``value`` as a floating array of namespace ``xp`` (float64 for non-float input).
+def _refuse(name: str | None, got: str) -> TypeError:
+    what = name or "an input of the kernel"
+    return TypeError(f"{what} must be real numbers; got {got}")
+
+
+def _check_numpy_dtype(value: np.ndarray | np.generic, name: str | None) -> None:
+    """Raise ``TypeError`` unless a NumPy array holds real floats or integers (module doc)."""
+    kind = value.dtype.kind
+    if kind in "fiu":
+        return
+    if kind == "b":
+        raise _refuse(name, "booleans (True/False)")
+    if kind == "c":
+        raise _refuse(name, f"{value.dtype} (the imaginary part would be lost)")
+    if kind in "US":
+        raise _refuse(name, f"text ({value.dtype})")
+    if kind in "mM":
+        raise _refuse(name, f"{value.dtype} (give times and durations in seconds)")
+    raise _refuse(name, f"{value.dtype} values (give NaN, not None, for a missing value)")
+
+
+def as_float(value: object, xp: Any, name: str | None = None) -> Array:
+    """``value`` as a floating array of namespace ``xp`` (float64 for integer input).
 
     A pint ``Quantity`` becomes its magnitude in SI base units (see the module docstring).
+
+    Raises
+    ------
+    TypeError
+        For a value that is not real numbers (complex, boolean, text, dates, objects) or a
+        masked array (module docstring), naming ``name`` where given.
     """
     if type(value) is np.ndarray and xp is _NUMPY and value.dtype == np.float64:
         return value
+    if type(value) in (float, int) and xp is _NUMPY:
+        return np.asarray(value, dtype=np.float64)
     if is_quantity(value):
         value = si_magnitude(value)
+    if isinstance(value, np.ma.MaskedArray):
+        raise TypeError(
+            f"{name or 'an input of the kernel'} is a masked array, whose mask the kernels "
+            "would lose; pass value.filled(numpy.nan): NaN is the missing value, and comes "
+            "out as NaN"
+        )
     if _is_array(value):
         dtype = getattr(value, "dtype", None)
-        if dtype is not None and xp.isdtype(dtype, "real floating"):
-            return value
+        if isinstance(value, (np.ndarray, np.generic)):
+            _check_numpy_dtype(value, name)
+            if value.dtype.kind == "f":
+                return value
+        elif dtype is not None:
+            if xp.isdtype(dtype, "real floating"):
+                return value
+            if not xp.isdtype(dtype, "integral"):
+                raise _refuse(name, f"{dtype}")
         return xp.astype(value, xp.float64)
+    if isinstance(value, (bool, np.bool_)):
+        raise _refuse(name, "booleans (True/False)")
+    if isinstance(value, (str, bytes)):
+        raise _refuse(name, f"text ({value!r})")
+    plain = np.asarray(value)
+    _check_numpy_dtype(plain, name)
     if xp is _NUMPY:
-        return np.asarray(value, dtype=np.float64)
-    return xp.asarray(value, dtype=xp.float64)
+        return plain.astype(np.float64, copy=False)
+    return xp.asarray(plain, dtype=xp.float64)
 
 
-def arrays(*values: object) -> tuple[Any, list[Array]]:
+def check_broadcast(names: Sequence[str], values: Sequence[Array]) -> None:
+    """Raise ``ValueError`` naming the inputs and their shapes unless they broadcast together.
+
+    One comparison of shapes where they agree (the common case); NumPy's broadcasting rule
+    otherwise.
+
+    Examples
+    --------
+    >>> check_broadcast(("cycles", "snr"), (np.ones(3), np.ones(2)))
+    Traceback (most recent call last):
+    ...
+    ValueError: cycles (3,) and snr (2,) do not broadcast
+    """
+    shapes = [tuple(v.shape) for v in values]
+    distinct = {s for s in shapes if s}
+    if len(distinct) <= 1:
+        return
+    try:
+        np.broadcast_shapes(*shapes)
+    except ValueError:
+        given = [f"{n} {s}" for n, s in zip(names, shapes, strict=True) if s]
+        listed = ", ".join(given[:-1]) + f" and {given[-1]}"
+        raise ValueError(f"{listed} do not broadcast") from None
+
+
+def arrays(
+    *values: object, names: Sequence[str] | None = None, broadcast: bool = True
+) -> tuple[Any, list[Array]]:
     """The common namespace and each value as a floating array of it.
 
     pint quantities are first replaced by their SI magnitudes, whose arrays fix the namespace.
+
+    Parameters
+    ----------
+    *values
+        Array-likes, Python numbers or pint quantities.
+    names : sequence of str, optional
+        The inputs' names, for a kernel whose inputs broadcast together elementwise: a value of
+        the wrong dtype is named in the ``TypeError``, and inputs that do not broadcast raise
+        ``ValueError`` naming them and their shapes (:func:`check_broadcast`). Without names
+        (inputs of different roles, e.g. a grid and values on it) the shapes are not checked.
+    broadcast : bool
+        With ``names``, whether the inputs must broadcast together (False: they are only
+        named, e.g. positions of sensors and of targets).
+
+    Raises
+    ------
+    TypeError
+        A value that is not real numbers, or a masked array (:func:`as_float`).
     """
     if not all(type(v) in _PLAIN for v in values):
         values = tuple(si_magnitude(v) if is_quantity(v) else v for v in values)
     xp = namespace(*values)
-    return xp, [as_float(v, xp) for v in values]
+    if names is None:
+        return xp, [as_float(v, xp) for v in values]
+    converted = [as_float(v, xp, n) for v, n in zip(values, names, strict=True)]
+    if broadcast:
+        check_broadcast(names, converted)
+    return xp, converted
 
 
 def result(value: Array) -> Any:
@@ -193,11 +317,38 @@ def require_open_unit_interval(name: str, value: Array, xp: Any) -> None:
 
 
 def require_finite(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    """Raise ``ValueError`` unless every non-NaN element is finite (a scalar NaN also raises)."""
-    valid = f"finite{' [' + unit + ']' if unit else ''}"
-    _check_scalar_nan(name, value, xp, valid)
+    """Raise ``ValueError`` unless every non-NaN element is finite (a scalar NaN also raises).
+
+    A scalar is refused in the words of :func:`targetacq.limits.check_finite`, as at the
+    other front-ends; an array names the first infinite value.
+    """
     if is_traced(value):
+        return
+    if value.ndim == 0:
+        check_finite(name, float(value))
         return
     mask = xp.isinf(value)
     if any_known(mask, xp):
-        raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
+        first = float(xp.reshape(value[mask], (-1,))[0])
+        raise ValueError(
+            f"{name} must be finite; got {first:g}{' ' + unit if unit else ''} "
+            "(an overflowing number?)"
+        )
+
+
+def require_in_range(
+    name: str, value: Array, xp: Any, low: float, high: float, unit: str = "", scale: float = 1.0
+) -> None:
+    """Raise ``ValueError`` unless every non-NaN element lies in [low, high] (a scalar NaN also
+    raises); ``scale`` converts to the ``unit`` of the message, as
+    :func:`targetacq.limits.check_range` words it."""
+    suffix = f" {unit}" if unit else ""
+    valid = f"in [{low * scale:g}, {high * scale:g}]{suffix}"
+    _check_scalar_nan(name, value, xp, valid)
+    if is_traced(value):
+        return
+    mask = (value < low) | (value > high)
+    if any_known(mask, xp):
+        bad = value[mask] if value.ndim else value
+        first = float(xp.reshape(bad, (-1,))[0]) * scale
+        raise ValueError(f"{name} must be {valid}; got {first:g}{suffix}")

@@ -62,9 +62,18 @@ def _noisy(n: Any, snr: Any, noise: NoiseModel | None, xp: Any) -> Any:
     """N / f: multiplying every N50 by the noise factor f is dividing N by it (noise.py)."""
     if noise is None:
         return n
-    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(snr, xp), noise), xp)
+    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(snr, xp, "snr"), noise), xp)
     infinite = xp.isinf(factor)
-    return xp.where(infinite, 0.0 * n, n / xp.where(infinite, 1.0, factor))
+    # No signal left (f = inf): nothing resolved, N = 0, whatever N (NaN stays NaN).
+    nothing = xp.where(xp.isnan(n), n, xp.zeros_like(n))
+    return xp.where(infinite, nothing, n / xp.where(infinite, 1.0, factor))
+
+
+def _check_shapes(n: Any, snr: Any, scr: Any, xp: Any) -> None:
+    """Raise ``ValueError`` naming cycles, snr and scr and their shapes unless they broadcast."""
+    given = {name: v for name, v in (("snr", snr), ("scr", scr)) if v is not None}
+    values = [_arrays.as_float(v, xp, name) for name, v in given.items()]
+    _arrays.check_broadcast(("cycles", *given), (n, *values))
 
 
 def _flag(value: Any, xp: Any) -> Any:
@@ -264,8 +273,8 @@ def _detection_in_clutter(
         out = xp.where(ordinary, fallback, special)
     if out is None:
         raise ValueError(
-            "detection in clutter needs the clutter: give scr (signal-to-clutter ratio), "
-            "region ('low', 'medium', 'high'), a hot spot or a moving target"
+            "detection in clutter needs the clutter: a signal-to-clutter ratio (scr), "
+            "a clutter region (low, medium, high), a hot spot or a moving target"
         )
     return out
 
@@ -316,7 +325,7 @@ def ordered_probabilities(
     -------
     detection, recognition, identification : array
     """
-    xp, (n,) = _arrays.arrays(cycles)
+    xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     n_noisy = _noisy(n, snr, noise, xp)
     scalar = all(isinstance(v, float) for v in n50)
     if transform.name == "ttpf" and isinstance(n_noisy, np.ndarray) and scalar:
@@ -415,8 +424,9 @@ def probability(
     noise = get_noise_model(noise_model) if snr is not None else None
     rule = get_motion_rule(motion)
     chosen.check(task, options)
-    xp, (n,) = _arrays.arrays(cycles)
+    xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     _arrays.require_nonnegative("cycles", n, xp)
+    _check_shapes(n, snr, scr, xp)
     n_noisy = _noisy(n, snr, noise, xp)
     if chosen.tasks == ("detection",):
         # A detection-in-clutter transform chosen by name: the clutter is its own input.
@@ -424,7 +434,8 @@ def probability(
         chosen.check(task, {**clutter, **options})
         return chosen.forward(n_noisy, n50, task, **clutter, **options)
     plain = chosen.forward(n_noisy, n50, task, **options)
-    if task == "detection" and (scr is not None or region is not None or hot_spot or moving):
+    clutter_given = scr is not None or region is not None
+    if task == "detection" and (clutter_given or hot_spot is not False or moving is not False):
         _transforms.check_clutter(scr, region, xp)
         found = _detection_in_clutter(
             n,
@@ -454,7 +465,9 @@ def effect_probability(detection: Any, recognition: Any, identification: Any) ->
     detection, recognition, identification : array_like
         Probabilities in [0, 1].
     """
-    xp, (d, r, i) = _arrays.arrays(detection, recognition, identification)
+    xp, (d, r, i) = _arrays.arrays(
+        detection, recognition, identification, names=("detection", "recognition", "identification")
+    )
     for name, p in (("detection", d), ("recognition", r), ("identification", i)):
         _arrays.require_unit_interval(name, p, xp)
     return _arrays.result(d * r * i)
@@ -581,9 +594,9 @@ def acquisition_probabilities(
     chosen = _transforms.get_transform(transform)
     if chosen.tasks is not None and "recognition" not in chosen.tasks:
         raise ValueError(
-            f"transform {chosen.name!r} covers {', '.join(chosen.tasks)} only; use it for "
-            "detection by giving the clutter (scr=, region=, hot_spot= or moving=) with a "
-            "transform for all tasks, e.g. 'ttpf'"
+            f"transform {chosen.name!r} covers {', '.join(chosen.tasks)} only; for detection "
+            "in clutter give the clutter (a signal-to-clutter ratio, a clutter region, a hot "
+            "spot or a moving target) with a transform for all tasks, e.g. 'ttpf'"
         )
     crit = get_criterion(criterion)
     n50s = [crit.n50(task) for task in _TASKS]
@@ -591,8 +604,9 @@ def acquisition_probabilities(
         chosen.check(task, options)
     noise = get_noise_model(noise_model) if snr is not None else None
     rule, meaning = get_motion_rule(motion), get_semantics(semantics)
-    xp, (n,) = _arrays.arrays(cycles)
+    xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     _arrays.require_nonnegative("cycles", n, xp)
+    _check_shapes(n, snr, scr, xp)
     _transforms.check_clutter(scr, region, xp)
     det, rec, ide = ordered_probabilities(
         n,

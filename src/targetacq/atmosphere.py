@@ -76,7 +76,7 @@ def transmittance(extinction: Any, range: Any) -> Any:
     array_like
         τ in [0, 1]; τ(0) = 1.
     """
-    xp, (g, r) = _arrays.arrays(extinction, range)
+    xp, (g, r) = _arrays.arrays(extinction, range, names=("extinction", "range"))
     _arrays.require_nonnegative("extinction", g, xp, "Np/m")
     _arrays.require_nonnegative("range", r, xp, "m")
     return _arrays.result(xp.exp(-g * r))
@@ -99,7 +99,7 @@ def path_transmittance(extinctions: Any, lengths: Any, axis: int = -1) -> Any:
     array_like
         τ, equal to the product of the segments' transmittances.
     """
-    xp, (g, r) = _arrays.arrays(extinctions, lengths)
+    xp, (g, r) = _arrays.arrays(extinctions, lengths, names=("extinctions", "lengths"))
     _arrays.require_nonnegative("extinctions", g, xp, "Np/m")
     _arrays.require_nonnegative("lengths", r, xp, "m")
     return _arrays.result(xp.exp(-xp.sum(g * r, axis=axis)))
@@ -125,7 +125,13 @@ def cloud_transmittance(
     cloud_length : array_like
         Length of the line of sight inside the cloud [m], >= 0.
     """
-    xp, (g, r, gc, lc) = _arrays.arrays(extinction, range, cloud_extinction, cloud_length)
+    xp, (g, r, gc, lc) = _arrays.arrays(
+        extinction,
+        range,
+        cloud_extinction,
+        cloud_length,
+        names=("extinction", "range", "cloud_extinction", "cloud_length"),
+    )
     _arrays.require_nonnegative("extinction", g, xp, "Np/m")
     _arrays.require_nonnegative("range", r, xp, "m")
     _arrays.require_nonnegative("cloud_extinction", gc, xp, "Np/m")
@@ -150,7 +156,7 @@ def foliage_transmittance(depth: Any, extinction: Any) -> Any:
     extinction : array_like
         κ [Np/m], >= 0.
     """
-    xp, (d, k) = _arrays.arrays(depth, extinction)
+    xp, (d, k) = _arrays.arrays(depth, extinction, names=("depth", "extinction"))
     _arrays.require_nonnegative("depth", d, xp, "m")
     _arrays.require_nonnegative("extinction", k, xp, "Np/m")
     return _arrays.result(xp.exp(-k * d))
@@ -188,13 +194,13 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
 
 def db_per_km_to_np_per_km(value: Any) -> Any:
     """Convert an extinction in dB/km to Np/km: ×0.2303 (MODEL.md erratum to §7.4)."""
-    _, (v,) = _arrays.arrays(value)
+    _, (v,) = _arrays.arrays(value, names=("value",))
     return _arrays.result(v / DB_PER_NEPER)
 
 
 def np_per_km_to_db_per_km(value: Any) -> Any:
     """Convert an extinction in Np/km to dB/km: ×4.343."""
-    _, (v,) = _arrays.arrays(value)
+    _, (v,) = _arrays.arrays(value, names=("value",))
     return _arrays.result(v * DB_PER_NEPER)
 
 
@@ -228,7 +234,7 @@ def extinction_from_visibility(visibility: Any, convention: str | None = None) -
         γ [Np/m] at visible wavelengths (≈ 0.55 µm); infrared extinction differs (Table 7.1).
     """
     k = _convention(convention)
-    xp, (v,) = _arrays.arrays(visibility)
+    xp, (v,) = _arrays.arrays(visibility, names=("visibility",))
     _arrays.require_positive("visibility", v, xp, "m")
     return _arrays.result(k / v)
 
@@ -236,7 +242,7 @@ def extinction_from_visibility(visibility: Any, convention: str | None = None) -
 def visibility_from_extinction(extinction: Any, convention: str | None = None) -> Any:
     """Visibility [m] from a visible-band extinction [Np/m] > 0 (inverse of the above)."""
     k = _convention(convention)
-    xp, (g,) = _arrays.arrays(extinction)
+    xp, (g,) = _arrays.arrays(extinction, names=("extinction",))
     _arrays.require_positive("extinction", g, xp, "Np/m")
     return _arrays.result(k / g)
 
@@ -304,20 +310,28 @@ def extinction_term(extinction: float) -> tuple[str, str]:
     Parameters
     ----------
     extinction : float
-        γ [Np/m], >= 0.
+        γ [Np/m], >= 0 (+inf: an opaque path, "high").
 
     Returns
     -------
     (term, visual_range) : (str, str)
         E.g. ``("medium", "2 - 6 km, hazy")`` for 1 Np/km.
+
+    Examples
+    --------
+    >>> extinction_term(1e-3)
+    ('medium', '2 - 6 km, hazy')
+    >>> extinction_term(float("inf"))
+    ('high', '< 2 km, foggy')
     """
-    value = float(extinction)
+    value = float(_arrays.as_float(extinction, _arrays.namespace(), "extinction"))
     if math.isnan(value) or value < 0:
         raise ValueError(f"extinction must be >= 0 Np/m, got {extinction!r}")
-    for term, low, high, visual_range in _terms():
-        if low <= value < high:
+    # The rows run up from 0; the last one is unbounded and holds +inf too (an opaque path).
+    for term, _low, high, visual_range in _terms():
+        if value < high or math.isinf(high):
             return term, visual_range
-    raise AssertionError("Table 7.2 covers [0, inf)")  # pragma: no cover
+    raise ValueError(f"Table 7.2 has no row for an extinction of {value:g} Np/m")
 
 
 def snr_from_transmittance(tau: Any) -> Any:
@@ -337,7 +351,7 @@ def snr_from_transmittance(tau: Any) -> Any:
     array_like
         SNR [dB].
     """
-    xp, (t,) = _arrays.arrays(tau)
+    xp, (t,) = _arrays.arrays(tau, names=("tau",))
     _arrays.require_unit_interval("tau", t, xp)
     inner = (t > 0) & (t < 1)
     safe = xp.where(inner, t, 0.5)
@@ -358,7 +372,7 @@ def snr_from_optical_depth(depth: Any) -> Any:
     depth : array_like
         d >= 0 (0: no attenuation, +inf SNR; +inf: nothing left, −inf SNR).
     """
-    xp, (d,) = _arrays.arrays(depth)
+    xp, (d,) = _arrays.arrays(depth, names=("depth",))
     _arrays.require_nonnegative("depth", d, xp)
     inner = (d > 0) & xp.isfinite(d)
     safe = xp.where(inner, d, 1.0)
@@ -386,7 +400,9 @@ def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
     >>> float(sphere_chord_length([0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [5.0, 0.0, 0.0], 2.0))
     4.0
     """
-    xp, (a, b, c, rad) = _arrays.arrays(start, end, center, radius)
+    xp, (a, b, c, rad) = _arrays.arrays(
+        start, end, center, radius, names=("start", "end", "center", "radius")
+    )
     d = b - a
     length = xp.sqrt(xp.sum(d * d, axis=-1))
     safe = xp.where(length > 0, length, 1.0)
@@ -435,7 +451,7 @@ def segmented_optical_depth(
     >>> float(segmented_optical_depth(1000.0, 1e-4, [200.0], [1e-3]))  # 0.1 + 0.9e-3 · 200
     0.28
     """
-    xp, (r, g) = _arrays.arrays(range, extinction)
+    xp, (r, g) = _arrays.arrays(range, extinction, names=("range", "extinction"))
     depth = g * r
     start = 0.0
     for length, gamma in zip(segment_lengths, segment_extinctions, strict=True):

@@ -19,6 +19,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 
 __all__ = [
@@ -51,14 +53,21 @@ def signal_to_clutter_ratio(target_signal: Any, background_mean: Any, clutter: A
     Returns
     -------
     array_like
-        SCR >= 0; +inf where clutter is 0 and the contrast is not; 0 where the contrast is 0.
+        SCR >= 0; +inf where clutter is 0 and the contrast is not; 0 where the contrast is 0;
+        NaN where an input is NaN or both signals are infinite.
     """
-    xp, (t, b, c) = _arrays.arrays(target_signal, background_mean, clutter)
+    xp, (t, b, c) = _arrays.arrays(
+        target_signal,
+        background_mean,
+        clutter,
+        names=("target_signal", "background_mean", "clutter"),
+    )
     _arrays.require_nonnegative("clutter", c, xp)
-    contrast = xp.abs(t - b)
+    with np.errstate(invalid="ignore"):  # both signals infinite: the contrast is unknown, NaN
+        contrast = xp.abs(t - b)
     ratio = contrast / xp.where(c > 0, c, 1.0)
-    out = xp.where(c > 0, ratio, xp.where(contrast > 0, xp.inf, 0.0 * contrast))
-    return _arrays.result(xp.where(xp.isnan(c), c, out))
+    out = xp.where(c > 0, ratio, xp.where(contrast > 0, xp.inf, xp.zeros_like(contrast)))
+    return _arrays.result(xp.where(xp.isnan(c) | xp.isnan(contrast), xp.nan, out))
 
 
 def temperature_spread_clutter(
@@ -96,10 +105,15 @@ def temperature_spread_clutter(
     """
     from targetacq.radiometry import band_exitance_derivative
 
-    xp, (eps, spread) = _arrays.arrays(emissivity, temperature_std)
+    xp, (eps, t, spread) = _arrays.arrays(
+        emissivity,
+        temperature,
+        temperature_std,
+        names=("emissivity", "temperature", "temperature_std"),
+    )
     _arrays.require_unit_interval("emissivity", eps, xp)
     _arrays.require_nonnegative("temperature_std", spread, xp, "K")
-    return _arrays.result(eps * band_exitance_derivative(temperature, band) * spread)
+    return _arrays.result(eps * band_exitance_derivative(t, band) * spread)
 
 
 def terrain_clutter(weights: Any, variances: Any, axis: int = -1) -> Any:
@@ -120,7 +134,7 @@ def terrain_clutter(weights: Any, variances: Any, axis: int = -1) -> Any:
     array_like
         Clutter [signal unit].
     """
-    xp, (k, v) = _arrays.arrays(weights, variances)
+    xp, (k, v) = _arrays.arrays(weights, variances, names=("weights", "variances"))
     _arrays.require_nonnegative("weights", k, xp)
     _arrays.require_nonnegative("variances", v, xp)
     total = xp.sum(k, axis=axis)

@@ -31,7 +31,7 @@ def fuse(probabilities: Any, axis: int = -1) -> Any:
     array_like
         Fused probability, ``axis`` removed; symmetric in the sensors and >= each input.
     """
-    xp, (p,) = _arrays.arrays(probabilities)
+    xp, (p,) = _arrays.arrays(probabilities, names=("probabilities",))
     _arrays.require_unit_interval("probabilities", p, xp)
     if p.ndim == 0:
         raise ValueError("probabilities must have at least one axis (the sensors)")

@@ -48,7 +48,7 @@ def slant_range(height: Any, ground_distance: Any) -> Any:
     array_like
         Slant range ``s = sqrt(h² + r²)`` [m] (Sonesson 2004, §3.2 and Fig. 3.1).
     """
-    xp, (h, r) = _arrays.arrays(height, ground_distance)
+    xp, (h, r) = _arrays.arrays(height, ground_distance, names=("height", "ground_distance"))
     _arrays.require_nonnegative("height", h, xp, "m")
     _arrays.require_nonnegative("ground_distance", r, xp, "m")
     return _arrays.result(xp.sqrt(h * h + r * r))
@@ -75,10 +75,14 @@ def solid_angle(height: Any, ground_distance: Any, area: Any) -> Any:
     array_like
         φ [sr] as defined by Eq. (3.5).
     """
-    xp, (h, r, a) = _arrays.arrays(height, ground_distance, area)
+    xp, (h, r, a) = _arrays.arrays(
+        height, ground_distance, area, names=("height", "ground_distance", "area")
+    )
     _arrays.require_nonnegative("height", h, xp, "m")
     _arrays.require_nonnegative("ground_distance", r, xp, "m")
     _arrays.require_nonnegative("area", a, xp, "m²")
+    for name, value in (("height", h), ("ground_distance", r), ("area", a)):
+        _arrays.require_finite(name, value, xp, "m²" if name == "area" else "m")
     s2 = h * h + r * r
     _arrays.require_positive("slant range", s2, xp, "m")
     return _arrays.result(h * a / (xp.pi * s2 * xp.sqrt(s2)))
@@ -112,10 +116,18 @@ def projected_extents(
     horizontal, vertical : array_like
         Sides of the circumscribing rectangle [m].
     """
-    xp, (ln, wd, ht, a, e) = _arrays.arrays(length, width, height, aspect, depression)
+    xp, (ln, wd, ht, a, e) = _arrays.arrays(
+        length,
+        width,
+        height,
+        aspect,
+        depression,
+        names=("length", "width", "height", "aspect", "depression"),
+    )
     for name, value in (("length", ln), ("width", wd), ("height", ht)):
         _arrays.require_nonnegative(name, value, xp, "m")
     _arrays.require_nonnegative("depression", e, xp, "rad")
+    _arrays.require_finite("aspect", a, xp, "rad")
     if bool(xp.any(e > xp.pi / 2)):
         raise ValueError("depression must be in [0, π/2] rad")
     sin_a, cos_a = xp.abs(xp.sin(a)), xp.abs(xp.cos(a))
@@ -166,7 +178,7 @@ def critical_dimension(
             f"method must be one of {', '.join(CRITICAL_DIMENSION_METHODS)}; got {method!r}"
         )
     horizontal, vertical = projected_extents(length, width, height, aspect, depression)
-    xp, (h, v) = _arrays.arrays(horizontal, vertical)
+    xp, (h, v) = _arrays.arrays(horizontal, vertical, names=("horizontal", "vertical"))
     return _arrays.result(CRITICAL_DIMENSION_METHODS[method](h, v, xp))
 
 
@@ -208,6 +220,9 @@ def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, defa
     return np.where(still, default, np.arctan2(d[:, 0], d[:, 1]))
 
 
+_OUTLINE_INPUTS = ("x", "y", "z", "heading", "length", "width", "height")
+
+
 def box_outline(
     x: Any, y: Any, z: Any, heading: Any, length: Any, width: Any, height: Any
 ) -> tuple[Any, Any, Any]:
@@ -232,7 +247,8 @@ def box_outline(
     Returns
     -------
     range, horizontal, vertical : array_like
-        Slant range [m] and the sides of the outline [m]; NaN where a component is NaN.
+        Slant range [m] and the sides of the outline [m]; NaN where a component is NaN, and
+        an infinite range with a NaN outline where one is infinite.
 
     Examples
     --------
@@ -241,8 +257,9 @@ def box_outline(
     (1000.0, 6.0, 2.5)
     """
     xp, (x, y, z, heading, length, width, height) = _arrays.arrays(
-        x, y, z, heading, length, width, height
+        x, y, z, heading, length, width, height, names=_OUTLINE_INPUTS
     )
+    _arrays.require_finite("heading", heading, xp, "rad")
     rho = xp.sqrt(x * x + y * y)
     rng = xp.sqrt(rho * rho + z * z)
     sin_h, cos_h = xp.sin(heading), xp.cos(heading)
@@ -252,17 +269,18 @@ def box_outline(
     numpy = isinstance(rho, np.ndarray)
     # Straight down or up (ρ = 0): divide by 1 there, and take the box's top below.
     safe = rho if numpy and not np.any(flat) else xp.where(flat, 1.0, rho)
+    # An infinite component makes inf/inf or 0·inf below: the outline is NaN there (unknown).
     with np.errstate(divide="ignore", invalid="ignore"):
         # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
         horizontal = (length * across + width * along) / safe
         vertical = (height * rho + (length * along + width * across) / safe * xp.abs(z)) / xp.where(
             rng > 0, rng, 1.0
         )
-    if not numpy or np.any(flat):
-        top_h = length + 0.0 * flat
-        top_v = xp.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
-        horizontal = xp.where(flat, top_h, horizontal)
-        vertical = xp.where(flat, top_v, vertical)
+        if not numpy or np.any(flat):
+            top_h = length + 0.0 * flat
+            top_v = xp.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
+            horizontal = xp.where(flat, top_h, horizontal)
+            vertical = xp.where(flat, top_v, vertical)
     return _arrays.result(rng), _arrays.result(horizontal), _arrays.result(vertical)
 
 
@@ -287,7 +305,7 @@ def box_extents_seen(
     range, horizontal, vertical : array_like
         Slant range [m] and the sides of the outline [m].
     """
-    _xp, (los,) = _arrays.arrays(line_of_sight)
+    _xp, (los,) = _arrays.arrays(line_of_sight, names=("line_of_sight",))
     return box_outline(los[..., 0], los[..., 1], los[..., 2], heading, length, width, height)
 
 
@@ -315,7 +333,9 @@ def critical_dimension_seen(horizontal: Any, vertical: Any, visible_fraction: An
     >>> float(critical_dimension_seen(6.0, 2.5, 0.6))
     1.5
     """
-    xp, (h, v, f) = _arrays.arrays(horizontal, vertical, visible_fraction)
+    xp, (h, v, f) = _arrays.arrays(
+        horizontal, vertical, visible_fraction, names=("horizontal", "vertical", "visible_fraction")
+    )
     return _arrays.result(xp.minimum(h, v * f))
 
 
@@ -339,7 +359,9 @@ def pointing_direction(azimuth: Any, depression: Any) -> tuple[Any, Any, Any]:
     >>> [round(float(c), 12) for c in pointing_direction(1.5707963267948966, 0.0)]
     [1.0, 0.0, -0.0]
     """
-    xp, (a, e) = _arrays.arrays(azimuth, depression)
+    xp, (a, e) = _arrays.arrays(azimuth, depression, names=("azimuth", "depression"))
+    _arrays.require_finite("azimuth", a, xp, "rad")
+    _arrays.require_finite("depression", e, xp, "rad")
     ce = xp.cos(e)
     return (
         _arrays.result(ce * xp.sin(a)),
@@ -366,7 +388,9 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
     ahead, right, up : array_like
         [m].
     """
-    xp, (x, y, z, fx, fy, fz) = _arrays.arrays(x, y, z, *forward)
+    xp, (x, y, z, fx, fy, fz) = _arrays.arrays(
+        x, y, z, *forward, names=("x", "y", "z", "forward east", "forward north", "forward up")
+    )
     # Square roots of 1, not 0, where masked: sqrt's infinite slope at 0 would make gradients
     # NaN there (e.g. a sensor pointed straight down) even though the value is not used.
     square = fx * fx + fy * fy + fz * fz
@@ -405,7 +429,7 @@ def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any,
     array_like of bool
         False where a component is NaN.
     """
-    _, (los, f) = _arrays.arrays(line_of_sight, forward)
+    _, (los, f) = _arrays.arrays(line_of_sight, forward, names=("line_of_sight", "forward"))
     return within_field_of_view(
         los[..., 0], los[..., 1], los[..., 2], (f[..., 0], f[..., 1], f[..., 2]), half_tangents
     )
@@ -427,5 +451,7 @@ def within_field_of_view(
     False
     """
     ahead, right, up = view_offsets(x, y, z, forward)
-    xp, (tan_h, tan_v) = _arrays.arrays(*half_tangents)
+    xp, (tan_h, tan_v) = _arrays.arrays(
+        *half_tangents, names=("horizontal half tangent", "vertical half tangent")
+    )
     return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)

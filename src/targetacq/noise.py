@@ -85,7 +85,7 @@ def _amplitude(s: Any, xp: Any) -> Any:
 
 def snr_ratio(snr: Any) -> Any:
     """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6))."""
-    xp, (s,) = _arrays.arrays(snr)
+    xp, (s,) = _arrays.arrays(snr, names=("snr",))
     return _arrays.result(_amplitude(s, xp))
 
 
@@ -104,7 +104,7 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     array_like
         R_eff, equal to SCR exactly where SNR = +inf.
     """
-    xp, (c, s) = _arrays.arrays(scr, snr)
+    xp, (c, s) = _arrays.arrays(scr, snr, names=("scr", "snr"))
     _arrays.require_nonnegative("scr", c, xp)
     lin = _amplitude(s, xp)
     # R = a / sqrt(1 + (a/b)²) with a = min, b = max of the two ratios: no overflow for tiny or
@@ -136,7 +136,7 @@ def ratio_n50(ratio: Any) -> Any:
     ratio : array_like
         R >= 0 (+inf allowed).
     """
-    xp, (r,) = _arrays.arrays(ratio)
+    xp, (r,) = _arrays.arrays(ratio, names=("ratio",))
     _arrays.require_nonnegative("ratio", r, xp)
     low, medium, alpha = _ratio_anchors()
     safe = xp.where(r > 0, r, 1.0)
@@ -153,7 +153,7 @@ QUADRATURE_CONSTANT = math.sqrt(3.0)
 
 def _variance_sum_factor(snr: Any) -> Any:
     """``f = sqrt(1 + k²/SNR_lin²)``, written as ``hypot(1, k·10^(−SNR/20))`` (no overflow)."""
-    xp, (s,) = _arrays.arrays(snr)
+    xp, (s,) = _arrays.arrays(snr, names=("snr",))
     # 10^(-SNR/20) is the noise-to-signal amplitude: 0 at +inf (f = 1), +inf at -inf (f = inf).
     if isinstance(s, np.ndarray):
         with np.errstate(over="ignore"):
@@ -171,14 +171,14 @@ def _variance_sum_factor(snr: Any) -> Any:
 
 
 def _clutter_analogue_factor(snr: Any) -> Any:
-    xp, (s,) = _arrays.arrays(snr)
+    xp, (s,) = _arrays.arrays(snr, names=("snr",))
     lin = _amplitude(s, xp)
     uncluttered = _ratio_anchors()[0]  # ratio_n50(+inf), Table 3.5's low clutter
     return _arrays.result(ratio_n50(lin) / uncluttered)
 
 
 def _no_noise_factor(snr: Any) -> Any:
-    xp, (s,) = _arrays.arrays(snr)
+    xp, (s,) = _arrays.arrays(snr, names=("snr",))
     return _arrays.result(xp.where(xp.isnan(s), s, xp.ones_like(s)))
 
 

@@ -91,9 +91,9 @@ class _Row:
     def forward(self, n: Array, xp: Any) -> Array:
         """P at N >= 0 (assumption 1), for N of any shape; NaN where N is NaN."""
         ns, ps = self.cycles, self.probabilities
-        u = xp.log(xp.where(n > 0, n, 1.0))
+        u = xp.log(xp.where(n > 0, xp.minimum(n, ns[-1]), 1.0))  # segments only: no inf · 0
         out = xp.where(n >= ns[-1], ps[-1], xp.zeros_like(n))
-        first = ps[0] * n / ns[0]
+        first = ps[0] * xp.where(n < ns[0], n, ns[0]) / ns[0]  # (0 · inf would be NaN)
         first = xp.where(first > ps[0], ps[0], first)  # no overshoot from rounding
         out = xp.where(n < ns[0], first, out)
         for k in range(len(ns) - 1):
@@ -245,7 +245,7 @@ def _scr(scr: Any, xp: Any) -> Array:
         raise ValueError(
             f"{NAME} needs scr, the target's signal-to-clutter ratio [1] (>= 0); got None"
         )
-    s = _arrays.as_float(scr, xp)
+    s = _arrays.as_float(scr, xp, "scr")
     _arrays.require_nonnegative("scr", s, xp)
     return s
 
@@ -289,7 +289,7 @@ def observed_detection(cycles: Any, n50: Any = 1.0, *, scr: Any) -> Any:
     >>> round(float(observed_detection(1.0, 2.0, scr=1.2)), 12)  # N50 = 2: read at 0.5 cycles
     0.04
     """
-    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     s = _scr(scr, xp)
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("n50", n50_, xp)
@@ -330,7 +330,7 @@ def observed_detection_inverse(probability: Any, n50: Any = 1.0, *, scr: Any) ->
     >>> float(observed_detection_inverse(0.9, scr=0.33))  # never reached in high clutter
     inf
     """
-    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     s = _scr(scr, xp)
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)

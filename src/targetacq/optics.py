@@ -85,7 +85,7 @@ def ifov(pitch: Any, focal_length: Any) -> Any:
     array_like
         IFOV [rad].
     """
-    xp, (p, f) = _arrays.arrays(pitch, focal_length)
+    xp, (p, f) = _arrays.arrays(pitch, focal_length, names=("pitch", "focal_length"))
     _arrays.require_positive("pitch", p, xp, "m")
     _arrays.require_positive("focal_length", f, xp, "m")
     return _arrays.result(p / f)
@@ -106,7 +106,9 @@ def field_of_view(detector_size: Any, focal_length: Any) -> Any:
     array_like
         Full field of view [rad].
     """
-    xp, (a, f) = _arrays.arrays(detector_size, focal_length)
+    xp, (a, f) = _arrays.arrays(
+        detector_size, focal_length, names=("detector_size", "focal_length")
+    )
     _arrays.require_positive("detector_size", a, xp, "m")
     _arrays.require_positive("focal_length", f, xp, "m")
     return _arrays.result(2.0 * xp.atan(a / (2.0 * f)))
@@ -156,7 +158,7 @@ def ifov_from_field_of_view(field_of_view: Any, pixels: Any, projection: str = "
     3.7242
     """
     lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
-    xp, (fov, n) = _arrays.arrays(field_of_view, pixels)
+    xp, (fov, n) = _arrays.arrays(field_of_view, pixels, names=("field_of_view", "pixels"))
     _arrays.require_positive("field_of_view", fov, xp, "rad")
     _arrays.require_positive("pixels", n, xp)
     if _arrays.any_known(fov >= xp.pi, xp):
@@ -176,7 +178,7 @@ def field_of_view_from_ifov(ifov: Any, pixels: Any, projection: str = "angular")
     0.199337
     """
     lookup(FIELD_OF_VIEW_PROJECTIONS, projection, "projection")
-    xp, (i, n) = _arrays.arrays(ifov, pixels)
+    xp, (i, n) = _arrays.arrays(ifov, pixels, names=("ifov", "pixels"))
     _arrays.require_positive("ifov", i, xp, "rad")
     _arrays.require_positive("pixels", n, xp)
     if projection == "angular":
@@ -199,7 +201,7 @@ def diffraction_angle(wavelength: Any, aperture: Any) -> Any:
     array_like
         Δθ [rad]. Check value: D = 122 mm, λ = 10 µm → 1.0e-4 rad (0.1 m at 1 km).
     """
-    xp, (lam, d) = _arrays.arrays(wavelength, aperture)
+    xp, (lam, d) = _arrays.arrays(wavelength, aperture, names=("wavelength", "aperture"))
     return _arrays.result(_diffraction_angle(lam, d, xp))
 
 
@@ -225,7 +227,9 @@ def diffraction_spot(wavelength: Any, aperture: Any, focal_length: Any) -> Any:
     array_like
         Δx_min [m].
     """
-    xp, (lam, d, f) = _arrays.arrays(wavelength, aperture, focal_length)
+    xp, (lam, d, f) = _arrays.arrays(
+        wavelength, aperture, focal_length, names=("wavelength", "aperture", "focal_length")
+    )
     _arrays.require_positive("wavelength", lam, xp, "m")
     _arrays.require_positive("aperture", d, xp, "m")
     _arrays.require_positive("focal_length", f, xp, "m")
@@ -250,7 +254,9 @@ def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
     array_like
         h in [0, 1].
     """
-    xp, (xx, yy, sx, sy) = _arrays.arrays(x, y, sigma_x, sigma_y)
+    xp, (xx, yy, sx, sy) = _arrays.arrays(
+        x, y, sigma_x, sigma_y, names=("x", "y", "sigma_x", "sigma_y")
+    )
     _arrays.require_positive("sigma_x", sx, xp)
     _arrays.require_positive("sigma_y", sy, xp)
     return _arrays.result(xp.exp(-(xx * xx) / (2 * sx * sx) - (yy * yy) / (2 * sy * sy)))
@@ -270,7 +276,7 @@ def blur_cycle_angle(blur_sigma: Any) -> Any:
     array_like
         Angle of one resolvable cycle [rad]: ``π σ sqrt(2 / ln(1/M*))``.
     """
-    xp, (s,) = _arrays.arrays(blur_sigma)
+    xp, (s,) = _arrays.arrays(blur_sigma, names=("blur_sigma",))
     _arrays.require_nonnegative("blur_sigma", s, xp, "rad")
     return _arrays.result(BLUR_CYCLE_PER_SIGMA * s)
 
@@ -281,12 +287,21 @@ def _cycle_angle(ifov_: Array, wavelength: Any, aperture: Any, blur_sigma: Any, 
         raise ValueError("give both wavelength and aperture for the diffraction limit, or neither")
     sampling = 2.0 * ifov_
     optics_sq = None
+    given = {
+        name: _arrays.as_float(value, xp, name)
+        for name, value in (
+            ("wavelength", wavelength),
+            ("aperture", aperture),
+            ("blur_sigma", blur_sigma),
+        )
+        if value is not None
+    }
+    _arrays.check_broadcast(("ifov", *given), (ifov_, *given.values()))
     if wavelength is not None:
-        lam, d = _arrays.as_float(wavelength, xp), _arrays.as_float(aperture, xp)
-        diff = _diffraction_angle(lam, d, xp)
+        diff = _diffraction_angle(given["wavelength"], given["aperture"], xp)
         optics_sq = diff * diff
     if blur_sigma is not None:
-        s = _arrays.as_float(blur_sigma, xp)
+        s = given["blur_sigma"]
         _arrays.require_nonnegative("blur_sigma", s, xp, "rad")
         blur = BLUR_CYCLE_PER_SIGMA * s
         optics_sq = blur * blur if optics_sq is None else optics_sq + blur * blur
@@ -318,7 +333,7 @@ def resolvable_cycle_angle(
     array_like
         Cycle angle [rad].
     """
-    xp, (i,) = _arrays.arrays(ifov)
+    xp, (i,) = _arrays.arrays(ifov, names=("ifov",))
     _arrays.require_positive("ifov", i, xp, "rad")
     return _arrays.result(_cycle_angle(i, wavelength, aperture, blur_sigma, xp))
 
@@ -355,7 +370,9 @@ def cycles_on_target(
     array_like
         N [cycles].
     """
-    xp, (d, r, i) = _arrays.arrays(critical_dimension, range, ifov)
+    xp, (d, r, i) = _arrays.arrays(
+        critical_dimension, range, ifov, names=("critical_dimension", "range", "ifov")
+    )
     _arrays.require_positive("critical_dimension", d, xp, "m")
     _arrays.require_positive("range", r, xp, "m")
     _arrays.require_positive("ifov", i, xp, "rad")
@@ -391,7 +408,9 @@ def range_for_cycles(
     array_like
         Range [m].
     """
-    xp, (d, n, i) = _arrays.arrays(critical_dimension, cycles, ifov)
+    xp, (d, n, i) = _arrays.arrays(
+        critical_dimension, cycles, ifov, names=("critical_dimension", "cycles", "ifov")
+    )
     _arrays.require_positive("critical_dimension", d, xp, "m")
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("ifov", i, xp, "rad")
@@ -413,7 +432,7 @@ def pixels_per_metre(range: Any, ifov: Any) -> Any:
     ifov : array_like
         [rad], > 0.
     """
-    xp, (r, i) = _arrays.arrays(range, ifov)
+    xp, (r, i) = _arrays.arrays(range, ifov, names=("range", "ifov"))
     _arrays.require_positive("range", r, xp, "m")
     _arrays.require_positive("ifov", i, xp, "rad")
     return _arrays.result(1.0 / (r * i))
@@ -430,7 +449,7 @@ def range_for_pixel_density(pixel_density: Any, ifov: Any) -> Any:
     ifov : array_like
         [rad], > 0.
     """
-    xp, (q, i) = _arrays.arrays(pixel_density, ifov)
+    xp, (q, i) = _arrays.arrays(pixel_density, ifov, names=("pixel_density", "ifov"))
     _arrays.require_positive("pixel_density", q, xp, "pixels/m")
     _arrays.require_positive("ifov", i, xp, "rad")
     return _arrays.result(1.0 / (q * i))

@@ -29,6 +29,8 @@ import functools
 import math
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 from targetacq.bands import band_limits, band_name
 from targetacq.constants import (
@@ -78,13 +80,17 @@ def _small_x_coefficients() -> tuple[float, ...]:
     return tuple(float(b[k] / (factorial(k, exact=True) * (k + 3))) for k in range(41))
 
 
+def _small_series(x: Any, xp: Any) -> Any:
+    """``S(x) = x⁻³ ∫_0^x t³/(e^t − 1) dt`` for 0 <= x <= 2 (S(0) = 1/3), by Horner in x."""
+    acc = xp.zeros_like(x)
+    for c in reversed(_small_x_coefficients()):
+        acc = acc * x + c
+    return acc
+
+
 def _partial_small(x: Any, xp: Any) -> Any:
     """∫_0^x t³/(e^t − 1) dt for 0 <= x <= 2, by the Bernoulli series (module doc)."""
-    coefficients = _small_x_coefficients()
-    acc = xp.zeros_like(x)
-    for c in reversed(coefficients):  # Horner in x, then times x³
-        acc = acc * x + c
-    return acc * x * x * x
+    return _small_series(x, xp) * x * x * x
 
 
 def _tail_large(x: Any, xp: Any) -> Any:
@@ -107,15 +113,19 @@ def _tail_large(x: Any, xp: Any) -> Any:
 
 
 def _x_from(lam_t: Any, xp: Any) -> Any:
-    """x = c2 / (λT), capped at _X_CAP (also where λT = 0), without division warnings."""
+    """x = c2 / (λT), capped at _X_CAP (also where λT = 0), without division warnings; NaN
+    where λT is NaN."""
     safe = xp.where(lam_t > 0, lam_t, 1.0)
-    return xp.where(lam_t > 0, xp.minimum(SECOND_RADIATION_CONSTANT / safe, _X_CAP), _X_CAP)
+    capped = xp.where(xp.isnan(lam_t), lam_t, _X_CAP)
+    return xp.where(lam_t > 0, xp.minimum(SECOND_RADIATION_CONSTANT / safe, _X_CAP), capped)
 
 
 def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
     """c2 / (λ T) for a band edge: capped where λT = 0, 0 where λ = inf."""
     if math.isinf(wavelength):
         return xp.zeros_like(t)
+    if wavelength == 0:  # x = +inf at any T, capped (0 · T would be NaN at T = inf)
+        return xp.where(xp.isnan(t), t, xp.full_like(t, _X_CAP))
     return _x_from(wavelength * t, xp)
 
 
@@ -165,13 +175,15 @@ def spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     array_like
         M_λ [W m⁻² m⁻¹] (per metre of wavelength).
     """
-    xp, (lam, t) = _arrays.arrays(wavelength, temperature)
+    xp, (lam, t) = _arrays.arrays(wavelength, temperature, names=("wavelength", "temperature"))
     _arrays.require_positive("wavelength", lam, xp, "m")
+    _arrays.require_finite("wavelength", lam, xp, "m")
     _arrays.require_nonnegative("temperature", t, xp, "K")
     x = _x_from(lam * t, xp)
-    # e^{-x} / (1 − e^{-x}) = 1 / (e^x − 1), without overflow at short λT.
-    planck = xp.exp(-x) / -xp.expm1(-x)
-    return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * planck)
+    # e^{-x} / (1 − e^{-x}) = 1 / (e^x − 1), without overflow at short λT; +inf at T = inf.
+    safe = xp.where(x > 0, x, 1.0)
+    planck = xp.where(x > 0, xp.exp(-safe) / -xp.expm1(-safe), xp.inf)
+    return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * xp.where(xp.isnan(x), x, planck))
 
 
 def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
@@ -179,8 +191,9 @@ def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
 
     Valid where ``hc/λ ≫ kT``. Units as :func:`spectral_exitance`.
     """
-    xp, (lam, t) = _arrays.arrays(wavelength, temperature)
+    xp, (lam, t) = _arrays.arrays(wavelength, temperature, names=("wavelength", "temperature"))
     _arrays.require_positive("wavelength", lam, xp, "m")
+    _arrays.require_finite("wavelength", lam, xp, "m")
     _arrays.require_nonnegative("temperature", t, xp, "K")
     return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * xp.exp(-_x_from(lam * t, xp)))
 
@@ -210,16 +223,42 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
             f"method must be one of {', '.join(BAND_EXITANCE_METHODS)}; got {method!r}"
         )
     low, high = band_limits(band)
-    xp, (t,) = _arrays.arrays(temperature)
+    xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_nonnegative("temperature", t, xp, "K")
     integrate = BAND_EXITANCE_METHODS[method]
 
     def kernel(part: Any) -> Any:
-        integral = integrate(_x_of(low, part, xp), _x_of(high, part, xp), xp)
-        t2 = part * part
-        return _BAND_CONSTANT * t2 * t2 * integral
+        x_short, x_long = _x_of(low, part, xp), _x_of(high, part, xp)
+        if method == "planck" and _arrays.any_known(x_short < _SMALL_X, xp):
+            return _planck_hot_or_cool(part, x_short, x_long, low, high, xp)
+        integral = integrate(x_short, x_long, xp)
+        with np.errstate(over="ignore", invalid="ignore"):  # T⁴ beyond 1e308: inf, or NaN
+            t2 = part * part
+            return _BAND_CONSTANT * t2 * t2 * integral
 
     return _arrays.result(_arrays.chunked_elementwise(kernel, t))
+
+
+def _planck_hot_or_cool(t: Any, x_short: Any, x_long: Any, low: float, high: float, xp: Any) -> Any:
+    """``K T⁴ ∫_{x_long}^{x_short} t³/(e^t − 1) dt`` for any finite T, and +inf at T = inf.
+
+    Where both band edges lie on the small-x series (hot: ``x1 = c2/(λ1 T) < 2``), T⁴ would
+    overflow above about 1e77 K while the integral underflows; there ``T⁴ x³ = T (c2/λ)³``, so
+    ``K T⁴ I = K T [(c2/λ1)³ S(x1) − (c2/λ2)³ S(x2)]`` with ``S = I/x³`` (:func:`_small_series`):
+    the same numbers, scaled before they are multiplied (Rayleigh–Jeans side of the band).
+    """
+    hot = x_short < _SMALL_X
+    u_short = SECOND_RADIATION_CONSTANT / low  # low > 0 wherever x_short is below the cap
+    u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
+    small_short = xp.minimum(x_short, _SMALL_X)
+    small_long = xp.minimum(x_long, _SMALL_X)
+    scaled = u_short**3 * _small_series(small_short, xp) - u_long**3 * _small_series(small_long, xp)
+    cool_t = xp.where(hot, 0.0, t)
+    cool = _band_integral_planck(xp.where(hot, _X_CAP, x_short), xp.where(hot, _X_CAP, x_long), xp)
+    with np.errstate(over="ignore"):
+        t2 = cool_t * cool_t
+        cooled = _BAND_CONSTANT * t2 * t2 * cool
+    return xp.where(hot, _BAND_CONSTANT * t * scaled, cooled)
 
 
 def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
@@ -244,9 +283,9 @@ def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
     >>> bool(grey_body_exitance(0.5, 300.0, "lwir") == 0.5 * band_exitance(300.0, "lwir"))
     True
     """
-    xp, (eps,) = _arrays.arrays(emissivity)
+    xp, (eps, t) = _arrays.arrays(emissivity, temperature, names=("emissivity", "temperature"))
     _arrays.require_unit_interval("emissivity", eps, xp)
-    return _arrays.result(eps * band_exitance(temperature, band))
+    return _arrays.result(eps * band_exitance(t, band))
 
 
 def band_exitance_derivative(temperature: Any, band: Any) -> Any:
@@ -265,22 +304,39 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
         As in :func:`band_exitance`.
     """
     low, high = band_limits(band)
-    xp, (t,) = _arrays.arrays(temperature)
+    xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_nonnegative("temperature", t, xp, "K")
     x_short, x_long = _x_of(low, t, xp), _x_of(high, t, xp)
-    integral = _band_integral_planck(x_short, x_long, xp)
+    # Hot (both edges on the small-x series): T³ I and T³ g(x) as (c2/λ)³ S(x) and
+    # (c2/λ)³ x/(e^x − 1), finite up to T = inf (the Rayleigh–Jeans limit), as in band_exitance.
+    hot = x_short < _SMALL_X
+    cool_t = xp.where(hot, 0.0, t)
+    x_short_cool, x_long_cool = xp.where(hot, _X_CAP, x_short), xp.where(hot, _X_CAP, x_long)
+    integral = _band_integral_planck(x_short_cool, x_long_cool, xp)
 
     def g(x: Any) -> Any:
         safe = xp.where(x > 0, x, 1.0)
         value = safe**4 * xp.exp(-safe) / -xp.expm1(-safe)
-        return xp.where(x > 0, value, 0.0 * x)
+        return xp.where(x > 0, value, xp.zeros_like(x))
 
-    return _arrays.result(_BAND_CONSTANT * t**3 * (4.0 * integral + g(x_long) - g(x_short)))
+    def scaled(u: float, x: Any) -> Any:  # (c2/λ)³ [4 S(x) − x/(e^x − 1)]; 1/(e^x−1)·x → 1
+        small = xp.minimum(x, _SMALL_X)
+        safe = xp.where(small > 0, small, 1.0)
+        ratio = xp.where(small > 0, safe / xp.expm1(safe), xp.ones_like(small))
+        return u**3 * (4.0 * _small_series(small, xp) - ratio)
+
+    u_short = SECOND_RADIATION_CONSTANT / low if low > 0 else math.inf
+    u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
+    with np.errstate(over="ignore", invalid="ignore"):  # T³ beyond 1e308 where not hot
+        cool = cool_t**3 * (4.0 * integral + g(x_long_cool) - g(x_short_cool))
+    if not math.isinf(u_short) and _arrays.any_known(hot, xp):
+        cool = xp.where(hot, scaled(u_short, x_short) - scaled(u_long, x_long), cool)
+    return _arrays.result(_BAND_CONSTANT * cool)
 
 
 def stefan_boltzmann_exitance(temperature: Any) -> Any:
     """Total exitance of a blackbody, ``M = σ T⁴``, Eq. (6.1) [W/m²]; T [K] >= 0."""
-    xp, (t,) = _arrays.arrays(temperature)
+    xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_nonnegative("temperature", t, xp, "K")
     return _arrays.result(STEFAN_BOLTZMANN * t**4)
 
@@ -298,14 +354,16 @@ def peak_wavelength(temperature: Any) -> Any:
     array_like
         λ_peak [m]; 300 K → 9.659 µm.
     """
-    xp, (t,) = _arrays.arrays(temperature)
+    xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_positive("temperature", t, xp, "K")
     return _arrays.result(WIEN_DISPLACEMENT / t)
 
 
 def emissivity(exitance: Any, blackbody_exitance: Any) -> Any:
     """Emissivity ``ε = M / M_blackbody``, Eq. (6.4); both [W/m²], the second > 0."""
-    xp, (m, mb) = _arrays.arrays(exitance, blackbody_exitance)
+    xp, (m, mb) = _arrays.arrays(
+        exitance, blackbody_exitance, names=("exitance", "blackbody_exitance")
+    )
     _arrays.require_nonnegative("exitance", m, xp, "W/m²")
     _arrays.require_positive("blackbody_exitance", mb, xp, "W/m²")
     eps = m / mb
@@ -323,7 +381,7 @@ def emissivity_from_reflectance(reflectance: Any, transmittance: Any = 0.0) -> A
     transmittance : array_like, optional
         t in [0, 1]; 0 for an opaque body (then ``ε = 1 − r``).
     """
-    xp, (r, tr) = _arrays.arrays(reflectance, transmittance)
+    xp, (r, tr) = _arrays.arrays(reflectance, transmittance, names=("reflectance", "transmittance"))
     _arrays.require_unit_interval("reflectance", r, xp)
     _arrays.require_unit_interval("transmittance", tr, xp)
     if bool(xp.any(r + tr > 1.0)):
@@ -392,7 +450,7 @@ def reflected_exitance(reflectance: Any, irradiance: Any) -> Any:
     irradiance : array_like
         E on the surface [W/m²], >= 0 (e.g. sunlight in the band).
     """
-    xp, (r, e) = _arrays.arrays(reflectance, irradiance)
+    xp, (r, e) = _arrays.arrays(reflectance, irradiance, names=("reflectance", "irradiance"))
     _arrays.require_unit_interval("reflectance", r, xp)
     _arrays.require_nonnegative("irradiance", e, xp, "W/m²")
     return _arrays.result(r * e)
@@ -408,8 +466,9 @@ def lambert_intensity(intensity: Any, angle: Any) -> Any:
     angle : array_like
         φ, angle between the normal and the line of sight [rad], in [0, π/2].
     """
-    xp, (i, phi) = _arrays.arrays(intensity, angle)
+    xp, (i, phi) = _arrays.arrays(intensity, angle, names=("intensity", "angle"))
     _arrays.require_nonnegative("angle", phi, xp, "rad")
+    _arrays.require_finite("angle", phi, xp, "rad")
     return _arrays.result(i * xp.cos(phi))
 
 
@@ -438,8 +497,16 @@ def irradiance_at_sensor(
     lens : bool
         Eq. (6.17) when True, (6.16) when False.
     """
-    xp, (i, r, phi, theta) = _arrays.arrays(intensity, range, emission_angle, off_axis_angle)
+    xp, (i, r, phi, theta) = _arrays.arrays(
+        intensity,
+        range,
+        emission_angle,
+        off_axis_angle,
+        names=("intensity", "range", "emission_angle", "off_axis_angle"),
+    )
     _arrays.require_positive("range", r, xp, "m")
+    _arrays.require_finite("emission_angle", phi, xp, "rad")
+    _arrays.require_finite("off_axis_angle", theta, xp, "rad")
     c = xp.cos(theta)
     factor = c**4 if lens else xp.cos(phi) * c
     return _arrays.result(i * factor / (r * r))
@@ -467,9 +534,16 @@ def target_signal(emissivity: Any, exitance: Any, range: Any, off_axis_angle: An
     array_like
         o_max [W/m² per m²].
     """
-    xp, (eps, m, r, theta) = _arrays.arrays(emissivity, exitance, range, off_axis_angle)
+    xp, (eps, m, r, theta) = _arrays.arrays(
+        emissivity,
+        exitance,
+        range,
+        off_axis_angle,
+        names=("emissivity", "exitance", "range", "off_axis_angle"),
+    )
     _arrays.require_unit_interval("emissivity", eps, xp)
     _arrays.require_positive("range", r, xp, "m")
+    _arrays.require_finite("off_axis_angle", theta, xp, "rad")
     return _arrays.result(eps * m * xp.cos(theta) ** 4 / (r * r))
 
 
@@ -497,9 +571,13 @@ def diurnal_temperature(hour: Any, mean: Any, amplitude: Any, peak_hour: Any = 1
     array_like
         T [K].
     """
-    xp, (h, m, a, p) = _arrays.arrays(hour, mean, amplitude, peak_hour)
+    xp, (h, m, a, p) = _arrays.arrays(
+        hour, mean, amplitude, peak_hour, names=("hour", "mean", "amplitude", "peak_hour")
+    )
     _arrays.require_positive("mean", m, xp, "K")
     _arrays.require_nonnegative("amplitude", a, xp, "K")
+    _arrays.require_finite("hour", h, xp, "h")
+    _arrays.require_finite("peak_hour", p, xp, "h")
     if bool(xp.any(a >= m)):
         raise ValueError("amplitude must be smaller than the mean temperature [K]")
     return _arrays.result(m + a * xp.cos(2.0 * xp.pi * (h - p) / 24.0))
@@ -521,6 +599,6 @@ def quantisation_step(bits: int, span: Any) -> Any:
     """
     if not isinstance(bits, int) or isinstance(bits, bool) or bits < 1:
         raise ValueError(f"bits must be an integer >= 1, got {bits!r}")
-    xp, (s,) = _arrays.arrays(span)
+    xp, (s,) = _arrays.arrays(span, names=("span",))
     _arrays.require_positive("span", s, xp)
     return _arrays.result(s / (2.0**bits - 1.0))

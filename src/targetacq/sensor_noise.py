@@ -79,7 +79,9 @@ def netd_exitance(netd: Any, band: Any, reference_temperature: Any = 300.0) -> A
     """
     from targetacq.radiometry import band_exitance_derivative
 
-    xp, (noise, reference) = _arrays.arrays(netd, reference_temperature)
+    xp, (noise, reference) = _arrays.arrays(
+        netd, reference_temperature, names=("netd", "reference_temperature")
+    )
     _arrays.require_nonnegative("netd", noise, xp, "K")
     _arrays.require_positive("reference_temperature", reference, xp, "K")
     return _arrays.result(noise * band_exitance_derivative(reference, band))
@@ -102,7 +104,7 @@ def pixels_on_target(area: Any, range: Any, ifov: Any) -> Any:
     >>> float(pixels_on_target(2.3 * 4.6, 1000.0, 0.34e-3))
     91.522...
     """
-    xp, (a, r, i) = _arrays.arrays(area, range, ifov)
+    xp, (a, r, i) = _arrays.arrays(area, range, ifov, names=("area", "range", "ifov"))
     _arrays.require_nonnegative("area", a, xp, "m²")
     _arrays.require_positive("range", r, xp, "m")
     _arrays.require_positive("ifov", i, xp, "rad")
@@ -125,7 +127,7 @@ def pixel_gain(pixels: Any) -> Any:
     >>> [float(g) for g in pixel_gain([0.25, 1.0, 100.0])]
     [0.25, 1.0, 10.0]
     """
-    xp, (n,) = _arrays.arrays(pixels)
+    xp, (n,) = _arrays.arrays(pixels, names=("pixels",))
     _arrays.require_nonnegative("pixels", n, xp)
     return _arrays.result(xp.where(n >= 1.0, xp.sqrt(xp.maximum(n, 1.0)), n))
 
@@ -156,7 +158,13 @@ def sensor_snr(contrast: Any, noise_equivalent: Any, transmittance: Any, pixels:
     >>> float(sensor_snr(0.0, 0.05, 1.0, 100.0))
     -inf
     """
-    xp, (c, noise, tau, n) = _arrays.arrays(contrast, noise_equivalent, transmittance, pixels)
+    xp, (c, noise, tau, n) = _arrays.arrays(
+        contrast,
+        noise_equivalent,
+        transmittance,
+        pixels,
+        names=("contrast", "noise_equivalent", "transmittance", "pixels"),
+    )
     _arrays.require_nonnegative("noise_equivalent", noise, xp)
     _arrays.require_unit_interval("transmittance", tau, xp)
     signal = tau * xp.abs(c) * pixel_gain(n)
@@ -191,7 +199,7 @@ def combined_snr(*snr: Any) -> Any:
     """
     if not snr:
         raise ValueError("combined_snr needs at least one SNR")
-    xp, values = _arrays.arrays(*snr)
+    xp, values = _arrays.arrays(*snr, names=[f"snr {k + 1}" for k in range(len(snr))])
     if len(values) == 1:
         return _arrays.result(values[0])
     # 1/SNR_lin² = 10^(−SNR/10): 0 at +inf, +inf at −inf.

@@ -43,7 +43,6 @@ targets are simulated; run ``r`` of :meth:`Simulation.reset` is run ``r`` of
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -54,6 +53,7 @@ from pydantic import ValidationError
 
 from targetacq import _arrays, core
 from targetacq.core.evaluate import footprint_scr
+from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
 from targetacq.search import _SearchState, _Streams, check_seed
 from targetacq.sensors import get_sensor_type
@@ -62,6 +62,8 @@ __all__ = ["TASKS", "Event", "Events", "Simulation", "StepResult"]
 
 TASKS = ("detection", "recognition", "identification")
 """The tasks, in the order of :attr:`Events.task` codes."""
+
+_INPUT_NAMES = ("sensor_positions", "target_positions", "target_headings", "sensor_pointing")
 
 
 class Event(NamedTuple):
@@ -318,7 +320,10 @@ class Simulation:
     ) -> tuple[Any, Any, Any, Any]:
         """Check the shapes (on ``.shape`` only, so traced arrays pass) and make arrays."""
         given = (sensor_positions, target_positions, headings, pointing)
-        _, arrays = _arrays.arrays(*(v for v in given if v is not None))
+        names = [n for n, v in zip(_INPUT_NAMES, given, strict=True) if v is not None]
+        xp, arrays = _arrays.arrays(
+            *(v for v in given if v is not None), names=names, broadcast=False
+        )
         values = iter(arrays)
         s_pos, t_pos, head, point = (None if v is None else next(values) for v in given)
         n_s, n_g = self._shape
@@ -337,7 +342,30 @@ class Simulation:
                     f"expected {shape} = {what}"
                 )
             raise ValueError(f"{name} must have shape {shape} = {what}, got {got}")
+        # Positions are checked finite by the core (core.factors); NaN anywhere gives NaN.
+        if head is not None:
+            _arrays.require_in_range(
+                "target_headings", head, xp, -MAX_ANGLE_TURN, MAX_ANGLE_TURN, "rad"
+            )
+        if point is not None:
+            self._check_pointing(point, xp)
         return s_pos, t_pos, head, point
+
+    @staticmethod
+    def _check_pointing(point: Any, xp: Any) -> None:
+        """Azimuths within a turn, depressions within ±90°; a row NaN in both or in neither."""
+        azimuth, depression = point[:, 0], point[:, 1]
+        if _arrays.any_known(xp.isnan(azimuth) != xp.isnan(depression), xp):
+            raise ValueError(
+                "sensor_pointing: give both the azimuth and the depression of a sensor, or NaN "
+                "for both (the sensor keeps its own pointing)"
+            )
+        _arrays.require_in_range(
+            "sensor_pointing azimuth", azimuth, xp, -MAX_ANGLE_TURN, MAX_ANGLE_TURN, "rad"
+        )
+        _arrays.require_in_range(
+            "sensor_pointing depression", depression, xp, -MAX_DEPRESSION, MAX_DEPRESSION, "rad"
+        )
 
     def _evaluate(self, s_pos: Any, t_pos: Any, head: Any, point: Any) -> tuple[Any, Any]:
         if self._terrain is None:
@@ -423,14 +451,12 @@ class Simulation:
         return self._evaluate(*inputs)[1]
 
     @staticmethod
-    def _check_time(time: Any) -> float:
-        try:
-            value = float(time)
-        except (TypeError, ValueError):
-            raise ValueError(f"time must be a finite number of seconds, got {time!r}") from None
-        if not math.isfinite(value):
-            raise ValueError(f"time must be a finite number of seconds, got {time!r}")
-        return value
+    def _check_time(time: Any, name: str = "time") -> float:
+        """A time [s] as a float: a real number (TypeError otherwise), finite (ValueError)."""
+        value = _arrays.as_float(time, _arrays.namespace(), name)
+        if value.ndim != 0:
+            raise ValueError(f"{name} must be one number of seconds, got shape {value.shape}")
+        return check_finite(name, value)
 
     # -- the step ------------------------------------------------------------------------------
 
@@ -487,10 +513,9 @@ class Simulation:
         True
         """
         t = self._check_time(time)
-        if not (isinstance(dt, (int, float, np.integer, np.floating)) and dt >= 0):
-            raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
-        if not math.isfinite(dt):
-            raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
+        dt = self._check_time(dt, "dt")
+        if dt < 0:
+            raise ValueError(f"dt must be >= 0 s, got {dt!r}")
         state = self._state
         if state.p is not None:
             if t < state.time:

@@ -166,7 +166,7 @@ def ttpf(cycles: Any, n50: Any) -> Any:
     array_like
         P in [0, 1]; NaN where ``cycles`` is NaN.
     """
-    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("n50", n50_, xp)
     return _arrays.result(_ttpf(n / n50_, xp))
@@ -187,7 +187,7 @@ def ttpf_inverse(probability: Any, n50: Any) -> Any:
     array_like
         N [cycles].
     """
-    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
     return _arrays.result(_ttpf_inverse(p, xp) * n50_)
@@ -229,7 +229,7 @@ class _Curve:
                 u = np.log(n)
             out = np.interp(u, np.log(ns), ps)
             return np.where(n < ns[0], ps[0] * n / ns[0], out)
-        u = xp.log(xp.where(n > 0, n, 1.0))
+        u = xp.log(xp.where(n > 0, xp.minimum(n, ns[-1]), 1.0))  # segments only: no inf · 0
         out = xp.where(n >= ns[-1], ps[-1], xp.zeros_like(n))
         out = xp.where(n < ns[0], ps[0] * n / ns[0], out)
         for k in range(len(ns) - 1):
@@ -327,7 +327,7 @@ def c2nveo(cycles: Any, n50: Any, task: str = "detection", bound: str = "nominal
     """
     _check_task("c2nveo", task, _C2NVEO_TASKS)
     _check_bound(bound)
-    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("n50", n50_, xp)
     scaled = n * (_c2nveo_reference_n50(task) / n50_)
@@ -343,7 +343,7 @@ def c2nveo_inverse(
     """
     _check_task("c2nveo", task, _C2NVEO_TASKS)
     _check_bound(bound)
-    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
     n = _c2nveo_curves()[task, bound].inverse(p, xp)
@@ -363,9 +363,7 @@ def clutter_region(scr: Any) -> Any:
     numpy.ndarray of str or str
         "low" (SCR > 10), "medium" (1 <= SCR <= 10) or "high" (SCR < 1); "" for NaN.
     """
-    import numpy as np
-
-    s = np.asarray(scr, dtype=np.float64)
+    s = np.asarray(_arrays.as_float(scr, _np(), "scr"))
     _arrays.require_nonnegative("scr", s, _np())
     region = np.select([s > 10, s >= 1, s < 1], ["low", "medium", "high"], default="")
     return region[()] if region.ndim == 0 else region
@@ -415,7 +413,7 @@ def clutter_n50(scr: Any) -> Any:
     array_like
         N50 [cycles] of the Schmieder–Weathersby detection curve with Johnson's scaling.
     """
-    xp, (s,) = _arrays.arrays(scr)
+    xp, (s,) = _arrays.arrays(scr, names=("scr",))
     _arrays.require_nonnegative("scr", s, xp)
     n50 = {name: xp.full_like(s, value) for name, value in _sw_region_n50().items()}
     base = _sw_select(n50, s, None, xp)
@@ -434,12 +432,12 @@ def _sw_options(
         raise ValueError("give either scr or region for schmieder-weathersby, not both")
     if scr is None and region is None and not hot_spot and not moving:
         raise ValueError(
-            "schmieder-weathersby needs the clutter: give scr (signal-to-clutter ratio), "
-            "region ('low', 'medium', 'high'), hot_spot=True or moving=True"
+            "schmieder-weathersby needs the clutter: a signal-to-clutter ratio (scr), "
+            "a clutter region (low, medium, high), a hot spot or a moving target"
         )
     if scr is None:
         return None
-    s = _arrays.as_float(scr, xp)
+    s = _arrays.as_float(scr, xp, "scr")
     _arrays.require_nonnegative("scr", s, xp)
     return s
 
@@ -452,7 +450,7 @@ def check_clutter(scr: Any, region: str | None, xp: Any) -> None:
     if scr is not None and region is not None:
         raise ValueError("give either scr or region for schmieder-weathersby, not both")
     if scr is not None:
-        _arrays.require_nonnegative("scr", _arrays.as_float(scr, xp), xp)
+        _arrays.require_nonnegative("scr", _arrays.as_float(scr, xp, "scr"), xp)
 
 
 def _sw_select(
@@ -513,7 +511,7 @@ def schmieder_weathersby(
     array_like
         P(detection) in [0, 1].
     """
-    xp, (n, n50_) = _arrays.arrays(cycles, n50)
+    xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("n50", n50_, xp)
     s = _sw_options(scr, region, hot_spot, moving, xp)
@@ -541,7 +539,7 @@ def schmieder_weathersby_inverse(
     :func:`schmieder_weathersby`): the smallest N with ``P(N) >= p``; +inf where the curve
     never reaches it (high clutter above 0.9); 0 for a moving target. With an SCR (curves
     blended in ``log SCR``) it is found by bisection in ``log N`` to 1e-12 relative."""
-    xp, (p, n50_) = _arrays.arrays(probability, n50)
+    xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
     s = _sw_options(scr, region, hot_spot, moving, xp)
@@ -552,7 +550,7 @@ def schmieder_weathersby_inverse(
         return _arrays.result(_sw_curves()["low"].inverse(p, xp) * scale)
     if s is None:
         return _arrays.result(_sw_curves()[region or "low"].inverse(p, xp) * scale)
-    p, s = p + 0.0 * s, s + 0.0 * p
+    p, s = xp.broadcast_arrays(p, s)
     stretch = _sw_stretch(s, xp)
     curves = _sw_curves()
     top = _sw_select(

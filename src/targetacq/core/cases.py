@@ -29,6 +29,8 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays, atmosphere, optics, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import (
@@ -58,7 +60,10 @@ class RangeCase:
 
     Array fields broadcast with each other and with the ranges they are evaluated at. The
     inputs are checked when the case is made (``ValueError`` naming the field and its valid
-    range); ``criterion`` is then always a :class:`targetacq.criteria.Criterion`.
+    range, ``TypeError`` for a value that is not real numbers); ``criterion`` is then always a
+    :class:`targetacq.criteria.Criterion`. Every quantity must be finite except ``scr``, whose
+    +inf means no clutter; an array field may hold NaN (a missing value), which gives NaN
+    probabilities at those elements only.
 
     Attributes
     ----------
@@ -146,19 +151,27 @@ class RangeCase:
     semantics: str = "nested"
 
     def __post_init__(self) -> None:
-        xp, (d, i) = _arrays.arrays(self.critical_dimension, self.ifov)
+        xp, (d, i) = _arrays.arrays(
+            self.critical_dimension, self.ifov, names=("critical_dimension", "ifov")
+        )
         _arrays.require_positive("critical_dimension", d, xp, "m")
         _arrays.require_positive("ifov", i, xp, "rad")
+        _arrays.require_finite("critical_dimension", d, xp, "m")
+        _arrays.require_finite("ifov", i, xp, "rad")
+        for flag in ("hot_spot", "moving"):
+            if not isinstance(getattr(self, flag), (bool, np.bool_)):
+                raise TypeError(f"{flag} must be True or False, got {getattr(self, flag)!r}")
         self._check_resolution()
         crit = get_criterion(self.criterion)
         object.__setattr__(self, "criterion", crit)
         object.__setattr__(self, "options", dict(self.options))
         if self.extinction is not None:
-            _arrays.require_nonnegative(
-                "extinction", _arrays.as_float(self.extinction, xp), xp, "Np/m"
-            )
+            gamma = _arrays.as_float(self.extinction, xp, "extinction")
+            _arrays.require_nonnegative("extinction", gamma, xp, "Np/m")
+            _arrays.require_finite("extinction", gamma, xp, "Np/m")
         if self.foliage is not None:
-            _arrays.require_unit_interval("foliage", _arrays.as_float(self.foliage, xp), xp)
+            tau = _arrays.as_float(self.foliage, xp, "foliage")
+            _arrays.require_unit_interval("foliage", tau, xp)
         _transforms.check_clutter(self.scr, self.region, xp)
         get_noise_model(self.noise_model)
         get_motion_rule(self.motion)
@@ -180,8 +193,9 @@ class RangeCase:
                 raise ValueError(
                     f"give the cycle or the optics limits ({', '.join(optics_given)}), not both"
                 )
-            xp, (cycle,) = _arrays.arrays(self.cycle)
+            xp, (cycle,) = _arrays.arrays(self.cycle, names=("cycle",))
             _arrays.require_positive("cycle", cycle, xp, "rad")
+            _arrays.require_finite("cycle", cycle, xp, "rad")
             return
         if (self.wavelength is None) != (self.aperture is None):
             raise ValueError(
@@ -191,9 +205,11 @@ class RangeCase:
             if getattr(self, name) is not None:
                 xp, (value,) = _arrays.arrays(getattr(self, name))
                 _arrays.require_positive(name, value, xp, "m")
+                _arrays.require_finite(name, value, xp, "m")
         if self.blur_sigma is not None:
-            xp, (sigma,) = _arrays.arrays(self.blur_sigma)
+            xp, (sigma,) = _arrays.arrays(self.blur_sigma, names=("blur_sigma",))
             _arrays.require_nonnegative("blur_sigma", sigma, xp, "rad")
+            _arrays.require_finite("blur_sigma", sigma, xp, "rad")
 
     def _check_sensor_noise(self) -> None:
         if self.noise_equivalent_contrast is not None and self.contrast is None:
@@ -216,15 +232,18 @@ class RangeCase:
                 "curve; give one of them"
             )
         if self.contrast is not None:
-            xp, (c,) = _arrays.arrays(self.contrast)
+            xp, (c,) = _arrays.arrays(self.contrast, names=("contrast",))
             _arrays.require_finite("contrast", c, xp)
         if self.noise_equivalent_contrast is not None:
-            xp, (nec,) = _arrays.arrays(self.noise_equivalent_contrast)
+            xp, (nec,) = _arrays.arrays(
+                self.noise_equivalent_contrast, names=("noise_equivalent_contrast",)
+            )
             _arrays.require_finite("noise_equivalent_contrast", nec, xp)
             _arrays.require_nonnegative("noise_equivalent_contrast", nec, xp)
         if self.target_area is not None:
-            xp, (a,) = _arrays.arrays(self.target_area)
+            xp, (a,) = _arrays.arrays(self.target_area, names=("target_area",))
             _arrays.require_positive("target_area", a, xp, "m²")
+            _arrays.require_finite("target_area", a, xp, "m²")
 
     def _check_transform(self, crit: Criterion) -> None:
         chosen = _transforms.get_transform(self.transform)

@@ -80,6 +80,7 @@ __all__ = [
 ]
 
 TASKS = ("detection", "recognition", "identification")
+_POSITIONS = ("sensor_positions", "target_positions")
 
 
 @pytree_record
@@ -217,7 +218,12 @@ def factors(
     Factors
     """
     sensors, targets, path = scene.sensors, scene.targets, scene.path
-    xp, (s_pos, t_pos) = _arrays.arrays(sensor_positions, target_positions)
+    xp, (s_pos, t_pos) = _arrays.arrays(
+        sensor_positions, target_positions, names=_POSITIONS, broadcast=False
+    )
+    # Infinite positions have no geometry (inf − inf); NaN ones give NaN probabilities.
+    for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
+        _arrays.require_finite(name, value, xp, "m")
     batch = s_pos.ndim - 2
     # Components (n_s, n_g, *batch), each contiguous in memory.
     x, y, z = (t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3))

@@ -43,6 +43,7 @@ import numpy as np
 
 from targetacq import _arrays
 from targetacq._arrays import Array
+from targetacq.units import read_input_text
 
 __all__ = [
     "DEFAULT_EYE_INTEGRATION_TIME",
@@ -200,8 +201,10 @@ class MrtdCurve:
         The file has a header line naming the columns ``frequency`` (bar spatial frequency in
         **cycles/mrad**) and ``mrtd`` (in **K**), then one row per bar target; other columns
         are ignored, lines starting with ``#`` are comments (kept as the provenance), blank
-        lines are skipped. Frequencies must be > 0 and strictly ascending, MRTDs > 0 and
-        non-decreasing, at least two rows.
+        lines are skipped. Frequencies must be finite, > 0 and strictly ascending, MRTDs finite,
+        > 0 and non-decreasing, at least two rows. The file is UTF-8 text (a byte-order mark,
+        as spreadsheets write, is allowed) of at most 10 MB
+        (:func:`targetacq.units.read_input_text`).
 
         Parameters
         ----------
@@ -217,9 +220,9 @@ class MrtdCurve:
         ------
         ValueError
             Naming the file and the line: a missing column, a cell that is not a number,
-            frequencies not ascending, a value <= 0, fewer than two rows.
-        OSError
-            If the file cannot be read.
+            frequencies not ascending, a value <= 0 or not finite, fewer than two rows; or
+            naming the file that cannot be read (missing, a folder or a device, too large, not
+            UTF-8).
 
         Examples
         --------
@@ -232,8 +235,7 @@ class MrtdCurve:
         >>> curve.frequency, curve.mrtd
         ((500.0, 1000.0, 1400.0), (0.05, 0.12, 0.4))
         """
-        text = Path(path).read_text(encoding="utf-8")
-        return _parse_csv(text, str(path))
+        return _parse_csv(read_input_text(path, "MRTD curve"), str(path))
 
     @classmethod
     def example(cls) -> MrtdCurve:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import math
-from pathlib import Path
 from typing import Annotated
 
 import typer
@@ -22,7 +21,9 @@ from targetacq.clutter import CHANNELS, as_boxes, gray, image_clutter
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.features import target_features
 from targetacq.images import read_image, save_clutter_overlay
-from targetacq.units import parse_quantity
+from targetacq.units import parse_quantity, read_input_text
+
+_BOX_COLUMNS = ("x", "y", "width", "height")
 
 
 def _parse_box(text: str) -> list[float]:
@@ -31,30 +32,56 @@ def _parse_box(text: str) -> list[float]:
         values = [float(p) for p in parts]
     except ValueError:
         values = []
-    if len(values) != 4:
-        raise ValueError(f"--box takes x,y,width,height in pixels, e.g. 40,60,12,8; got {text!r}")
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise ValueError(
+            f"--box takes x,y,width,height in whole pixels, e.g. 40,60,12,8; got {text!r}"
+        )
     return values
 
 
 def _read_boxes(path: str) -> list[list[float]]:
-    source = Path(path)
-    if not source.is_file():
-        raise ValueError(f"--boxes: no file {path!r}")
-    with source.open(newline="") as handle:
-        reader = csv.DictReader(row for row in handle if row.strip() and not row.startswith("#"))
-        columns = [c.strip().lower() for c in reader.fieldnames or []]
-        needed = ["x", "y", "width", "height"]
-        if not all(c in columns for c in needed):
-            raise ValueError(f"--boxes: {path!r} needs the columns x,y,width,height")
-        rows = []
-        for line, row in enumerate(reader, start=2):
-            clean = {k.strip().lower(): v for k, v in row.items() if k}
+    """The boxes of a CSV file with the columns x,y,width,height [pixels] (any order, other
+    columns ignored); ``#`` lines are comments. Errors name the file, the line and the column."""
+    try:
+        text = read_input_text(path, "box file")
+    except ValueError as error:
+        raise ValueError(f"--boxes: {error}") from None
+    header: list[str] | None = None
+    rows = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        cells = [cell.strip() for cell in next(csv.reader([line]))]
+        if header is None:
+            header = [cell.lower() for cell in cells]
+            missing = [c for c in _BOX_COLUMNS if c not in header]
+            if missing:
+                raise ValueError(
+                    f"--boxes {path}, line {number}: missing column {', '.join(missing)} "
+                    f"(the header needs x,y,width,height; it names {', '.join(cells)})"
+                )
+            continue
+        if len(cells) != len(header):
+            raise ValueError(
+                f"--boxes {path}, line {number}: {len(cells)} cells, but the header names "
+                f"{len(header)} columns"
+            )
+        values = []
+        for column in _BOX_COLUMNS:
+            cell = cells[header.index(column)]
             try:
-                rows.append([float(clean[c]) for c in needed])
-            except (TypeError, ValueError) as error:
-                raise ValueError(f"--boxes: {path!r} line {line}: not four numbers") from error
+                value = float(cell)
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise ValueError(
+                    f"--boxes {path}, line {number}, column {column!r}: {cell!r} is not a "
+                    "finite number of pixels"
+                )
+            values.append(value)
+        rows.append(values)
     if not rows:
-        raise ValueError(f"--boxes: {path!r} has no box")
+        raise ValueError(f"--boxes {path}: no box (a header x,y,width,height, then one per line)")
     return rows
 
 
@@ -96,7 +123,12 @@ def clutter_command(
     all_boxes = [_parse_box(b) for b in box or []] + (_read_boxes(boxes) if boxes else [])
     if not all_boxes:
         raise ValueError("give at least one target: --box x,y,width,height or --boxes file.csv")
-    pixels = gray(read_image(image_path), channel)
+    if channel is not None:
+        _choice(channel, CHANNELS, "--channel")
+    image = read_image(image_path)
+    if channel is not None and image.ndim == 2:
+        raise ValueError(f"--channel applies to a colour image; {image_path} is grayscale")
+    pixels = gray(image, channel)
     if cycles is not None and (image_range or range_):
         raise ValueError("give --cycles, or --image-range with --range, not both")
     if (image_range is None) != (range_ is None):
@@ -105,12 +137,20 @@ def clutter_command(
     if image_range is not None and range_ is not None:
         r0 = parse_quantity(image_range, "length", "--image-range")
         r1 = parse_quantity(range_, "length", "--range")
-        if not (r0 > 0 and r1 > 0):
-            raise ValueError("--image-range and --range must be > 0")
+        for option, text, value in (("--image-range", image_range, r0), ("--range", range_, r1)):
+            if not value > 0:
+                raise ValueError(f"{option} must be > 0; got {text!r}")
         scale = r0 / r1
-    if cycles is not None and not cycles >= 0:
-        raise ValueError(f"--cycles must be >= 0; got {cycles}")
+    if cycles is not None and not (math.isfinite(cycles) and cycles >= 0):
+        raise ValueError(f"--cycles must be a finite number >= 0; got {cycles:g}")
+    if not (math.isfinite(cell_factor) and cell_factor > 0):
+        raise ValueError(f"--cell-factor must be a finite number > 0; got {cell_factor:g}")
     crit = get_criterion(_choice(criterion, CRITERIA, "--criterion"))
+    if not crit.gives_probabilities:
+        raise ValueError(
+            f"--criterion {criterion} gives pixel-density thresholds, not the P(detection) of "
+            "this command; choose a criterion with cycles (e.g. johnson)"
+        )
     result = image_clutter(pixels, all_boxes, cell_factor)
     b = as_boxes(all_boxes, pixels.shape)
     rows = []

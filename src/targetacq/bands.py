@@ -40,7 +40,8 @@ def band_limits(band: Any) -> tuple[float, float]:
     Raises
     ------
     ValueError
-        Unknown name (the valid ones are listed), or not ``0 <= λ1 < λ2``.
+        Unknown name (the valid ones are listed), or not ``0 <= λ1 < λ2`` (λ2 may be +inf: the
+        whole spectrum).
     """
     if isinstance(band, str):
         if band not in BANDS:
@@ -73,12 +74,13 @@ def parse_band(text: str, name: str = "band") -> tuple[float, float]:
     if match is None:
         raise ValueError(f"{name} must be one of {', '.join(BANDS)} or like 8-12um; got {text!r}")
     low, high, unit = match.groups()
-    return band_limits(
-        (
-            parse_quantity(f"{low} {unit}", "length", name),
-            parse_quantity(f"{high} {unit}", "length", name),
-        )
+    limits = (
+        parse_quantity(f"{low} {unit}", "length", name),
+        parse_quantity(f"{high} {unit}", "length", name),
     )
+    if not 0 <= limits[0] < limits[1]:  # finite already
+        raise ValueError(f"{name} must satisfy 0 <= λ1 < λ2 (e.g. 8-12um); got {text!r}")
+    return band_limits(limits)
 
 
 def band_name(band: Any) -> str:

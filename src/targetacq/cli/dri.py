@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from typing import Annotated, Any
@@ -34,7 +33,9 @@ from targetacq.cli import (
 )
 from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
+from targetacq.limits import MAX_ELEMENTS, MAX_TEMPERATURE
 from targetacq.noise import NOISE_MODELS
+from targetacq.outputs import json_text
 from targetacq.scene import scene_signature
 from targetacq.tables import load_table
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
@@ -51,6 +52,58 @@ def _example_camera() -> dict[str, str]:
     }
 
 
+def _quantity(text: str, kind: str, option: str, *, zero_allowed: bool = False) -> float:
+    """The option's quantity in SI units: finite (:func:`parse_quantity`), > 0 (or >= 0)."""
+    value = parse_quantity(text, kind, option)
+    if not (value >= 0 if zero_allowed else value > 0):
+        raise ValueError(f"{option} must be {'>= 0' if zero_allowed else '> 0'}; got {text!r}")
+    return value
+
+
+def _temperature(text: str, option: str) -> float:
+    """A temperature option [K], in (0, MAX_TEMPERATURE]."""
+    value = parse_quantity(text, "temperature", option)
+    if not 0 < value <= MAX_TEMPERATURE:
+        raise ValueError(f"{option} must be in (0, {MAX_TEMPERATURE:g}] K; got {text!r}")
+    return value
+
+
+def _temperature_difference(text: str, option: str, *, signed: bool = False) -> float:
+    """A temperature difference option [K]: at most MAX_TEMPERATURE in size, >= 0 unless
+    ``signed`` (a target colder than its background has a negative ΔT)."""
+    value = parse_quantity(text, "temperature difference", option)
+    low = -MAX_TEMPERATURE if signed else 0.0
+    if not low <= value <= MAX_TEMPERATURE:
+        raise ValueError(f"{option} must be in [{low:g}, {MAX_TEMPERATURE:g}] K; got {text!r}")
+    return value
+
+
+def _half_turn_angle(text: str, option: str) -> float:
+    """An angle of view option [rad], in (0°, 180°): a lens sees less than a half-turn."""
+    value = parse_quantity(text, "angle", option)
+    if not 0 < value < math.pi:
+        raise ValueError(f"{option} must be in (0, 180) deg; got {text!r}")
+    return value
+
+
+def _number(value: float, option: str, valid: str) -> float:
+    """A plain number option, finite and ``valid``: "> 0", ">= 0", "in [0, 1]" or "finite"."""
+    ok = (
+        math.isfinite(value)
+        and {
+            "> 0": value > 0,
+            ">= 0": value >= 0,
+            "in [0, 1]": 0 <= value <= 1,
+            "finite": True,
+        }[valid]
+    )
+    if not ok:
+        # an interval excludes infinities by itself; an inequality needs saying finite
+        condition = valid if valid in ("finite", "in [0, 1]") else f"finite and {valid}"
+        raise ValueError(f"{option} must be {condition}; got {value:g}")
+    return value
+
+
 def _probabilities(text: str) -> list[float]:
     values = []
     for part in text.split(","):
@@ -58,7 +111,7 @@ def _probabilities(text: str) -> list[float]:
             p = float(part)
         except ValueError as error:
             raise ValueError(f"--probability: {part!r} is not a number in (0, 1)") from error
-        if not 0 < p < 1:
+        if not 0 < p < 1:  # NaN fails too
             raise ValueError(f"--probability must be in the open interval (0, 1); got {part}")
         values.append(p)
     return values
@@ -74,6 +127,13 @@ def _user_criterion(text: str) -> Criterion:
         raise ValueError(f"--n50 takes three numbers D,R,I (cycles); got {text!r}") from error
     if not all(math.isfinite(v) and v > 0 for v in values):
         raise ValueError(f"--n50 values must be finite and > 0 cycles; got {text!r}")
+    # A harder task needs more cycles (every published set, Johnson's first): equal or
+    # decreasing N50s are a slip, and would make recognition likelier than detection.
+    if not values[0] < values[1] < values[2]:
+        raise ValueError(
+            "--n50 must increase: detection < recognition < identification; got "
+            + ", ".join(f"{v:g}" for v in values)
+        )
     return get_criterion(
         dict(zip(("detection", "recognition", "identification"), values, strict=True))
     )
@@ -85,7 +145,7 @@ def _sensor_ifov(
     ifov: str | None,
     hfov: str | None,
     pixels: int | None,
-    projection: str,
+    projection: str | None,
 ) -> tuple[float, dict[str, Any]]:
     ways = [
         pitch is not None or focal_length is not None,
@@ -97,24 +157,33 @@ def _sensor_ifov(
             "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
             "--hfov and --pixels (or --example)"
         )
-    _choice(projection, optics.FIELD_OF_VIEW_PROJECTIONS, "--projection")
-    if not ways[2] and projection != "angular":
-        raise ValueError("--projection applies to --hfov and --pixels")
+    if projection is not None:
+        _choice(projection, optics.FIELD_OF_VIEW_PROJECTIONS, "--projection")
+        if not ways[2]:
+            raise ValueError("--projection applies to --hfov and --pixels")
     if ways[0]:
         if pitch is None or focal_length is None:
             raise ValueError("--pitch and --focal-length go together")
-        p = parse_quantity(pitch, "length", "--pitch")
-        f = parse_quantity(focal_length, "length", "--focal-length")
-        return float(optics.ifov(p, f)), {"pitch_m": p, "focal_length_m": f}
+        p = _quantity(pitch, "length", "--pitch")
+        f = _quantity(focal_length, "length", "--focal-length")
+        value = float(optics.ifov(p, f))
+        if not 0 < value < math.pi:  # 1e-300 m over 1e300 m underflows to 0
+            raise ValueError(
+                f"--pitch {pitch} over --focal-length {focal_length} gives an IFOV of "
+                f"{value:g} rad, outside (0, π)"
+            )
+        return value, {"pitch_m": p, "focal_length_m": f}
     if ways[1]:
         assert ifov is not None
-        value = parse_quantity(ifov, "angle", "--ifov")
-        if not value > 0:
-            raise ValueError(f"--ifov must be > 0; got {ifov!r}")
-        return value, {}
+        return _half_turn_angle(ifov, "--ifov"), {}
     if hfov is None or pixels is None:
         raise ValueError("--hfov and --pixels go together")
-    fov = parse_quantity(hfov, "angle", "--hfov")
+    fov = _half_turn_angle(hfov, "--hfov")
+    if not 1 <= pixels <= MAX_ELEMENTS:
+        digits = len(str(abs(pixels)))
+        shown = str(pixels) if digits <= 15 else f"a number of {digits} digits"
+        raise ValueError(f"--pixels must be a whole number in [1, {MAX_ELEMENTS:.4g}]; got {shown}")
+    projection = projection or "angular"
     value = float(optics.ifov_from_field_of_view(fov, pixels, projection))
     return value, {"hfov_rad": fov, "pixels": float(pixels), "projection": projection}
 
@@ -128,7 +197,7 @@ PIXEL_DENSITY_DEFINITIONS = {
 
 def _sensor_noise(
     netd: str | None,
-    netd_temperature: str,
+    netd_temperature: str | None,
     delta_t: str | None,
     nec: float | None,
     contrast: float | None,
@@ -144,25 +213,31 @@ def _sensor_noise(
         raise ValueError("--nec and --contrast go together (a TV camera's noise)")
     if nec is not None and (netd is not None or mrtd is not None):
         raise ValueError("--nec (a TV camera) and --netd or --mrtd (a thermal camera) exclude")
-    if nec is not None:
-        assert contrast is not None
-        if not (math.isfinite(nec) and nec >= 0):
-            raise ValueError(f"--nec must be finite and >= 0; got {nec}")
-        if not math.isfinite(contrast):
-            raise ValueError(f"--contrast must be finite; got {contrast}")
-        return {"contrast": contrast, "noise_equivalent_contrast": nec}
     if netd is None and mrtd is None:
-        if delta_t is not None:
-            raise ValueError("--delta-t is used with --netd or --mrtd")
-        return {}
-    reference = parse_quantity(netd_temperature, "temperature", "--netd-temperature")
-    if not (math.isfinite(reference) and reference > 0):
-        raise ValueError(f"--netd-temperature must be > 0 K; got {netd_temperature!r}")
+        for option, value in (("--delta-t", delta_t), ("--netd-temperature", netd_temperature)):
+            if value is not None:
+                raise ValueError(f"{option} is used with --netd or --mrtd (a thermal camera)")
+        if nec is None:
+            return {}
+        assert contrast is not None
+        return {
+            "contrast": _number(contrast, "--contrast", "finite"),
+            "noise_equivalent_contrast": _number(nec, "--nec", ">= 0"),
+        }
     if delta_t is not None:
-        dt = parse_quantity(delta_t, "temperature difference", "--delta-t")
-        if not math.isfinite(dt):
-            raise ValueError(f"--delta-t must be finite; got {delta_t!r}")
+        if "contrast_w_per_m2" in scene:
+            raise ValueError(
+                "give the target's contrast one way: --delta-t, or --target-temperature and "
+                "--background-temperature"
+            )
+        if netd_temperature is not None:
+            raise ValueError(
+                "--netd-temperature converts the temperatures' contrast into a ΔT; with "
+                "--delta-t it is not used"
+            )
+        dt = _temperature_difference(delta_t, "--delta-t", signed=True)
     elif "contrast_w_per_m2" in scene and band is not None:
+        reference = _temperature(netd_temperature or "300K", "--netd-temperature")
         # The blackbody ΔT at the reference temperature that gives the same exitance contrast.
         dt = scene["contrast_w_per_m2"] / float(band_exitance_derivative(reference, band))
     else:
@@ -172,17 +247,14 @@ def _sensor_noise(
         )
     out: dict[str, Any] = {"contrast": dt}
     if netd is not None:
-        value = parse_quantity(netd, "temperature difference", "--netd")
-        if not (math.isfinite(value) and value >= 0):
-            raise ValueError(f"--netd must be finite and >= 0 K; got {netd!r}")
-        out["noise_equivalent_contrast"] = value
+        out["noise_equivalent_contrast"] = _temperature_difference(netd, "--netd")
     if mrtd is not None:
         from targetacq.mrtd import MrtdCurve
 
         try:
             out["mrtd"] = MrtdCurve.from_csv(mrtd)
-        except OSError as error:
-            raise ValueError(f"--mrtd: cannot read {mrtd!r}: {error.strerror}") from None
+        except ValueError as error:
+            raise ValueError(f"--mrtd: {error}") from None
     return out
 
 
@@ -206,9 +278,9 @@ def _path(
         raise ValueError("--visibility-convention goes with --visibility")
     weather: dict[str, Any] = {}
     if extinction is not None:
-        weather["extinction"] = parse_quantity(extinction, "extinction", "--extinction")
-        if not weather["extinction"] >= 0:
-            raise ValueError(f"--extinction must be >= 0; got {extinction!r}")
+        weather["extinction"] = _quantity(
+            extinction, "extinction", "--extinction", zero_allowed=True
+        )
         source = f"--extinction {extinction}"
     elif obscurant is not None:
         if band is None:
@@ -231,7 +303,7 @@ def _path(
                 "or mor (5 %, 2.996/V)"
             )
         _choice(convention, VISIBILITY_CONVENTIONS, "--visibility-convention")
-        weather["visibility"] = parse_quantity(visibility, "length", "--visibility")
+        weather["visibility"] = _quantity(visibility, "length", "--visibility")
         weather["convention"] = convention
         source = f"visibility {visibility} ({convention})"
     else:
@@ -260,8 +332,8 @@ def _clutter(
     clutter_std: str | None,
     target_temperature: str | None,
     background_temperature: str | None,
-    emissivity: float,
-    background_emissivity: float,
+    emissivity: float | None,
+    background_emissivity: float | None,
     band: tuple[float, float] | None,
 ) -> dict[str, Any]:
     """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
@@ -270,10 +342,17 @@ def _clutter(
     temperatures = (target_temperature, background_temperature)
     if any(t is not None for t in temperatures) and None in temperatures:
         raise ValueError("--target-temperature and --background-temperature go together")
+    if target_temperature is None:
+        for option, value in (
+            ("--emissivity", emissivity),
+            ("--background-emissivity", background_emissivity),
+        ):
+            if value is not None:
+                raise ValueError(
+                    f"{option} is used with --target-temperature and --background-temperature"
+                )
     if scr is not None:
-        if not scr >= 0:
-            raise ValueError(f"--scr must be >= 0; got {scr}")
-        return {"scr": scr}
+        return {"scr": _number(scr, "--scr", ">= 0")}
     if region is not None:
         return {"region": _choice(region, CLUTTER_REGIONS, "--clutter")}
     if target_temperature is None or background_temperature is None:
@@ -284,25 +363,23 @@ def _clutter(
         return {}
     if band is None:
         raise ValueError("temperatures need --band to compute the band exitance")
-    t_t = parse_quantity(target_temperature, "temperature", "--target-temperature")
-    t_b = parse_quantity(background_temperature, "temperature", "--background-temperature")
-    for name, eps in (
-        ("--emissivity", emissivity),
-        ("--background-emissivity", background_emissivity),
-    ):
-        if not 0 <= eps <= 1:
-            raise ValueError(f"{name} must be in [0, 1]; got {eps}")
+    t_t = _temperature(target_temperature, "--target-temperature")
+    t_b = _temperature(background_temperature, "--background-temperature")
+    eps_t = 1.0 if emissivity is None else _number(emissivity, "--emissivity", "in [0, 1]")
+    eps_b = (
+        1.0
+        if background_emissivity is None
+        else _number(background_emissivity, "--background-emissivity", "in [0, 1]")
+    )
     sigma_t = None
     if clutter_std is not None:
-        sigma_t = parse_quantity(clutter_std, "temperature difference", "--clutter-std")
-        if not sigma_t >= 0:
-            raise ValueError(f"--clutter-std must be >= 0; got {clutter_std!r}")
+        sigma_t = _temperature_difference(clutter_std, "--clutter-std")
     seen = scene_signature(
         band,
         t_t,
         t_b,
-        target_emissivity=emissivity,
-        background_emissivity=background_emissivity,
+        target_emissivity=eps_t,
+        background_emissivity=eps_b,
         clutter_std=sigma_t,
     )
     info: dict[str, Any] = {
@@ -324,19 +401,19 @@ def dri(
     hfov: Annotated[str | None, typer.Option(help="Horizontal field of view, e.g. 12deg.")] = None,
     pixels: Annotated[int | None, typer.Option(help="Pixels across --hfov, e.g. 640.")] = None,
     projection: Annotated[
-        str,
+        str | None,
         typer.Option(
-            help="How --hfov over --pixels gives the IFOV: angular (HFOV / pixels, datasheets) "
-            "or rectilinear (2 tan(HFOV/2) / pixels)."
+            help="How --hfov over --pixels gives the IFOV: angular (HFOV / pixels, datasheets; "
+            "the default) or rectilinear (2 tan(HFOV/2) / pixels)."
         ),
-    ] = "angular",
+    ] = None,
     pixel_density: Annotated[
-        str,
+        str | None,
         typer.Option(
-            help="EN 62676-4 pixel density from --hfov: plane (scene width 2R tan(HFOV/2)) or "
-            "arc (R · HFOV)."
+            help="EN 62676-4 pixel density from --hfov: plane (scene width 2R tan(HFOV/2), the "
+            "default) or arc (R · HFOV)."
         ),
-    ] = "plane",
+    ] = None,
     aperture: Annotated[
         str | None, typer.Option(help="Lens aperture diameter for diffraction, e.g. 75mm.")
     ] = None,
@@ -359,7 +436,9 @@ def dri(
         str | None,
         typer.Option(help="User-defined N50 cycles for detection,recognition,identification."),
     ] = None,
-    transform: Annotated[str, typer.Option(help=f"Transform: {', '.join(TRANSFORMS)}.")] = "ttpf",
+    transform: Annotated[
+        str | None, typer.Option(help=f"Transform: {', '.join(TRANSFORMS)} (default ttpf).")
+    ] = None,
     bound: Annotated[
         str | None, typer.Option(help=f"c2nveo bound: {', '.join(C2NVEO_BOUNDS)}.")
     ] = None,
@@ -377,10 +456,12 @@ def dri(
     background_temperature: Annotated[
         str | None, typer.Option(help="Background temperature, e.g. 295K.")
     ] = None,
-    emissivity: Annotated[float, typer.Option(help="Target emissivity in [0, 1].")] = 1.0,
+    emissivity: Annotated[
+        float | None, typer.Option(help="Target emissivity in [0, 1] (default 1).")
+    ] = None,
     background_emissivity: Annotated[
-        float, typer.Option(help="Background emissivity in [0, 1].")
-    ] = 1.0,
+        float | None, typer.Option(help="Background emissivity in [0, 1] (default 1).")
+    ] = None,
     clutter_std: Annotated[
         str | None,
         typer.Option(help="Background temperature spread (clutter), e.g. 2K; gives the SCR."),
@@ -390,14 +471,19 @@ def dri(
     visibility: VisibilityOption = None,
     visibility_convention: ConventionOption = None,
     noise_model: Annotated[
-        str, typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)}.")
-    ] = "variance-sum",
+        str | None,
+        typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)} (default variance-sum)."),
+    ] = None,
     netd: Annotated[
         str | None, typer.Option(help="Thermal camera's NETD, e.g. 50mK (needs --delta-t).")
     ] = None,
     netd_temperature: Annotated[
-        str, typer.Option(help="Temperature at which the NETD is quoted.")
-    ] = "300K",
+        str | None,
+        typer.Option(
+            help="Temperature at which the NETD is quoted, to turn the target and background "
+            "temperatures into a ΔT (default 300K)."
+        ),
+    ] = None,
     delta_t: Annotated[
         str | None, typer.Option(help="Target-background temperature difference, e.g. 2K.")
     ] = None,
@@ -416,11 +502,17 @@ def dri(
         typer.Option(help="MRTD curve CSV (frequency [cycles/mrad], mrtd [K]); needs --delta-t."),
     ] = None,
     semantics: Annotated[
-        str, typer.Option(help=f"Acquisition semantics: {', '.join(ACQUISITION_SEMANTICS)}.")
-    ] = "nested",
+        str | None,
+        typer.Option(
+            help=f"Acquisition semantics: {', '.join(ACQUISITION_SEMANTICS)} (default nested)."
+        ),
+    ] = None,
     probability: Annotated[
-        str, typer.Option(help="Probability, or several separated by commas, e.g. 0.5,0.8.")
-    ] = "0.5",
+        str | None,
+        typer.Option(
+            help="Probability, or several separated by commas, e.g. 0.5,0.8 (default 0.5)."
+        ),
+    ] = None,
     output_format: FormatOption = "table",
     example: Annotated[
         bool, typer.Option("--example", help="Use the bundled example camera and target.")
@@ -430,7 +522,7 @@ def dri(
     _choice(output_format, FORMATS, "--format")
     params = dict(locals())
     params.pop("output_format")
-    setup = _setup(**params)
+    setup = _setup(**params, default_probability="0.5")
     typer.echo(_render(_dri_report(setup), output_format), nl=False)
 
 
@@ -466,8 +558,8 @@ def _setup(
     ifov: str | None,
     hfov: str | None,
     pixels: int | None,
-    projection: str,
-    pixel_density: str,
+    projection: str | None,
+    pixel_density: str | None,
     aperture: str | None,
     f_number: float | None,
     wavelength: str | None,
@@ -475,33 +567,39 @@ def _setup(
     critical_dimension: str | None,
     criterion: str,
     n50: str | None,
-    transform: str,
+    transform: str | None,
     bound: str | None,
     scr: float | None,
     clutter: str | None,
     band: str | None,
     target_temperature: str | None,
     background_temperature: str | None,
-    emissivity: float,
-    background_emissivity: float,
+    emissivity: float | None,
+    background_emissivity: float | None,
     clutter_std: str | None,
     extinction: str | None,
     obscurant: str | None,
     visibility: str | None,
     visibility_convention: str | None,
-    noise_model: str,
+    noise_model: str | None,
     netd: str | None,
-    netd_temperature: str,
+    netd_temperature: str | None,
     delta_t: str | None,
     nec: float | None,
     contrast: float | None,
     target_area: str | None,
     mrtd: str | None,
-    semantics: str,
-    probability: str,
+    semantics: str | None,
+    probability: str | None,
     example: bool,
+    *,
+    default_probability: str,
 ) -> _Setup:
-    _choice(transform, TRANSFORMS, "--transform")
+    """The range case and its description from the options of `dri` (also `plot curves` and
+    `report`, whose ``default_probability`` differs); every option checked finite and in its
+    domain, and every option that would be ignored refused, naming it."""
+    if transform is not None:
+        _choice(transform, TRANSFORMS, "--transform")
     if example:
         camera = _example_camera()
         if ifov is None and hfov is None and pixels is None:
@@ -513,9 +611,7 @@ def _setup(
         critical_dimension = critical_dimension or camera["critical_dimension"]
     if critical_dimension is None:
         raise ValueError("--critical-dimension is required (e.g. 2.3m), or use --example")
-    d = parse_quantity(critical_dimension, "length", "--critical-dimension")
-    if not d > 0:
-        raise ValueError(f"--critical-dimension must be > 0; got {critical_dimension!r}")
+    d = _quantity(critical_dimension, "length", "--critical-dimension")
     ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
     optics_kw: dict[str, Any] = {}
     if f_number is not None:
@@ -523,9 +619,7 @@ def _setup(
             raise ValueError("give --aperture or --f-number, not both")
         if "focal_length_m" not in sensor:
             raise ValueError("--f-number needs --focal-length (aperture = focal length / F#)")
-        if not (math.isfinite(f_number) and f_number > 0):
-            raise ValueError(f"--f-number must be finite and > 0; got {f_number}")
-        sensor["f_number"] = f_number
+        sensor["f_number"] = _number(f_number, "--f-number", "> 0")
         if wavelength is None:
             raise ValueError("--f-number gives the aperture for diffraction: give --wavelength")
     if (aperture is None and f_number is None) != (wavelength is None):
@@ -534,11 +628,13 @@ def _setup(
         optics_kw["aperture"] = (
             sensor["focal_length_m"] / f_number
             if f_number is not None
-            else parse_quantity(str(aperture), "length", "--aperture")
+            else _quantity(str(aperture), "length", "--aperture")
         )
-        optics_kw["wavelength"] = parse_quantity(wavelength, "length", "--wavelength")
+        optics_kw["wavelength"] = _quantity(wavelength, "length", "--wavelength")
     if blur is not None:
         optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
+        if not 0 <= optics_kw["blur_sigma"] < math.pi:
+            raise ValueError(f"--blur must be in [0, 180) deg; got {blur!r}")
     if n50 is not None and criterion != "johnson":
         raise ValueError("give either --criterion or --n50, not both")
     crit = (
@@ -546,6 +642,20 @@ def _setup(
         if n50 is not None
         else get_criterion(_choice(criterion, CRITERIA, "--criterion"))
     )
+    if not crit.gives_probabilities:
+        # A pixel-density criterion gives thresholds, one range each: no probability, no
+        # transform, no semantics, and pixel density counted its own way (--pixel-density).
+        for option, value in (
+            ("--probability", probability),
+            ("--transform", transform),
+            ("--semantics", semantics),
+            ("--projection", projection),
+        ):
+            if value is not None:
+                raise ValueError(
+                    f"--criterion {crit.name} gives pixel-density thresholds; {option} does "
+                    "not apply"
+                )
     options: dict[str, Any] = {}
     if bound is not None:
         options["bound"] = _choice(bound, C2NVEO_BOUNDS, "--bound")
@@ -561,18 +671,22 @@ def _setup(
         background_emissivity,
         band_limits_m,
     )
-    _choice(noise_model, NOISE_MODELS, "--noise-model")
-    _choice(semantics, ACQUISITION_SEMANTICS, "--semantics")
-    _choice(pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
+    if noise_model is not None:
+        _choice(noise_model, NOISE_MODELS, "--noise-model")
+    if semantics is not None:
+        _choice(semantics, ACQUISITION_SEMANTICS, "--semantics")
+    if pixel_density is not None:
+        _choice(pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
     if not crit.gives_probabilities and "hfov_rad" in sensor:
         # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
+        density = pixel_density or "plane"
         ifov_rad = float(
             optics.ifov_from_field_of_view(
-                sensor["hfov_rad"], pixels, PIXEL_DENSITY_DEFINITIONS[pixel_density]
+                sensor["hfov_rad"], pixels, PIXEL_DENSITY_DEFINITIONS[density]
             )
         )
-        sensor["pixel_density"] = pixel_density
-    elif pixel_density != "plane":
+        sensor["pixel_density"] = density
+    elif pixel_density is not None:
         raise ValueError("--pixel-density applies to a pixel-density criterion with --hfov")
     noise_kw = _sensor_noise(
         netd, netd_temperature, delta_t, nec, contrast, mrtd, scene, band_limits_m
@@ -580,27 +694,32 @@ def _setup(
     if target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
-        noise_kw["target_area"] = parse_quantity(target_area, "area", "--target-area")
+        noise_kw["target_area"] = _quantity(target_area, "area", "--target-area")
     case = RangeCase(
         d,
         ifov_rad,
         **optics_kw,
         **noise_kw,
-        semantics=semantics,
+        semantics=semantics or "nested",
         criterion=crit,
-        transform=transform,
+        transform=transform or "ttpf",
         options=options,
         extinction=path.get("extinction_np_per_m"),
         scr=scene.get("scr"),
         region=scene.get("region"),
-        noise_model=noise_model,
+        noise_model=noise_model or "variance-sum",
     )
+    if noise_model is not None and not case.noisy:
+        raise ValueError(
+            "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
+            "--visibility, --netd or --nec"
+        )
     return _Setup(
         case=case,
         sensor=sensor,
         path=path,
         scene=scene,
-        probabilities=_probabilities(probability),
+        probabilities=_probabilities(default_probability if probability is None else probability),
     )
 
 
@@ -616,7 +735,8 @@ def _dri_report(setup: _Setup) -> dict[str, Any]:
                     "probability": p if crit.gives_probabilities else None,
                     "threshold": crit.threshold(task),
                     "threshold_unit": "cycles" if crit.gives_probabilities else "pixels/m",
-                    "range_m": value if math.isfinite(value) else None,
+                    # NaN: never reached (null in JSON); +inf: reached at any range ("inf")
+                    "range_m": None if math.isnan(value) else value,
                     "reached": not math.isnan(value),
                 }
             )
@@ -677,9 +797,9 @@ def atmosphere_command(
 ) -> None:
     """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path."""
     _choice(output_format, FORMATS, "--format")
-    lengths = [parse_quantity(part, "length", "--range") for part in range_.split(",")]
-    if not all(r >= 0 for r in lengths):
-        raise ValueError(f"--range must be >= 0; got {range_!r}")
+    lengths = [
+        _quantity(part, "length", "--range", zero_allowed=True) for part in range_.split(",")
+    ]
     path = _path(
         extinction, obscurant, visibility, visibility_convention, _band(band) if band else None
     )
@@ -694,7 +814,7 @@ def atmosphere_command(
             {
                 "range_m": r,
                 "transmittance": tau,
-                "snr_db": snr if math.isfinite(snr) else None,
+                "snr_db": snr,
                 "snr": "+inf"
                 if snr == math.inf
                 else ("-inf" if snr == -math.inf else f"{snr:.4g}"),
@@ -702,7 +822,7 @@ def atmosphere_command(
         )
     report = {"path": path, "rows": rows}
     if output_format == "json":
-        typer.echo(json.dumps(report, indent=2))
+        typer.echo(json_text(report))
         return
     if output_format == "csv":
         typer.echo(_csv(rows, ["range_m", "transmittance", "snr_db"]), nl=False)
@@ -723,7 +843,7 @@ def atmosphere_command(
 def _render(report: dict[str, Any], output_format: str) -> str:
     rows = report["ranges"]
     if output_format == "json":
-        return json.dumps(report, indent=2) + "\n"
+        return json_text(report) + "\n"
     if output_format == "csv":
         return _csv(rows)
     sensor = report["sensor"]
@@ -763,7 +883,7 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
         if not row["reached"]:
             r = "not reached"
-        elif row["range_m"] is None:
+        elif math.isinf(row["range_m"]):
             r = "any"
         else:
             r = f"{row['range_m']:,.0f}"

@@ -18,7 +18,7 @@ from targetacq.cli import (
     _choice,
     app,
 )
-from targetacq.cli.dri import _band, _Setup, _setup, _user_criterion
+from targetacq.cli.dri import _band, _quantity, _Setup, _setup, _user_criterion
 from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
@@ -35,9 +35,11 @@ from targetacq.plots import (
 from targetacq.report import render_report, write_report
 from targetacq.scenario import load_scenario
 from targetacq.transforms import TRANSFORMS
-from targetacq.units import parse_quantity
 
 _PASS_THROUGH = {"allow_extra_args": True, "ignore_unknown_options": True}
+
+_REPORT_PROBABILITIES = "0.5,0.8,0.95"
+"""The probabilities of a figure's or a report's DRI points unless --probability is given."""
 
 
 def _dri_params(args: list[str]) -> tuple[dict[str, Any], set[str]]:
@@ -74,9 +76,7 @@ def _performance(
     """Range performance of the cases on 400 ranges out to --max-range, or by default 1.3 times
     the longest range at which any case's task reaches the smallest probability."""
     if max_range is not None:
-        r_max = parse_quantity(max_range, "length", "--max-range")
-        if not r_max > 0:
-            raise ValueError(f"--max-range must be > 0; got {max_range!r}")
+        r_max = _quantity(max_range, "length", "--max-range")
     else:
         reach = [
             float(r)
@@ -98,8 +98,9 @@ def plot(
         str | None, typer.Option(help="Largest range on the axis, e.g. 8km (default: automatic).")
     ] = None,
     level: Annotated[
-        str, typer.Option(help="atmosphere: Table 7.1 level, low|nominal|high.")
-    ] = "nominal",
+        str | None,
+        typer.Option(help="atmosphere: Table 7.1 level, low|nominal|high (default nominal)."),
+    ] = None,
     title: Annotated[str | None, typer.Option(help="Figure title.")] = None,
 ) -> None:
     """Draw a figure. `curves` takes every sensor, target and path option of `targetacq dri`
@@ -116,10 +117,19 @@ def plot(
     if allowed is not None and given - allowed:
         unused = ", ".join("--" + name.replace("_", "-") for name in sorted(given - allowed))
         raise ValueError(f"plot {kind} does not use {unused}")
+    if "output_format" in given:
+        raise ValueError("plot does not use --format: the figure's format is --out's suffix")
+    if level is not None and kind != "atmosphere":
+        raise ValueError(f"plot {kind} does not use --level (plot atmosphere does)")
+    if max_range is not None and kind == "transforms":
+        raise ValueError("plot transforms does not use --max-range (its axis is cycles)")
     if kind == "curves":
-        if "probability" not in given:
-            params["probability"] = "0.5,0.8,0.95"
-        setup = _setup(**{k: v for k, v in params.items() if k != "output_format"})
+        params.pop("output_format")
+        setup = _setup(**params, default_probability=_REPORT_PROBABILITIES)
+        if not setup.criterion.gives_probabilities:
+            raise ValueError(
+                f"plot curves needs a criterion with probabilities (not {setup.criterion.name})"
+            )
         performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
         fig = plot_range_performance(performance, title=title or _title(setup))
     elif kind == "transforms":
@@ -130,8 +140,8 @@ def plot(
         )
         fig = plot_transforms(crit, title=title)
     else:
-        r_max = 10e3 if max_range is None else parse_quantity(max_range, "length", "--max-range")
-        _choice(level, EXTINCTION_LEVELS, "--level")
+        r_max = 10e3 if max_range is None else _quantity(max_range, "length", "--max-range")
+        level = _choice(level or "nominal", EXTINCTION_LEVELS, "--level")
         band_value = _band(params["band"]) if params["band"] else BANDS["lwir"]
         fig = plot_atmosphere(band_value, r_max, level, title=title)
     written = save_figure(fig, out)
@@ -162,10 +172,10 @@ def report(
         typer.echo(f"wrote {write_report(out, page)}")
         return
     params, given = _dri_params(args)
-    if "probability" not in given:
-        params["probability"] = "0.5,0.8,0.95"
+    if "output_format" in given:
+        raise ValueError("report does not use --format: it writes HTML")
     params.pop("output_format")
-    setup = _setup(**params)
+    setup = _setup(**params, default_probability=_REPORT_PROBABILITIES)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
     performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)

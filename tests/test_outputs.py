@@ -8,7 +8,6 @@ together so that the suite stays fast; failures that need no real process run in
 import errno
 import json
 import os
-import resource
 import signal
 import stat
 import subprocess
@@ -62,20 +61,23 @@ def strict_json(text):
     return json.loads(text, parse_constant=refuse)
 
 
+# Sets a file-size limit, then becomes the command: a preexec_fn would fork a process that has
+# imported JAX (multithreaded), which warns, and the warning is an error under pytest -W error.
+LIMIT_FILE_SIZE_THEN_RUN = (
+    "import os, resource, sys; limit = int(sys.argv[1]); "
+    "resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)); "
+    "os.execv(sys.executable, [sys.executable, *sys.argv[2:]])"
+)
+
+
 def start(args, folder, *, file_size_limit=None, stdout=subprocess.PIPE):
-    """Start ``python -m targetacq ARGS`` in ``folder``."""
-
-    def limit_file_size():
-        resource.setrlimit(resource.RLIMIT_FSIZE, (file_size_limit, file_size_limit))
-
-    return subprocess.Popen(
-        [*COMMAND, *args],
-        cwd=folder,
-        stdout=stdout,
-        stderr=subprocess.PIPE,
-        text=True,
-        preexec_fn=limit_file_size if file_size_limit else None,
-    )
+    """Start ``python -m targetacq ARGS`` in ``folder``, under a file-size limit [bytes] if
+    given."""
+    command = [*COMMAND, *args]
+    if file_size_limit is not None:
+        command = [sys.executable, "-c", LIMIT_FILE_SIZE_THEN_RUN, str(file_size_limit)]
+        command += [*COMMAND[1:], *args]
+    return subprocess.Popen(command, cwd=folder, stdout=stdout, stderr=subprocess.PIPE, text=True)
 
 
 def finish(process):

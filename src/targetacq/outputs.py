@@ -123,7 +123,8 @@ def write_atomically(out: Path, write: Callable[[Path], object]) -> Path:
     temporary = temporary.with_name(temporary.name + _short_suffix(target))
     try:
         # 0o666 and the kernel applies the umask, as for any new file (mkstemp would give 0600).
-        os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_CLOEXEC, 0o666))
+        flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+        os.close(os.open(temporary, flags, 0o666))
         write(temporary)
         existing_mode = _permission_bits(target)
         if existing_mode is not None:
@@ -268,6 +269,8 @@ def _remove_stale_temporaries(target: Path) -> None:
 
 
 def _running(pid: int) -> bool:
+    if os.name != "posix":
+        return True  # os.kill(pid, 0) would end the process on Windows: never clean up there
     try:
         os.kill(pid, 0)
     except ProcessLookupError:

@@ -272,13 +272,15 @@ def _terminate(signum: int, frame: Any) -> None:
 def _signals_handled() -> Iterator[None]:
     """SIGTERM unwinds with SystemExit; SIGXFSZ is ignored so a write over the file-size limit
     fails with EFBIG. The previous handlers come back afterwards (``main`` may run in-process)."""
+    wanted: dict[signal.Signals, Any] = {signal.SIGTERM: _terminate}
+    if hasattr(signal, "SIGXFSZ"):  # POSIX only
+        wanted[signal.SIGXFSZ] = signal.SIG_IGN
+    previous: dict[signal.Signals, Any] = {}
     try:
-        previous = {
-            signal.SIGTERM: signal.signal(signal.SIGTERM, _terminate),
-            signal.SIGXFSZ: signal.signal(signal.SIGXFSZ, signal.SIG_IGN),
-        }
+        for number, handler in wanted.items():
+            previous[number] = signal.signal(number, handler)
     except ValueError:  # not the main thread: signals stay as they are
-        previous = {}
+        pass
     try:
         yield
     finally:

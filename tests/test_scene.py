@@ -176,8 +176,10 @@ def test_bad_scene_input(kwargs, match):
 
 
 def test_negative_temperature_is_an_error():
-    with pytest.raises(ValueError, match="temperature must be >= 0"):
+    with pytest.raises(ValueError, match=r"target_temperature must be in \[0, 10000\] K"):
         ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", -3.0, 290.0)
+    with pytest.raises(ValueError, match="background_temperature"):  # overflow, not a bad SCR
+        ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", 300.0, 1e300, clutter_std=2.0)
     assert math.isfinite(ta.scene_acquisition(1000.0, 2.3, 2e-4, "lwir", 0.0, 290.0).contrast)
 
 

@@ -36,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import core
+from targetacq import _arrays, core
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluate import footprint_scr
 from targetacq.outputs import json_records, output_path, write_atomically
@@ -186,6 +186,11 @@ class ModelChain:
     def __init__(
         self, scenario: Scenario, steps: Mapping[str, Callable[..., Any]] | None = None
     ) -> None:
+        if not isinstance(scenario, Scenario):
+            raise TypeError(
+                f"scenario must be a Scenario (read a file with targetacq.load_scenario); got "
+                f"{type(scenario).__name__}"
+            )
         self.scenario = scenario
         self.steps = dict(STEPS)
         for name, step in (steps or {}).items():
@@ -199,9 +204,26 @@ class ModelChain:
         self.contrast = scene.signature.contrast
         self.scr = scene.signature.scr
 
+    def _times(self, times: Any) -> np.ndarray:
+        """The evaluation times [s]: the scenario's grid, or the caller's as a 1-d float array.
+
+        Real numbers only (text, complex numbers and dates are refused by name); a NaN time
+        gives NaN results at that time, an infinite one is an error.
+        """
+        if times is None:
+            return np.asarray(self.scenario.time.times())
+        _, (t,) = _arrays.arrays(
+            np.asarray(times) if isinstance(times, list) else times, names=("times",)
+        )
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        if t.ndim != 1:
+            raise ValueError(f"times must be a 1-d array of seconds; got shape {t.shape}")
+        _arrays.require_finite("times", t, np, "s")
+        return t
+
     def compute(self, times: Any, targets: slice | None = None) -> dict[str, np.ndarray]:
         """All variables for every sensor, the chosen targets and the times, as arrays."""
-        t = np.atleast_1d(np.asarray(times, dtype=float))
+        t = self._times(times)
         chosen = slice(None) if targets is None else targets
         scene = self.compiled.scene
         if targets is not None:
@@ -316,7 +338,7 @@ class ModelChain:
 
     def evaluate(self, times: Any = None) -> Results:
         """Evaluate every sensor × target × time (default: the scenario's time grid)."""
-        t = self.scenario.time.times() if times is None else np.atleast_1d(np.asarray(times, float))
+        t = self._times(times)
         whole = slice(None)
         return Results(self._dataset(self.compute(t, whole), t, whole))
 
@@ -332,7 +354,7 @@ class ModelChain:
         """
         if targets_per_chunk < 1 or times_per_chunk < 1:
             raise ValueError("chunk sizes must be >= 1")
-        t = self.scenario.time.times() if times is None else np.atleast_1d(np.asarray(times, float))
+        t = self._times(times)
         for start in range(0, len(self.target_names), targets_per_chunk):
             chosen = slice(start, min(start + targets_per_chunk, len(self.target_names)))
             for first in range(0, t.size, times_per_chunk):

@@ -23,6 +23,9 @@ from typing import Any
 from targetacq import _arrays, clutter, radiometry
 from targetacq.acquisition import Acquisition
 from targetacq.core.cases import RangeCase, case_acquisition
+from targetacq.limits import MAX_TEMPERATURE
+from targetacq.registry import unknown_name
+from targetacq.transforms import CLUTTER_REGIONS
 
 _TASKS = ("detection", "recognition", "identification")
 
@@ -138,9 +141,14 @@ def scene_signature(
 
 
 def _emitted(name: str, emissivity: Any, temperature: Any, band: Any) -> Any:
-    xp, (eps,) = _arrays.arrays(emissivity)
+    xp, (eps, kelvin) = _arrays.arrays(
+        emissivity, temperature, names=(f"{name}_emissivity", f"{name}_temperature")
+    )
     _arrays.require_unit_interval(f"{name}_emissivity", eps, xp)
-    return radiometry.grey_body_exitance(eps, temperature, band)
+    # The scene's domain (limits.MAX_TEMPERATURE): far above it Planck's law overflows and a
+    # later check would blame a derived quantity (the SCR) the user never gave.
+    _arrays.require_in_range(f"{name}_temperature", kelvin, xp, 0.0, MAX_TEMPERATURE, "K")
+    return radiometry.grey_body_exitance(eps, kelvin, band)
 
 
 @dataclass(frozen=True)
@@ -267,6 +275,8 @@ def scene_acquisition(
     >>> round(float(res.cycles), 12), bool(res.scr > 1), float(res.transmittance)
     (5.0, True, 1.0)
     """
+    if clutter_region is not None and clutter_region not in CLUTTER_REGIONS:
+        raise unknown_name(str(clutter_region), CLUTTER_REGIONS, "clutter_region")
     given = [v is not None for v in (clutter_std, clutter_exitance_std, scr, clutter_region)]
     if sum(given) > 1:
         raise ValueError(

@@ -526,3 +526,36 @@ def test_main_restores_the_signal_handlers(capsys):
     code, _, _ = run(capsys, "validate", EXAMPLE)
     assert code == 0
     assert (signal.getsignal(signal.SIGTERM), signal.getsignal(signal.SIGXFSZ)) == before
+
+
+# --- start-up: the click command built once, heavy libraries imported by the commands -------
+
+
+def test_the_click_command_is_built_once_and_keeps_no_state_between_calls(capsys):
+    from targetacq.cli import _click_command
+
+    assert _click_command() is _click_command()
+    code, out, _ = run(capsys, "dri", "--example", "--format", "json")
+    assert code == 0 and json.loads(out)
+    code, out, _ = run(capsys, "dri", "--example")
+    assert code == 0 and not out.startswith("{") and "task" in out
+    code, _, err = run(capsys, "dri", "--example", "--no-such-option")
+    assert code == 2 and err.startswith("targetacq: error:") and err.count("\n") == 1
+    code, out, _ = run(capsys, "dri", "--example", "--format", "csv")
+    assert code == 0 and not out.startswith("{")
+
+
+def test_the_cli_starts_without_matplotlib_pandas_or_the_validation_page():
+    heavy = ("matplotlib", "pandas", "targetacq.plots", "targetacq.report", "targetacq.validation")
+    code = f"import sys, targetacq.cli; print([m for m in {heavy!r} if m in sys.modules])"
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    assert out.strip() == "[]"
+
+
+def test_the_plot_kinds_of_the_help_text_are_those_of_the_plots_module():
+    from targetacq.cli.figures import PLOT_KIND_NAMES
+    from targetacq.plots import PLOT_KINDS
+
+    assert tuple(PLOT_KINDS) == PLOT_KIND_NAMES

@@ -219,7 +219,7 @@ def test_bad_output_paths_exit_2_with_one_line(capsys, tmp_path):
 
 
 def test_a_write_error_exits_2_with_one_line(capsys, tmp_path, monkeypatch):
-    import targetacq.cli.validation as command
+    import targetacq.validation as command  # the CLI command imports it when it runs
 
     def refuse(path, page):
         raise PermissionError(13, "Permission denied")

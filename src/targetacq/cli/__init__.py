@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import csv
 import errno
+import functools
 import io
 import os
 import signal
@@ -40,6 +41,7 @@ from contextlib import contextmanager
 from typing import Annotated, Any
 
 import typer
+import typer.main
 
 from targetacq.atmosphere import OBSCURANTS, VISIBILITY_CONVENTIONS
 from targetacq.bands import BANDS
@@ -142,6 +144,14 @@ EXIT_CLOSED_PIPE = 1
 EXIT_SIGTERM = 128 + signal.SIGTERM
 
 
+@functools.cache
+def _click_command() -> Any:
+    """The click command of :data:`app`, built once (typer rebuilds it on every call of
+    ``app(...)``, about 0.1 s). Every command module registers on ``app`` when this package is
+    imported, before the first call; a call's state lives in its own click context."""
+    return typer.main.get_command(app)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Entry point: run the app; every failure the user can fix → one line on stderr, exit
     status 2 (see the module docstring)."""
@@ -165,7 +175,7 @@ def main(argv: list[str] | None = None) -> None:
 def _run(argv: list[str] | None) -> int:
     """Run the app; the exit status, after printing a failure's one line."""
     try:
-        code = app(args=argv, prog_name="targetacq", standalone_mode=False)
+        code = _click_command().main(args=argv, prog_name="targetacq", standalone_mode=False)
     except typer.Abort:
         sys.stderr.write("targetacq: aborted\n")
         return 1

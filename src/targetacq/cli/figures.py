@@ -7,7 +7,6 @@ from collections.abc import Mapping
 from typing import Annotated, Any
 
 import typer
-import typer.main
 
 from targetacq import __version__, ranges
 from targetacq.atmosphere import (
@@ -16,6 +15,7 @@ from targetacq.atmosphere import (
 from targetacq.bands import BANDS
 from targetacq.cli import (
     _choice,
+    _click_command,
     app,
 )
 from targetacq.cli.dri import _band, _quantity, _Setup, _setup, _user_criterion
@@ -24,17 +24,15 @@ from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import output_path
-from targetacq.plots import (
-    FIGURE_FORMATS,
-    PLOT_KINDS,
-    plot_atmosphere,
-    plot_range_performance,
-    plot_transforms,
-    save_figure,
-)
-from targetacq.report import render_report, write_report
 from targetacq.scenario import load_scenario
 from targetacq.transforms import TRANSFORMS
+
+# targetacq.plots and targetacq.report (matplotlib, about 0.3 s) are imported by the commands
+# that draw, not when the CLI starts.
+
+PLOT_KIND_NAMES = ("curves", "transforms", "atmosphere")
+"""The names of :data:`targetacq.plots.PLOT_KINDS`, known without importing matplotlib (for the
+help text; a test keeps the two equal)."""
 
 _PASS_THROUGH = {"allow_extra_args": True, "ignore_unknown_options": True}
 
@@ -47,8 +45,7 @@ def _dri_params(args: list[str]) -> tuple[dict[str, Any], set[str]]:
 
     Returns the parameters and the names of those given on the command line.
     """
-    group = typer.main.get_command(app)
-    command = group.commands["dri"]  # type: ignore[attr-defined]
+    command = _click_command().commands["dri"]
     context = command.make_context("dri", list(args))
     defaults = {p.name: p.default for p in command.params}
     given = {name for name, value in context.params.items() if value != defaults.get(name)}
@@ -92,7 +89,7 @@ def _performance(
 @app.command(context_settings=_PASS_THROUGH)
 def plot(
     context: typer.Context,
-    kind: Annotated[str, typer.Argument(help=f"Figure: {', '.join(PLOT_KINDS)}.")],
+    kind: Annotated[str, typer.Argument(help=f"Figure: {', '.join(PLOT_KIND_NAMES)}.")],
     out: Annotated[str, typer.Option(help="Output file, .png or .svg.")],
     max_range: Annotated[
         str | None, typer.Option(help="Largest range on the axis, e.g. 8km (default: automatic).")
@@ -106,6 +103,15 @@ def plot(
     """Draw a figure. `curves` takes every sensor, target and path option of `targetacq dri`
     (and --probability for the marked DRI points); `transforms` takes --criterion or --n50;
     `atmosphere` takes --band."""
+    from targetacq.plots import (
+        FIGURE_FORMATS,
+        PLOT_KINDS,
+        plot_atmosphere,
+        plot_range_performance,
+        plot_transforms,
+        save_figure,
+    )
+
     _choice(kind, PLOT_KINDS, "plot kind")
     output_path(out, FIGURE_FORMATS, "figure file")  # before any work
     params, given = _dri_params(context.args)
@@ -160,6 +166,9 @@ def report(
     """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
     50 / 80 / 95 % and the figures. Give a scenario file (every sensor-target pair becomes a
     case), or every sensor, target and path option of `targetacq dri`."""
+    from targetacq.plots import plot_atmosphere, plot_range_performance, plot_transforms
+    from targetacq.report import render_report, write_report
+
     output_path(out, ("html", "htm"), "the report file")  # before any work
     args = list(context.args)
     if args and not args[0].startswith("-"):
@@ -193,6 +202,8 @@ def report(
 
 def _scenario_report(path: str, max_range: str | None, title: str | None) -> tuple[Any, ...]:
     """Heading, range performance, sections and figures of a scenario's report."""
+    from targetacq.plots import plot_atmosphere, plot_range_performance, plot_transforms
+
     scenario = load_scenario(path)
     chain = ModelChain(scenario)
     cases = chain.range_cases()

@@ -9,12 +9,6 @@ import typer
 
 from targetacq.cli import app
 from targetacq.outputs import output_path
-from targetacq.validation import (
-    render_validation,
-    validation_sections,
-    validation_summary,
-    write_validation,
-)
 
 
 @app.command("validation")
@@ -27,10 +21,13 @@ def validation_command(
     output_path(out, ("html", "htm"), "the validation page")  # before any work
     if Path(out).is_dir():
         raise ValueError(f"cannot write {out!r}: it is a folder")
-    sections = validation_sections()
-    page = render_validation(sections)
+    # Imported here, not when the CLI starts: pandas, matplotlib and SciPy take about 0.5 s.
+    from targetacq import validation
+
+    sections = validation.validation_sections()
+    page = validation.render_validation(sections)
     try:
-        written = write_validation(out, page)
+        written = validation.write_validation(out, page)
     except OSError as error:
         raise ValueError(f"cannot write {out!r}: {error.strerror or error}") from error
-    typer.echo(f"wrote {written}: {validation_summary(sections).line()}")
+    typer.echo(f"wrote {written}: {validation.validation_summary(sections).line()}")

@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 from targetacq.cli import app, main
+from targetacq.inputs import read_input_text
+from targetacq.limits import MAX_INPUT_BYTES
 from targetacq.mrtd import MrtdCurve
-from targetacq.scenario import MAX_SCENARIO_BYTES
-from targetacq.units import read_input_text
 
 SENSOR = ["--pitch", "17um", "--focal-length", "75mm", "--critical-dimension", "2.3m"]
 FIELD_OF_VIEW = ["--hfov", "12deg", "--pixels", "640", "--critical-dimension", "2m"]
@@ -275,7 +275,7 @@ def test_mrtd_csv_errors_name_the_file_line_and_column(capsys, tmp_path, text, n
 def _unreadable_paths(tmp_path):
     big = tmp_path / "big.csv"
     with big.open("wb") as handle:  # sparse: the size is what is refused, nothing is written
-        handle.truncate(MAX_SCENARIO_BYTES + 1)
+        handle.truncate(MAX_INPUT_BYTES + 1)
     binary = tmp_path / "binary.csv"
     binary.write_bytes(b"x,y,width,height\n\xff\xfe\x00\n")
     return {
@@ -503,5 +503,5 @@ def test_read_input_text_strips_a_byte_order_mark_only_at_the_start(tmp_path):
 
 def test_read_input_text_accepts_a_file_of_exactly_the_limit(tmp_path):
     path = tmp_path / "limit.csv"
-    path.write_bytes(b"a" * MAX_SCENARIO_BYTES)
-    assert len(read_input_text(path, "test file")) == MAX_SCENARIO_BYTES
+    path.write_bytes(b"a" * MAX_INPUT_BYTES)
+    assert len(read_input_text(path, "test file")) == MAX_INPUT_BYTES

@@ -22,14 +22,15 @@ def read_image(path: str | Path) -> np.ndarray:
     ------
     ValueError
         If the file does not exist, is not a regular readable file
-        (:func:`targetacq.scenario.input_file`), is not an image Pillow can read, or has more
+        (:func:`targetacq.inputs.input_file`), is not an image Pillow can read, or has more
         pixels than Pillow's decompression-bomb guard allows.
     """
     from PIL import Image, UnidentifiedImageError
 
-    from targetacq.scenario import input_file
+    from targetacq.inputs import input_file
 
-    source = input_file(path, "image file")
+    # No size limit: Pillow's decompression-bomb guard bounds the pixels.
+    source = input_file(path, "image file", limit=None)
     try:
         with warnings.catch_warnings():
             # Pillow warns of a possible decompression bomb before refusing one outright: one

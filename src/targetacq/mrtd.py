@@ -43,7 +43,7 @@ import numpy as np
 
 from targetacq import _arrays
 from targetacq._arrays import Array
-from targetacq.units import read_input_text
+from targetacq.inputs import read_input_text
 
 __all__ = [
     "DEFAULT_EYE_INTEGRATION_TIME",
@@ -204,7 +204,7 @@ class MrtdCurve:
         lines are skipped. Frequencies must be finite, > 0 and strictly ascending, MRTDs finite,
         > 0 and non-decreasing, at least two rows. The file is UTF-8 text (a byte-order mark,
         as spreadsheets write, is allowed) of at most 10 MB
-        (:func:`targetacq.units.read_input_text`).
+        (:func:`targetacq.inputs.read_input_text`).
 
         Parameters
         ----------

@@ -127,7 +127,7 @@ def check_simulation_size(
     """The number of steps of a simulation, after checking that it fits in memory.
 
     :func:`simulate` holds the probabilities of every step and pair
-    (:data:`targetacq.core.compile.BYTES_PER_EVALUATION` each, as an evaluation does) and the
+    (:data:`targetacq.limits.BYTES_PER_EVALUATION` each, as an evaluation does) and the
     first times of every run, pair and task (two float64 arrays: per sensor and fused).
 
     Parameters
@@ -149,13 +149,11 @@ def check_simulation_size(
     ValueError
         If either part would not fit (:func:`targetacq.limits.check_size`).
     """
-    from targetacq.core.compile import BYTES_PER_EVALUATION
-
     ratio = duration / step
     steps = max(1.0, math.ceil(ratio - 1e-9)) if math.isfinite(ratio) else math.inf
     limits.check_size(
         (steps + 1.0) * pairs,
-        BYTES_PER_EVALUATION,
+        limits.BYTES_PER_EVALUATION,
         f"{steps:.3g} steps of {step:g} s x {pairs} sensor-target pair(s)",
         advice,
     )

@@ -23,6 +23,7 @@ from __future__ import annotations
 import io
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -63,7 +64,8 @@ def read_class_map(path: Any) -> np.ndarray:
     """A class map from a CSV file: rows of whole class indices separated by commas.
 
     The file is UTF-8, with or without a byte-order mark; row 0 is the map's first row (at the
-    origin's y). It must be a regular readable file (:func:`targetacq.scenario.input_file`).
+    origin's y). It must be a regular readable file of at most 10 MB
+    (:func:`targetacq.inputs.read_input_text`).
 
     Returns
     -------
@@ -75,13 +77,10 @@ def read_class_map(path: Any) -> np.ndarray:
     ValueError
         Naming the file: missing or unreadable, not whole numbers, ragged rows, empty.
     """
-    from targetacq.scenario import input_file
+    from targetacq.inputs import read_input_text
 
-    source = input_file(path, "terrain map")
-    try:
-        text = source.read_text(encoding="utf-8-sig")
-    except (OSError, ValueError) as error:  # UnicodeDecodeError is a ValueError
-        raise ValueError(f"{source}: cannot read the terrain map as UTF-8 text: {error}") from None
+    source = Path(path)
+    text = read_input_text(source, "terrain map")
     if not text.strip():  # before NumPy, which would warn of it
         raise ValueError(f"{source}: the terrain map is empty")
     try:

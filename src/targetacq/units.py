@@ -14,7 +14,6 @@ import math
 import numbers
 import re
 import sys
-from pathlib import Path
 from typing import Any
 
 from targetacq.limits import check_finite
@@ -23,7 +22,6 @@ __all__ = [
     "DIMENSIONS",
     "is_quantity",
     "parse_quantity",
-    "read_input_text",
     "si_magnitude",
     "to_si",
 ]
@@ -273,55 +271,3 @@ def to_si(value: Any, kind: str, name: str, *, strict: bool = False) -> float:
             f"{name}: expected a {kind} {how} (e.g. {example}); got {type(value).__name__}"
         )
     return check_finite(name, result)
-
-
-def read_input_text(path: str | Path, what: str) -> str:
-    """The text of a user's input file (UTF-8, a byte-order mark allowed), checked first.
-
-    The file goes through the checks every input file does
-    (:func:`targetacq.scenario.input_file`: it exists, is a regular readable file, not a
-    folder or a device, at most :data:`targetacq.scenario.MAX_SCENARIO_BYTES`), so that a wrong
-    path (a video, ``/dev/zero``) is refused instead of read into memory.
-
-    Parameters
-    ----------
-    path : str or Path
-        The file.
-    what : str
-        What the file should be, for the messages (e.g. ``"MRTD curve"``).
-
-    Returns
-    -------
-    str
-        Its text, without a leading UTF-8 byte-order mark (spreadsheets write one).
-
-    Raises
-    ------
-    ValueError
-        One line naming the file and why it cannot be read.
-
-    Examples
-    --------
-    >>> read_input_text("/dev/null", "box file")
-    Traceback (most recent call last):
-    ...
-    ValueError: /dev/null: not a regular file (a device, a fifo or a socket), so not a box file
-    """
-    from targetacq.scenario import MAX_SCENARIO_BYTES, input_file
-
-    limit = MAX_SCENARIO_BYTES  # one size limit for every text input file
-    source = input_file(path, what, limit)
-    try:
-        with source.open("rb") as handle:
-            data = handle.read(limit + 1)
-    except OSError as error:
-        raise ValueError(f"{source}: cannot read the {what}: {error.strerror}") from None
-    if len(data) > limit:  # it grew since it was looked at
-        raise ValueError(f"{source}: {what}s are limited to {limit / 1e6:g} MB")
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError as error:
-        raise ValueError(
-            f"{source}: not UTF-8 text (byte {error.start + 1} is {data[error.start]:#04x}), so "
-            f"not a {what}"
-        ) from None

@@ -21,7 +21,8 @@ from targetacq.clutter import CHANNELS, as_boxes, gray, image_clutter
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.features import target_features
 from targetacq.images import read_image, save_clutter_overlay
-from targetacq.units import parse_quantity, read_input_text
+from targetacq.inputs import read_input_text
+from targetacq.units import parse_quantity
 
 _BOX_COLUMNS = ("x", "y", "width", "height")
 

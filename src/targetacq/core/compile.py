@@ -32,12 +32,11 @@ from targetacq.core.records import (
     TargetArrays,
 )
 from targetacq.criteria import Criterion, get_criterion
-from targetacq.limits import check_size
+from targetacq.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.scenario import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
 
 __all__ = [
-    "BYTES_PER_EVALUATION",
     "CompiledScenario",
     "TerrainArrays",
     "check_runnable",
@@ -46,11 +45,6 @@ __all__ = [
 ]
 
 TASKS = ("detection", "recognition", "identification")
-
-BYTES_PER_EVALUATION = 1024
-"""Memory [bytes] that one sensor × target × time of :meth:`targetacq.model.ModelChain.evaluate`
-takes at its peak, all its arrays together: measured between 180 and 800 bytes on the bundled
-examples (the intermediate arrays of the geometry and the transforms), rounded up."""
 
 
 @dataclass(frozen=True)

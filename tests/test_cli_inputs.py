@@ -68,8 +68,14 @@ DRI_DOMAIN = [
     ([*SENSOR, "--aperture", "-1mm", "--wavelength", "10um"], "--aperture"),
     ([*SENSOR, "--aperture", "50mm", "--wavelength", "0um"], "--wavelength"),
     ([*SENSOR, "--aperture", "1e400mm", "--wavelength", "10um"], "--aperture"),
+    # lengths within ±1e9 m (limits.MAX_LENGTH)
+    (["--pitch", "1e12m", "--focal-length", "75mm", "--critical-dimension", "2m"], "--pitch"),
+    (["--pitch", "17um", "--focal-length", "1e300m", "--critical-dimension", "2m"], "±1e+09 m"),
+    ([*SENSOR[:4], "--critical-dimension", "1000001km"], "--critical-dimension"),
+    ([*SENSOR, "--aperture", "1e10m", "--wavelength", "10um"], "--aperture"),
+    ([*SENSOR, "--aperture", "50mm", "--wavelength", "2e9m"], "--wavelength"),
     # the IFOV that pitch over focal length gives underflows to zero
-    (["--pitch", "1e-300m", "--focal-length", "1e300m", "--critical-dimension", "2m"], "IFOV"),
+    (["--pitch", "1e-320m", "--focal-length", "1e9m", "--critical-dimension", "2m"], "IFOV"),
     # angles
     (["--ifov", "0mrad", "--critical-dimension", "2m"], "--ifov"),
     (["--ifov", "200deg", "--critical-dimension", "2m"], "--ifov"),
@@ -376,6 +382,8 @@ ATMOSPHERE = [
     (["--range", "1e400km", "--extinction", "1/km"], "--range"),
     (["--range", "1km,nan km", "--extinction", "1/km"], "--range"),
     (["--range", "-1km", "--extinction", "1/km"], "--range"),
+    (["--range", "1km,1e300m", "--extinction", "1/km"], "±1e+09 m"),
+    (["--range", "1km", "--visibility", "2e6km", "--visibility-convention", "mor"], "--visibility"),
     (["--range", "1km,", "--extinction", "1/km"], "--range"),
     (["--range", "1km", "--extinction", "1e400/km"], "--extinction"),
     (["--range", "1km", "--extinction", "-1/km"], "--extinction"),
@@ -453,7 +461,8 @@ VALID_EDGES = [
     ["dri", "--example", "--probability", "1e-300,0.999999999"],
     ["dri", "--example", "--criterion", "en62676-4"],
     ["dri", "--ifov", "179deg", "--critical-dimension", "1000km"],
-    ["atmosphere", "--range", "0m,1km,1e300m", "--extinction", "0/km"],
+    ["dri", "--pitch", "1e9m", "--focal-length", "1e9m", "--critical-dimension", "1e9m"],
+    ["atmosphere", "--range", "0m,1km,1e9m", "--extinction", "0/km"],
     ["atmosphere", "--range", "0m,1km", "--extinction", "1e300/km"],
 ]
 

@@ -2,10 +2,12 @@
 the scenario, run sizes, seeds and the file parser, through the Python API and the CLI."""
 
 import copy
+import json
 import math
 import os
 import re
 import shutil
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +19,6 @@ from targetacq.core.compile import check_runnable, compile_scenario
 from targetacq.model import ModelChain
 from targetacq.sampling import stream_key
 from targetacq.scenario import (
-    MAX_SCENARIO_BYTES,
     Scenario,
     ScenarioError,
     Sensor,
@@ -162,6 +163,211 @@ def test_python_si_numbers_must_be_finite(model, field, valid, bad):
     with pytest.raises(ValueError, match=field) as info:
         model(**fields)
     assert info.value.errors()[0]["loc"][0] == field
+
+
+# -- lengths and coordinates within ±limits.MAX_LENGTH ---------------------------------------------
+
+
+def _put(path, value):
+    """A change setting ``value`` at a path of keys and indices in a scenario dictionary."""
+
+    def change(data):
+        where = data
+        for key in path[:-1]:
+            where = where.setdefault(key, {}) if isinstance(key, str) else where[key]
+        where[path[-1]] = value
+
+    return change
+
+
+CLOUD = {"center": ["1 km", "0 m", "0 m"], "radius": "5 m", "extinction": "1 /km"}
+
+
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (
+            _put(["sensors", 0, "position", 1], "-6.56e193 m"),
+            "sensors[0].position: coordinates must be within ±1e+09 m; got -6.56e+193 m",
+        ),
+        (
+            _put(["sensors", 0, "look_at", 2], "-1.5e9 m"),
+            "sensors[0].look_at: coordinates must be within ±1e+09 m; got -1.5e+09 m",
+        ),
+        (
+            _put(["targets", 0, "position"], "0 0 2e6 km"),
+            "targets[0].position: coordinates must be within ±1e+09 m; got 2e+09 m",
+        ),
+        (
+            _put(["targets", 0, "dimensions", 0], "1e12 m"),
+            "targets[0].dimensions[0]: dimensions must be within ±1e+09 m; got 1e+12 m",
+        ),
+        (
+            _put(["sensors", 0, "focal_length"], "1e10 m"),
+            "sensors[0].focal_length: focal_length must be within ±1e+09 m; got 1e+10 m",
+        ),
+        (
+            _put(["atmosphere", "segments"], [{"length": "1e10 km", "extinction": "1 /km"}]),
+            "atmosphere.segments[0].length: length must be within ±1e+09 m; got 1e+13 m",
+        ),
+        (
+            _put(["atmosphere", "clouds"], [{**CLOUD, "center": ["1e10 m", "0 m", "0 m"]}]),
+            "atmosphere.clouds[0].center: coordinates must be within ±1e+09 m; got 1e+10 m",
+        ),
+        (
+            _put(["atmosphere", "clouds"], [{**CLOUD, "radius": "2e9 m"}]),
+            "atmosphere.clouds[0].radius: radius must be within ±1e+09 m; got 2e+09 m",
+        ),
+    ],
+)
+def test_lengths_and_coordinates_beyond_a_million_kilometres_are_refused(change, expected):
+    assert _problems(change) == [expected]
+
+
+def test_lengths_and_coordinates_at_the_limit_are_accepted():
+    data = copy.deepcopy(BASE)
+    data["targets"][0]["position"] = ["1e6 km", "-1e9 m", "0 m"]
+    data["sensors"][0]["look_at"] = ["1e6 km", "-1e9 m", "0 m"]
+    data["targets"][0]["dimensions"] = ["1e9 m", "2.5 m", "3 m"]
+    parse_scenario(data)
+
+
+@pytest.mark.parametrize(
+    ("name", "path", "value", "expected"),
+    [
+        # Found by a fuzzer: the geometry's rho * rho overflowed, validate said valid and
+        # evaluate gave probability 0.
+        (
+            "uav_haze.toml",
+            ["sensors", 0, "waypoints", 1, "position", 1],
+            "-6.5642221016625684e+193 m",
+            "sensors[0].waypoints[1].position: coordinates must be within ±1e+09 m; "
+            "got -6.56e+193 m",
+        ),
+        (
+            "two_sensors_fused.toml",
+            ["sensors", 1, "look_at", 1],
+            "2.7418797852402033e+178 m",
+            "sensors[1].look_at: coordinates must be within ±1e+09 m; got 2.74e+178 m",
+        ),
+        (
+            "ground_observer_aircraft.toml",
+            ["sensors", 0, "position", 2],
+            "4.282954151089434e+284 m",
+            "sensors[0].position: coordinates must be within ±1e+09 m; got 4.28e+284 m",
+        ),
+    ],
+)
+def test_huge_coordinates_in_the_examples_are_refused(
+    capsys, tmp_path, name, path, value, expected
+):
+    text = (EXAMPLES / name).read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    _put(path, value)(data)
+    assert "e+" in value and value.replace(" m", "") not in text
+    scene = tmp_path / name
+    scene.write_text(_toml(data), encoding="utf-8")
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(scene)
+    assert info.value.problems == (f"{scene}: {expected}",)
+    (line,) = _refused(capsys, "validate", str(scene))
+    assert line == f"targetacq: error: {scene}: {expected}"
+
+
+def _toml(data, prefix=""):
+    """A scenario dictionary as TOML (strings, numbers, flags, lists and tables only)."""
+
+    def value(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, dict):
+            return "{" + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + "}"
+        return repr(v)
+
+    lines = []
+    tables = []
+    for key, item in data.items():
+        if isinstance(item, dict):
+            tables.append((key, item))
+        elif isinstance(item, list) and item and all(isinstance(x, dict) for x in item):
+            tables.extend((key, [x]) for x in item)
+        else:
+            lines.append(f"{key} = {value(item)}")
+    for key, item in tables:
+        name = f"{prefix}{key}"
+        if isinstance(item, list):
+            lines += ["", f"[[{name}]]", _toml(item[0], name + ".")]
+        else:
+            lines += ["", f"[{name}]", _toml(item, name + ".")]
+    return "\n".join(lines)
+
+
+# -- projection and pixel counts -------------------------------------------------------------------
+
+
+def test_projection_with_a_pitch_or_an_ifov_is_refused_as_the_cli_refuses_it():
+    problems = _problems(_set("sensors", "projection", "rectilinear"))
+    assert problems == ["sensors[0]: projection applies to hfov and pixels"]
+
+    def with_ifov(data):
+        sensor = data["sensors"][0]
+        del sensor["pitch"], sensor["focal_length"]
+        sensor.update(ifov="0.2 mrad", projection="angular")
+
+    assert _problems(with_ifov) == ["sensors[0]: projection applies to hfov and pixels"]
+
+
+def test_projection_with_hfov_round_trips_and_defaults_to_angular():
+    def sensor(**given):
+        return Sensor(
+            name="ir", band="lwir", hfov="12 deg", pixels=[640, 512], position="0 0 1 m", **given
+        )
+
+    plain, rectilinear = sensor(), sensor(projection="rectilinear")
+    assert plain.projection is None and plain.fov_projection == "angular"
+    assert sensor(projection="angular").pixel_ifov == plain.pixel_ifov
+    assert rectilinear.pixel_ifov > plain.pixel_ifov
+    for each in (plain, rectilinear):
+        assert Sensor.model_validate(each.model_dump()) == each
+    with pytest.raises(ValueError, match="projection"):
+        sensor(projection="fisheye")
+
+
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (
+            _set("sensors", "pixels", [2**64, 512]),
+            "sensors[0].pixels[0]: pixels must be a whole number in [1, 1.1e+12]; got a number "
+            "of 20 digits",
+        ),
+        (
+            _set("sensors", "pixels", [640, 2**40 + 1]),
+            "sensors[0].pixels[1]: pixels must be a whole number in [1, 1.1e+12]; got "
+            "1099511627777",
+        ),
+    ],
+)
+def test_pixel_counts_beyond_the_element_limit_are_refused(change, expected):
+    assert _problems(change) == [expected]
+
+
+def test_image_box_entries_beyond_the_element_limit_are_refused():
+    data = copy.deepcopy(BASE)
+    data["background"] = {"temperature": "295 K", "image": "camera.png"}
+    data["targets"][0]["image_box"] = [0, 2**64, 3, 4]
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario(data, "scene.toml")
+    assert info.value.problems == (
+        "scene.toml: targets[0].image_box[1]: image_box must be a whole number in [0, 1.1e+12]; "
+        "got a number of 20 digits",
+    )
+    data["targets"][0]["image_box"] = [0, 0, 2**40, 2**40]
+    parse_scenario(data)  # as large as any result may be; the image is checked when compiled
 
 
 # -- strict types ------------------------------------------------------------------------------
@@ -557,7 +763,7 @@ def test_utf8_bom_in_a_scenario_file(tmp_path):
 def test_oversized_scenario_file(capsys, tmp_path):
     scene = tmp_path / "big.toml"
     text = (EXAMPLES / "uav_haze.toml").read_text()
-    scene.write_text(text + "#" * (MAX_SCENARIO_BYTES + 2_300_000 - len(text)) + "\n")
+    scene.write_text(text + "#" * (limits.MAX_INPUT_BYTES + 2_300_000 - len(text)) + "\n")
     (line,) = _refused(capsys, "validate", str(scene))
     assert line == (f"targetacq: error: {scene}: scenario files are limited to 10 MB; got 12.3 MB")
 
@@ -601,7 +807,9 @@ def test_not_utf8(capsys, tmp_path):
     scene = tmp_path / "latin1.toml"
     scene.write_bytes('name = "café"\n'.encode("latin-1"))
     (line,) = _refused(capsys, "validate", str(scene))
-    assert line == f"targetacq: error: {scene}: not a text (UTF-8) file"
+    assert line == (
+        f"targetacq: error: {scene}: not UTF-8 text (byte 12 is 0xe9), so not a scenario file"
+    )
 
 
 def test_round_trip_still_holds_with_the_strict_types():

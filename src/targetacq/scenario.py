@@ -18,12 +18,14 @@ the first and after the last).
 
 Domains. Every quantity is finite; temperatures lie in (0, ``limits.MAX_TEMPERATURE``] K,
 temperature differences in [0, ``limits.MAX_TEMPERATURE``] K, depressions within
-±``limits.MAX_DEPRESSION`` and azimuths and headings within ±``limits.MAX_ANGLE_TURN``
-(:mod:`targetacq.limits`). Flags are ``true`` or ``false``, pixel counts and boxes whole numbers
-and plain numbers (fractions, SCR, N50) numbers, never quoted text. Contradictions are refused:
-two ways of giving one thing (``emissivity`` and ``material``), a choice that means nothing with
-the rest (``bound`` without the c2nveo transform, ``channel`` without an ``image``), or that the
-model cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
+±``limits.MAX_DEPRESSION``, azimuths and headings within ±``limits.MAX_ANGLE_TURN``, lengths
+and coordinates within ±``limits.MAX_LENGTH`` (a million kilometres) and pixel counts in [1,
+``limits.MAX_ELEMENTS``] (:mod:`targetacq.limits`). Flags are ``true`` or ``false``, pixel
+counts and boxes whole numbers and plain numbers (fractions, SCR, N50) numbers, never quoted
+text. Contradictions are refused: two ways of giving one thing (``emissivity`` and
+``material``), a choice that means nothing with the rest (``bound`` without the c2nveo
+transform, ``channel`` without an ``image``, ``projection`` without ``hfov``), or that the model
+cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
 itself).
 
 Errors. :class:`ScenarioError` holds every problem found, each located
@@ -37,8 +39,6 @@ from __future__ import annotations
 import itertools
 import math
 import numbers
-import os
-import stat
 import tomllib
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
@@ -48,6 +48,7 @@ from typing import Annotated, Any, Literal, get_args, get_origin
 
 import numpy as np
 from pydantic import (
+    AfterValidator,
     BaseModel,
     BeforeValidator,
     ConfigDict,
@@ -62,12 +63,16 @@ from targetacq import atmosphere as _atmosphere
 from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
+from targetacq.inputs import read_input_text
 from targetacq.limits import (
     MAX_ANGLE_TURN,
     MAX_DEPRESSION,
-    MAX_TEMPERATURE,
+    check_count,
+    check_length,
     check_range,
     check_size,
+    check_temperature,
+    check_temperature_difference,
 )
 from targetacq.noise import NOISE_MODELS
 from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
@@ -78,7 +83,6 @@ from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import is_quantity, to_si
 
 __all__ = [
-    "MAX_SCENARIO_BYTES",
     "Atmosphere",
     "Background",
     "Cloud",
@@ -92,13 +96,9 @@ __all__ = [
     "TerrainClassSpec",
     "TimeGrid",
     "Waypoint",
-    "input_file",
     "load_scenario",
     "parse_scenario",
 ]
-
-MAX_SCENARIO_BYTES = 10 * 1000**2
-"""Largest scenario file [bytes] read: 10 MB, far above any hand-written scene."""
 
 _TASKS = ("detection", "recognition", "identification")
 
@@ -152,15 +152,6 @@ def _quantity(kind: str, domain: Callable[[str, float], Any] | None = None) -> A
     return BeforeValidator(parse)
 
 
-def _absolute_temperature(name: str, value: float) -> None:
-    if not 0.0 < value <= MAX_TEMPERATURE:
-        raise ValueError(f"{name} must be in (0, {MAX_TEMPERATURE:g}] K; got {value:g} K")
-
-
-def _temperature_spread(name: str, value: float) -> None:
-    check_range(name, value, 0.0, MAX_TEMPERATURE, "K")
-
-
 def _within(limit: float) -> Callable[[str, float], Any]:
     def check(name: str, value: float) -> None:
         check_range(name, value, -limit, limit, "deg", 180.0 / math.pi)
@@ -168,13 +159,16 @@ def _within(limit: float) -> Callable[[str, float], Any]:
     return check
 
 
-Length = Annotated[float, _quantity("length")]
+Length = Annotated[float, _quantity("length", check_length)]
+"""A length or a coordinate, within ±``limits.MAX_LENGTH``."""
 Angle = Annotated[float, _quantity("angle")]
 Bearing = Annotated[float, _quantity("angle", _within(MAX_ANGLE_TURN))]
 """An azimuth or heading: from north, clockwise, within one turn either way."""
 Depression = Annotated[float, _quantity("angle", _within(MAX_DEPRESSION))]
-Temperature = Annotated[float, _quantity("temperature", _absolute_temperature)]
-TemperatureDifference = Annotated[float, _quantity("temperature difference", _temperature_spread)]
+Temperature = Annotated[float, _quantity("temperature", check_temperature)]
+TemperatureDifference = Annotated[
+    float, _quantity("temperature difference", check_temperature_difference)
+]
 Extinction = Annotated[float, _quantity("extinction")]
 Time = Annotated[float, _quantity("time")]
 Irradiance = Annotated[float, _quantity("irradiance")]
@@ -221,11 +215,25 @@ def _name(value: Any, info: ValidationInfo) -> str:
     return value
 
 
+def _pixel_count(value: int, info: ValidationInfo) -> int:
+    return check_count(info.field_name or "pixels", value, 1)
+
+
+def _pixel_index(value: int, info: ValidationInfo) -> int:
+    # A negative one is refused with the whole box (Target), saying what a box is.
+    return value if value < 0 else check_count(info.field_name or "image_box", value, 0)
+
+
 Flag = Annotated[bool, BeforeValidator(_flag)]
 WholeNumber = Annotated[int, BeforeValidator(_whole)]
 Number = Annotated[float, BeforeValidator(_number)]
 Fraction = Annotated[Number, Field(ge=0.0, le=1.0)]
 Name = Annotated[str, BeforeValidator(_name)]
+PixelCount = Annotated[WholeNumber, Field(gt=0), AfterValidator(_pixel_count)]
+"""A number of pixels, in [1, ``limits.MAX_ELEMENTS``]."""
+PixelIndex = Annotated[WholeNumber, AfterValidator(_pixel_index)]
+"""A pixel position or extent of a box, at most ``limits.MAX_ELEMENTS`` (the lower bounds are
+checked with the whole box)."""
 
 
 def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
@@ -244,7 +252,10 @@ def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
     if len(parts) != 3:
         raise ValueError(f"{name}: a position needs three coordinates x, y, z; got {len(parts)}")
     strict = _strict_units(info)
-    x, y, z = (to_si(part, "length", name, strict=strict) for part in parts)
+    x, y, z = (
+        check_length(name, to_si(part, "length", name, strict=strict), "coordinates")
+        for part in parts
+    )
     return x, y, z
 
 
@@ -284,12 +295,13 @@ class Sensor(_Strict):
     ``type`` "thermal" sees emitted radiation in its ``band``; "tv" sees reflected light
     (visible band, the background's ``irradiance``). ``projection`` says how ``hfov`` over
     ``pixels`` gives the IFOV: "angular" (default, IFOV = hfov / pixels, the datasheet
-    convention) or "rectilinear" (a pinhole camera, 2 tan(hfov/2) / pixels). ``f_number`` gives
-    the aperture as ``focal_length / f_number``. The sensor's own noise: ``netd`` of a
-    thermal sensor (quoted at ``netd_temperature``, 300 K by default), ``nec`` (noise-equivalent
-    contrast, relative to the background) of a TV sensor; without them only the atmosphere adds
-    noise. The resolution is given one way: ``pitch``
-    with ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
+    convention) or "rectilinear" (a pinhole camera, 2 tan(hfov/2) / pixels); it applies to
+    ``hfov`` only (left out, it stays ``None`` and :attr:`fov_projection` says "angular").
+    ``f_number`` gives the aperture as ``focal_length / f_number``. The sensor's own noise:
+    ``netd`` of a thermal sensor (quoted at ``netd_temperature``, 300 K by default), ``nec``
+    (noise-equivalent contrast, relative to the background) of a TV sensor; without them only
+    the atmosphere adds noise. The resolution is given one way: ``pitch`` with
+    ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
     or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
     every target is taken to be in view.
     """
@@ -297,9 +309,7 @@ class Sensor(_Strict):
     name: Name
     type: Annotated[str, BeforeValidator(_sensor_type)] = "thermal"
     band: str | None = None
-    pixels: (
-        tuple[Annotated[WholeNumber, Field(gt=0)], Annotated[WholeNumber, Field(gt=0)]] | None
-    ) = None
+    pixels: tuple[PixelCount, PixelCount] | None = None
     pitch: Length | None = None
     focal_length: Length | None = None
     hfov: Angle | None = None
@@ -310,7 +320,7 @@ class Sensor(_Strict):
     look_at: Position | None = None
     azimuth: Bearing | None = None
     depression: Depression | None = None
-    projection: str = "angular"
+    projection: str | None = None
     f_number: Annotated[Number, Field(gt=0.0)] | None = None
     netd: TemperatureDifference | None = None
     netd_temperature: Temperature = 300.0
@@ -335,7 +345,12 @@ class Sensor(_Strict):
             raise ValueError("hfov must be in (0, 180) degrees")
         if self.hfov is not None and self.pixels is None:
             raise ValueError("hfov needs pixels = [width, height]")
-        lookup(FIELD_OF_VIEW_PROJECTIONS, self.projection, "projection")
+        if self.projection is not None:
+            lookup(FIELD_OF_VIEW_PROJECTIONS, self.projection, "projection")
+            if self.hfov is None:
+                # As the CLI says it: a projection turns a field of view into an IFOV, and a
+                # pitch with a focal length (or an IFOV) is one already.
+                raise ValueError("projection applies to hfov and pixels")
         if self.f_number is not None:
             if self.focal_length is None:
                 raise ValueError("f_number needs focal_length (aperture = focal_length / f_number)")
@@ -375,6 +390,11 @@ class Sensor(_Strict):
         return parse_band(self.band)
 
     @property
+    def fov_projection(self) -> str:
+        """The projection of ``hfov`` over ``pixels``: ``projection``, "angular" by default."""
+        return self.projection or "angular"
+
+    @property
     def pixel_ifov(self) -> float:
         """IFOV [rad] of the central pixel."""
         from targetacq import optics
@@ -382,7 +402,9 @@ class Sensor(_Strict):
         if self.ifov is not None:
             return self.ifov
         if self.hfov is not None and self.pixels is not None:
-            return float(optics.ifov_from_field_of_view(self.hfov, self.pixels[0], self.projection))
+            return float(
+                optics.ifov_from_field_of_view(self.hfov, self.pixels[0], self.fov_projection)
+            )
         assert self.pitch is not None
         assert self.focal_length is not None
         return self.pitch / self.focal_length
@@ -396,7 +418,7 @@ class Sensor(_Strict):
             return None
         # A pitch-and-focal-length (or IFOV) sensor is a pinhole camera; an hfov sensor follows
         # its projection.
-        projection = self.projection if self.hfov is not None else "rectilinear"
+        projection = self.fov_projection if self.hfov is not None else "rectilinear"
         h, v = (
             float(optics.field_of_view_from_ifov(self.pixel_ifov, n, projection))
             for n in self.pixels
@@ -424,7 +446,7 @@ class Target(_Strict):
     moving: Flag = False
     visible_fraction: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
     hot_spot: Flag = False
-    image_box: tuple[WholeNumber, WholeNumber, WholeNumber, WholeNumber] | None = None
+    image_box: tuple[PixelIndex, PixelIndex, PixelIndex, PixelIndex] | None = None
 
     @field_validator("criterion")
     @classmethod
@@ -922,72 +944,12 @@ def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
         raise ScenarioError(f"{source}: nested too deeply to be a scenario") from None
 
 
-def input_file(path: str | Path, what: str, limit: int | None = None) -> Path:
-    """``path`` if it is a regular file this process may read, else ``ValueError`` saying what
-    it is instead (missing, a directory, a device or fifo, unreadable, too large).
-
-    A fifo or a device is refused before it is opened: reading one could block for ever.
-
-    Parameters
-    ----------
-    path : str or Path
-    what : str
-        What the file should be, for the message (e.g. ``"scenario file"``).
-    limit : int, optional
-        Largest size [bytes].
-
-    Examples
-    --------
-    >>> input_file("/dev/null", "scenario file")
-    Traceback (most recent call last):
-    ...
-    ValueError: /dev/null: not a regular file (a device, a fifo or a socket), so not a scenario file
-    """
-    source = Path(path)
-    try:
-        info = source.stat()
-    except (FileNotFoundError, NotADirectoryError):
-        raise ValueError(f"no {what} {str(source)!r} (no such file)") from None
-    except OSError as error:
-        raise ValueError(f"{source}: cannot read the {what}: {error.strerror}") from None
-    if stat.S_ISDIR(info.st_mode):
-        raise ValueError(f"{source}: is a directory, not a {what}")
-    if not stat.S_ISREG(info.st_mode):
-        raise ValueError(
-            f"{source}: not a regular file (a device, a fifo or a socket), so not a {what}"
-        )
-    if not os.access(source, os.R_OK):
-        raise ValueError(f"{source}: cannot read the {what}: permission denied")
-    if limit is not None and info.st_size > limit:
-        raise ValueError(
-            f"{source}: {what}s are limited to {limit / 1e6:g} MB; got {info.st_size / 1e6:.1f} MB"
-        )
-    return source
-
-
-def _read_text(source: Path) -> str:
-    """The scenario file's text: at most :data:`MAX_SCENARIO_BYTES`, UTF-8 with or without a
-    byte-order mark."""
-    input_file(source, "scenario file", MAX_SCENARIO_BYTES)
-    try:
-        with open(source, "rb") as handle:
-            raw = handle.read(MAX_SCENARIO_BYTES + 1)
-    except OSError as error:
-        raise ValueError(f"{source}: cannot read the scenario file: {error.strerror}") from None
-    if len(raw) > MAX_SCENARIO_BYTES:  # grew since it was looked at
-        raise ValueError(f"{source}: scenario files are limited to {MAX_SCENARIO_BYTES / 1e6:g} MB")
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        raise ValueError(f"{source}: not a text (UTF-8) file") from None
-
-
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario TOML file.
 
-    The file is a regular file of at most :data:`MAX_SCENARIO_BYTES`, in UTF-8 (a byte-order
-    mark is allowed). Relative ``image`` and terrain ``map`` paths are taken from the file's
-    folder.
+    The file is a regular file of at most :data:`targetacq.limits.MAX_INPUT_BYTES`, in UTF-8
+    (a byte-order mark is allowed; :func:`targetacq.inputs.read_input_text`). Relative
+    ``image`` and terrain ``map`` paths are taken from the file's folder.
 
     Raises
     ------
@@ -998,7 +960,7 @@ def load_scenario(path: str | Path) -> Scenario:
     """
     source = Path(path)
     try:
-        text = _read_text(source)
+        text = read_input_text(source, "scenario file")
     except ValueError as error:
         raise ScenarioError(str(error)) from None
     try:

@@ -33,7 +33,12 @@ from targetacq.cli import (
 )
 from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, Criterion, get_criterion
-from targetacq.limits import MAX_ELEMENTS, MAX_TEMPERATURE
+from targetacq.limits import (
+    check_count,
+    check_length,
+    check_temperature,
+    check_temperature_difference,
+)
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import json_text
 from targetacq.scene import scene_signature
@@ -53,29 +58,26 @@ def _example_camera() -> dict[str, str]:
 
 
 def _quantity(text: str, kind: str, option: str, *, zero_allowed: bool = False) -> float:
-    """The option's quantity in SI units: finite (:func:`parse_quantity`), > 0 (or >= 0)."""
+    """The option's quantity in SI units: finite (:func:`parse_quantity`), > 0 (or >= 0), and a
+    length within ±``limits.MAX_LENGTH`` (:func:`targetacq.limits.check_length`)."""
     value = parse_quantity(text, kind, option)
     if not (value >= 0 if zero_allowed else value > 0):
         raise ValueError(f"{option} must be {'>= 0' if zero_allowed else '> 0'}; got {text!r}")
+    if kind == "length":
+        check_length(option, value)
     return value
 
 
 def _temperature(text: str, option: str) -> float:
-    """A temperature option [K], in (0, MAX_TEMPERATURE]."""
-    value = parse_quantity(text, "temperature", option)
-    if not 0 < value <= MAX_TEMPERATURE:
-        raise ValueError(f"{option} must be in (0, {MAX_TEMPERATURE:g}] K; got {text!r}")
-    return value
+    """A temperature option [K] (:func:`targetacq.limits.check_temperature`)."""
+    return check_temperature(option, parse_quantity(text, "temperature", option))
 
 
 def _temperature_difference(text: str, option: str, *, signed: bool = False) -> float:
-    """A temperature difference option [K]: at most MAX_TEMPERATURE in size, >= 0 unless
-    ``signed`` (a target colder than its background has a negative ΔT)."""
+    """A temperature difference option [K]
+    (:func:`targetacq.limits.check_temperature_difference`)."""
     value = parse_quantity(text, "temperature difference", option)
-    low = -MAX_TEMPERATURE if signed else 0.0
-    if not low <= value <= MAX_TEMPERATURE:
-        raise ValueError(f"{option} must be in [{low:g}, {MAX_TEMPERATURE:g}] K; got {text!r}")
-    return value
+    return check_temperature_difference(option, value, signed)
 
 
 def _half_turn_angle(text: str, option: str) -> float:
@@ -179,10 +181,7 @@ def _sensor_ifov(
     if hfov is None or pixels is None:
         raise ValueError("--hfov and --pixels go together")
     fov = _half_turn_angle(hfov, "--hfov")
-    if not 1 <= pixels <= MAX_ELEMENTS:
-        digits = len(str(abs(pixels)))
-        shown = str(pixels) if digits <= 15 else f"a number of {digits} digits"
-        raise ValueError(f"--pixels must be a whole number in [1, {MAX_ELEMENTS:.4g}]; got {shown}")
+    check_count("--pixels", pixels)
     projection = projection or "angular"
     value = float(optics.ifov_from_field_of_view(fov, pixels, projection))
     return value, {"hfov_rad": fov, "pixels": float(pixels), "projection": projection}

@@ -360,6 +360,7 @@ CLUTTER_OPTIONS = [
     (["--box", "10,10,8,8", "--image-range", "0km", "--range", "1km"], ["--image-range"]),
     (["--box", "10,10,8,8", "--image-range", "1km", "--range", "-1km"], ["--range"]),
     (["--box", "10,10,8,8", "--image-range", "1e400km", "--range", "1km"], ["--image-range"]),
+    (["--box", "10,10,8,8", "--image-range", "1km", "--range", "1e12m"], ["--range"]),
     (["--box", "10,10,8,8", "--image-range", "1km"], ["--image-range", "--range"]),
     (["--box", "10,10,8,8", "--cycles", "3", "--image-range", "1km", "--range", "2km"], ["--c"]),
     (["--box", "10,10,8,8", "--criterion", "en62676-4"], ["--criterion"]),

@@ -17,12 +17,12 @@ from targetacq.cli import (
     _render_rows,
     app,
 )
+from targetacq.cli.dri import _quantity
 from targetacq.clutter import CHANNELS, as_boxes, gray, image_clutter
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.features import target_features
 from targetacq.images import read_image, save_clutter_overlay
 from targetacq.inputs import read_input_text
-from targetacq.units import parse_quantity
 
 _BOX_COLUMNS = ("x", "y", "width", "height")
 
@@ -136,11 +136,9 @@ def clutter_command(
         raise ValueError("--image-range and --range go together")
     scale = 1.0
     if image_range is not None and range_ is not None:
-        r0 = parse_quantity(image_range, "length", "--image-range")
-        r1 = parse_quantity(range_, "length", "--range")
-        for option, text, value in (("--image-range", image_range, r0), ("--range", range_, r1)):
-            if not value > 0:
-                raise ValueError(f"{option} must be > 0; got {text!r}")
+        # dri's reading of a length option: finite, > 0, within limits.MAX_LENGTH.
+        r0 = _quantity(image_range, "length", "--image-range")
+        r1 = _quantity(range_, "length", "--range")
         scale = r0 / r1
     if cycles is not None and not (math.isfinite(cycles) and cycles >= 0):
         raise ValueError(f"--cycles must be a finite number >= 0; got {cycles:g}")

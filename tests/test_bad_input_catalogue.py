@@ -41,6 +41,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+from toml_text import Raw, toml_dumps
+
 HERE = Path(__file__).parent
 DATA = HERE / "data"
 CAMERA = DATA / "camera.png"
@@ -114,44 +116,6 @@ def accepted(id: str, cls: str, check: Callable[[Path, Any], None]) -> None:
 
 
 # -- TOML out (the standard library only reads it) ------------------------------------------
-
-
-class Raw(str):
-    """TOML text written as it is (a literal such as ``1e400`` or a datetime)."""
-
-
-def toml_value(value: Any) -> str:
-    if isinstance(value, Raw):
-        return str(value)
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        text = repr(value)
-        return text if any(c in text for c in ".en") else text + ".0"
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False).replace("\x7f", "\\u007f")
-    if isinstance(value, datetime.datetime | datetime.date | datetime.time):
-        return value.isoformat()
-    if isinstance(value, list | tuple):
-        return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{toml_key(k)} = {toml_value(v)}" for k, v in value.items()) + "}"
-    raise TypeError(f"no TOML for {value!r}")
-
-
-def toml_key(key: str) -> str:
-    return key if re.fullmatch(r"[A-Za-z0-9_-]+", key) else json.dumps(key, ensure_ascii=False)
-
-
-def toml_dumps(document: dict[str, Any]) -> str:
-    """A document as TOML: every top-level key with an inline value."""
-    return "".join(f"{toml_key(k)} = {toml_value(v)}\n" for k, v in document.items())
 
 
 def read_base(base: Path) -> dict[str, Any]:

@@ -658,6 +658,15 @@ class Atmosphere(_Strict):
         ) or bool(self.segments or self.clouds)
 
 
+# The model choices that name an entry of a registry: the registry and its kind for the message.
+_MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
+    "criterion": (CRITERIA, "criterion"),
+    "noise_model": (NOISE_MODELS, "noise model"),
+    "motion": (MOTION_RULES, "motion rule"),
+    "semantics": (ACQUISITION_SEMANTICS, "semantics"),
+}
+
+
 class ModelChoices(_Strict):
     """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
     (how a moving target is detected), semantics (nested or conditional: what the three
@@ -681,10 +690,11 @@ class ModelChoices(_Strict):
     fusion: Literal["sensor-level"] = "sensor-level"
     search_time: Time = 3.4
 
-    @field_validator("criterion")
+    @field_validator("criterion", "noise_model", "motion", "semantics")
     @classmethod
-    def _known_criterion(cls, value: str) -> str:
-        lookup(CRITERIA, value, "criterion")
+    def _registered(cls, value: str, info: ValidationInfo) -> str:
+        registry, kind = _MODEL_REGISTRIES[info.field_name or ""]
+        lookup(registry, value, kind)
         return value
 
     @field_validator("transform")
@@ -701,24 +711,6 @@ class ModelChoices(_Strict):
                 "in [background] (clutter, scr, clutter_std, image or terrain) for "
                 "Schmieder-Weathersby detection"
             )
-        return value
-
-    @field_validator("noise_model")
-    @classmethod
-    def _known_noise_model(cls, value: str) -> str:
-        lookup(NOISE_MODELS, value, "noise model")
-        return value
-
-    @field_validator("motion")
-    @classmethod
-    def _known_motion(cls, value: str) -> str:
-        lookup(MOTION_RULES, value, "motion rule")
-        return value
-
-    @field_validator("semantics")
-    @classmethod
-    def _known_semantics(cls, value: str) -> str:
-        lookup(ACQUISITION_SEMANTICS, value, "semantics")
         return value
 
     @model_validator(mode="after")

@@ -212,9 +212,7 @@ class ModelChain:
         """
         if times is None:
             return np.asarray(self.scenario.time.times())
-        _, (t,) = _arrays.arrays(
-            np.asarray(times) if isinstance(times, list) else times, names=("times",)
-        )
+        _, (t,) = _arrays.arrays(times, names=("times",))
         t = np.atleast_1d(np.asarray(t, dtype=float))
         if t.ndim != 1:
             raise ValueError(f"times must be a 1-d array of seconds; got shape {t.shape}")

@@ -272,6 +272,23 @@ def _check_scalar_nan(name: str, value: Array, xp: Any, valid: str) -> None:
         raise ValueError(f"{name} must be {valid}, got NaN")
 
 
+def require_flag(name: str, value: object, *, arrays: bool) -> None:
+    """Raise ``TypeError`` unless ``value`` is True or False (or, with ``arrays``, a bool array).
+
+    Truthiness would read ``"no"`` as True: a flag states a fact about the target, never a
+    guess from text or numbers.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        return
+    if arrays and str(getattr(value, "dtype", "")) == "bool":
+        return
+    if arrays:
+        raise TypeError(
+            f"{name} must be True, False or a boolean array; got {type(value).__name__} {value!r}"
+        )
+    raise TypeError(f"{name} must be True or False, got {value!r}")
+
+
 def require_positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
     """Raise ``ValueError`` unless every non-NaN element is > 0 (a scalar NaN also raises)."""
     valid = f"> 0{' ' + unit if unit else ''}"

@@ -80,23 +80,6 @@ def _flag(value: Any, xp: Any) -> Any:
     return value if isinstance(value, bool) else xp.asarray(value)
 
 
-def _check_flags(**flags: Any) -> None:
-    """Refuse ``hot_spot``/``moving`` values that are not True, False or a bool array.
-
-    Truthiness would read ``"no"`` as True; a flag is a statement about the target, never a
-    guess from text or numbers.
-    """
-    for name, value in flags.items():
-        if isinstance(value, (bool, np.bool_)):
-            continue
-        dtype = getattr(value, "dtype", None)
-        if dtype is not None and str(dtype) == "bool":
-            continue
-        raise TypeError(
-            f"{name} must be True, False or a boolean array; got {type(value).__name__} {value!r}"
-        )
-
-
 # --------------------------------------------------------------------------------------------
 # Motion rules and acquisition semantics (registries)
 # --------------------------------------------------------------------------------------------
@@ -441,7 +424,8 @@ def probability(
     noise = get_noise_model(noise_model) if snr is not None else None
     rule = get_motion_rule(motion)
     chosen.check(task, options)
-    _check_flags(hot_spot=hot_spot, moving=moving)
+    _arrays.require_flag("hot_spot", hot_spot, arrays=True)
+    _arrays.require_flag("moving", moving, arrays=True)
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     _arrays.require_nonnegative("cycles", n, xp)
     _check_shapes(n, snr, scr, xp)
@@ -622,7 +606,8 @@ def acquisition_probabilities(
         chosen.check(task, options)
     noise = get_noise_model(noise_model) if snr is not None else None
     rule, meaning = get_motion_rule(motion), get_semantics(semantics)
-    _check_flags(hot_spot=hot_spot, moving=moving)
+    _arrays.require_flag("hot_spot", hot_spot, arrays=True)
+    _arrays.require_flag("moving", moving, arrays=True)
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     _arrays.require_nonnegative("cycles", n, xp)
     _check_shapes(n, snr, scr, xp)

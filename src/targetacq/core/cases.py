@@ -29,8 +29,6 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-import numpy as np
-
 from targetacq import _arrays, atmosphere, optics, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import (
@@ -158,9 +156,8 @@ class RangeCase:
         _arrays.require_positive("ifov", i, xp, "rad")
         _arrays.require_finite("critical_dimension", d, xp, "m")
         _arrays.require_finite("ifov", i, xp, "rad")
-        for flag in ("hot_spot", "moving"):
-            if not isinstance(getattr(self, flag), (bool, np.bool_)):
-                raise TypeError(f"{flag} must be True or False, got {getattr(self, flag)!r}")
+        _arrays.require_flag("hot_spot", self.hot_spot, arrays=False)
+        _arrays.require_flag("moving", self.moving, arrays=False)
         self._check_resolution()
         crit = get_criterion(self.criterion)
         object.__setattr__(self, "criterion", crit)

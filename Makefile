@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck bench clean
+.PHONY: run test lint typecheck bench docs clean
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
@@ -14,9 +14,13 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
-# Tests cover the optional backends too: JAX (the core under jit/grad) and Gymnasium.
+# Tests cover the optional backends too: JAX (the core under jit/grad), Gymnasium and Dask.
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test,jax,rl]'
+	$(BIN)/python -m pip install --quiet -e '.[test,jax,rl,sweep]'
+	touch $@
+
+$(VENV)/.installed-docs: pyproject.toml | $(BIN)/activate
+	$(BIN)/python -m pip install --quiet -e '.[docs,sweep]'
 	touch $@
 
 run: $(VENV)/.installed
@@ -32,6 +36,10 @@ typecheck: $(VENV)/.installed-test
 
 test: $(VENV)/.installed-test lint typecheck
 	$(BIN)/python -m pytest
+
+# The documentation site, warnings as errors: build/docs/index.html.
+docs: $(VENV)/.installed-docs
+	$(BIN)/sphinx-build -W --keep-going -q -b html docs build/docs
 
 bench: $(VENV)/.installed-test
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done

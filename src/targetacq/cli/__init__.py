@@ -53,8 +53,6 @@ FORMATS = ("table", "json", "csv")
 
 DEFAULT_EXAMPLE = "uav_haze.toml"
 
-_SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
-
 app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
@@ -92,12 +90,6 @@ FormatOption = Annotated[str, typer.Option("--format", help=f"Output: {', '.join
 @app.callback()
 def _root() -> None:
     """Probabilities and ranges of detection, recognition and identification."""
-
-
-def _choice(value: str, choices: Any, name: str) -> str:
-    if value not in choices:
-        raise ValueError(f"{name} must be one of {', '.join(choices)}; got {value!r}")
-    return value
 
 
 def _csv(rows: list[dict[str, Any]], fieldnames: list[str] | None = None) -> str:

@@ -14,17 +14,23 @@ from targetacq.atmosphere import (
 )
 from targetacq.bands import BANDS
 from targetacq.cli import (
-    _choice,
     _click_command,
     app,
 )
-from targetacq.cli.dri import _band, _quantity, _Setup, _setup, _user_criterion
 from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import output_path
 from targetacq.scenario import load_scenario
+from targetacq.services.range_case import (
+    RangeSetup,
+    option_band,
+    option_choice,
+    option_criterion,
+    option_quantity,
+    range_setup,
+)
 from targetacq.transforms import TRANSFORMS
 
 # targetacq.plots and targetacq.report (matplotlib, about 0.3 s) are imported by the commands
@@ -52,7 +58,7 @@ def _dri_params(args: list[str]) -> tuple[dict[str, Any], set[str]]:
     return dict(context.params), given
 
 
-def _title(setup: _Setup) -> str:
+def _title(setup: RangeSetup) -> str:
     sensor = setup.sensor
     if "pitch_m" in sensor:
         pitch_um, focal_mm = sensor["pitch_m"] * 1e6, sensor["focal_length_m"] * 1e3
@@ -73,7 +79,7 @@ def _performance(
     """Range performance of the cases on 400 ranges out to --max-range, or by default 1.3 times
     the longest range at which any case's task reaches the smallest probability."""
     if max_range is not None:
-        r_max = _quantity(max_range, "length", "--max-range")
+        r_max = option_quantity(max_range, "length", "--max-range")
     else:
         reach = [
             float(r)
@@ -112,7 +118,7 @@ def plot(
         save_figure,
     )
 
-    _choice(kind, PLOT_KINDS, "plot kind")
+    option_choice(kind, PLOT_KINDS, "plot kind")
     output_path(out, FIGURE_FORMATS, "figure file")  # before any work
     params, given = _dri_params(context.args)
     allowed = {
@@ -131,7 +137,7 @@ def plot(
         raise ValueError("plot transforms does not use --max-range (its axis is cycles)")
     if kind == "curves":
         params.pop("output_format")
-        setup = _setup(**params, default_probability=_REPORT_PROBABILITIES)
+        setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
                 f"plot curves needs a criterion with probabilities (not {setup.criterion.name})"
@@ -140,15 +146,15 @@ def plot(
         fig = plot_range_performance(performance, title=title or _title(setup))
     elif kind == "transforms":
         crit = (
-            _user_criterion(params["n50"])
+            option_criterion(params["n50"])
             if params["n50"]
-            else get_criterion(_choice(params["criterion"], CRITERIA, "--criterion"))
+            else get_criterion(option_choice(params["criterion"], CRITERIA, "--criterion"))
         )
         fig = plot_transforms(crit, title=title)
     else:
-        r_max = 10e3 if max_range is None else _quantity(max_range, "length", "--max-range")
-        level = _choice(level or "nominal", EXTINCTION_LEVELS, "--level")
-        band_value = _band(params["band"]) if params["band"] else BANDS["lwir"]
+        r_max = 10e3 if max_range is None else option_quantity(max_range, "length", "--max-range")
+        level = option_choice(level or "nominal", EXTINCTION_LEVELS, "--level")
+        band_value = option_band(params["band"]) if params["band"] else BANDS["lwir"]
         fig = plot_atmosphere(band_value, r_max, level, title=title)
     written = save_figure(fig, out)
     typer.echo(f"wrote {written}")
@@ -184,7 +190,7 @@ def report(
     if "output_format" in given:
         raise ValueError("report does not use --format: it writes HTML")
     params.pop("output_format")
-    setup = _setup(**params, default_probability=_REPORT_PROBABILITIES)
+    setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
     performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
@@ -192,7 +198,7 @@ def report(
     figures = {"Range performance": plot_range_performance(performance, title=heading)}
     figures["Transforms"] = plot_transforms(setup.criterion)
     if setup.path and params["band"]:
-        figures["Atmosphere"] = plot_atmosphere(_band(params["band"]))
+        figures["Atmosphere"] = plot_atmosphere(option_band(params["band"]))
     page = render_report(
         performance, _report_sections(setup), figures, title=heading, version=__version__
     )
@@ -278,7 +284,7 @@ def _atmosphere_text(atm: Any) -> str:
     return "none"
 
 
-def _report_sections(setup: _Setup) -> dict[str, dict[str, str]]:
+def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
     crit = setup.criterion
     sensor = {
         "IFOV": f"{setup.case.ifov * 1e3:.4g} mrad",

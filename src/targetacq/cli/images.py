@@ -13,16 +13,15 @@ from targetacq.acquisition import probability as probability_of
 from targetacq.cli import (
     FORMATS,
     FormatOption,
-    _choice,
     _render_rows,
     app,
 )
-from targetacq.cli.dri import _quantity
 from targetacq.clutter import CHANNELS, as_boxes, gray, image_clutter
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.features import target_features
 from targetacq.images import read_image, save_clutter_overlay
 from targetacq.inputs import read_input_text
+from targetacq.services.range_case import option_choice, option_quantity
 
 _BOX_COLUMNS = ("x", "y", "width", "height")
 
@@ -120,12 +119,12 @@ def clutter_command(
 ) -> None:
     """Clutter, SCR (±), clutter region, signature features and P(detection) of targets in an
     image (Schmieder–Weathersby cells, Eqs. (3.12)–(3.15); features (2.6)–(2.12))."""
-    _choice(output_format, FORMATS, "--format")
+    option_choice(output_format, FORMATS, "--format")
     all_boxes = [_parse_box(b) for b in box or []] + (_read_boxes(boxes) if boxes else [])
     if not all_boxes:
         raise ValueError("give at least one target: --box x,y,width,height or --boxes file.csv")
     if channel is not None:
-        _choice(channel, CHANNELS, "--channel")
+        option_choice(channel, CHANNELS, "--channel")
     image = read_image(image_path)
     if channel is not None and image.ndim == 2:
         raise ValueError(f"--channel applies to a colour image; {image_path} is grayscale")
@@ -137,14 +136,14 @@ def clutter_command(
     scale = 1.0
     if image_range is not None and range_ is not None:
         # dri's reading of a length option: finite, > 0, within limits.MAX_LENGTH.
-        r0 = _quantity(image_range, "length", "--image-range")
-        r1 = _quantity(range_, "length", "--range")
+        r0 = option_quantity(image_range, "length", "--image-range")
+        r1 = option_quantity(range_, "length", "--range")
         scale = r0 / r1
     if cycles is not None and not (math.isfinite(cycles) and cycles >= 0):
         raise ValueError(f"--cycles must be a finite number >= 0; got {cycles:g}")
     if not (math.isfinite(cell_factor) and cell_factor > 0):
         raise ValueError(f"--cell-factor must be a finite number > 0; got {cell_factor:g}")
-    crit = get_criterion(_choice(criterion, CRITERIA, "--criterion"))
+    crit = get_criterion(option_choice(criterion, CRITERIA, "--criterion"))
     if not crit.gives_probabilities:
         raise ValueError(
             f"--criterion {criterion} gives pixel-density thresholds, not the P(detection) of "

@@ -14,7 +14,6 @@ from targetacq.cli import (
     DEFAULT_EXAMPLE,
     FORMATS,
     FormatOption,
-    _choice,
     _one_line,
     _render_rows,
     app,
@@ -26,6 +25,7 @@ from targetacq.outputs import output_path
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
 from targetacq.search import check_simulation_size
 from targetacq.search import simulate as simulate_runs
+from targetacq.services.range_case import option_choice
 from targetacq.units import parse_quantity
 
 
@@ -84,7 +84,7 @@ def evaluate(
 ) -> None:
     """Evaluate all sensors x targets x times of a scenario; print the peak fused
     probabilities per target (and write the full table with --out)."""
-    _choice(output_format, FORMATS, "--format")
+    option_choice(output_format, FORMATS, "--format")
     if out is not None:
         output_path(out, OUTPUT_FORMATS, "output")  # before any work
     loaded, source = _scenario_path(scenario)
@@ -137,7 +137,7 @@ def simulate(
 ) -> None:
     """Random acquisition over time (field-of-view search model): per target, the fraction of
     runs with a detection / recognition / identification and the distribution of its first time."""
-    _choice(output_format, FORMATS, "--format")
+    option_choice(output_format, FORMATS, "--format")
     t_total = parse_quantity(duration, "time", "--duration")
     dt = parse_quantity(step, "time", "--step")
     if not t_total > 0 or not dt > 0:

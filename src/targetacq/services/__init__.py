@@ -1,0 +1,1 @@
+"""Request → result logic shared by the front ends (the CLI now, the web explorer later)."""

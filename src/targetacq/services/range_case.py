@@ -1,0 +1,657 @@
+"""Analyst cases from options: the sensor, target, path and model of a DRI question.
+
+One compiler turns the options of ``targetacq dri`` (and ``plot curves``, ``report``,
+``sweep`` and ``design``; later the web explorer) into a :class:`targetacq.core.cases.RangeCase`
+and a description of how each part was given. Values are text with units, as on the command line
+(``pitch="17um"``), so every front end checks and reports them the same way: finite, in their
+domain, no option silently ignored. The physics is in the kernels this calls.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from targetacq import atmosphere, optics, ranges
+from targetacq.acquisition import ACQUISITION_SEMANTICS
+from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
+from targetacq.bands import band_name, parse_band
+from targetacq.core.cases import RangeCase
+from targetacq.criteria import CRITERIA, Criterion, get_criterion
+from targetacq.limits import (
+    check_count,
+    check_length,
+    check_temperature,
+    check_temperature_difference,
+)
+from targetacq.noise import NOISE_MODELS
+from targetacq.scene import scene_signature
+from targetacq.tables import load_table
+from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
+from targetacq.units import parse_quantity
+
+_SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
+"""The SI unit suffix of each optics limit's key in a report."""
+
+__all__ = [
+    "PIXEL_DENSITY_DEFINITIONS",
+    "RangeSetup",
+    "dri_report",
+    "option_band",
+    "option_choice",
+    "option_criterion",
+    "option_path",
+    "option_quantity",
+    "range_setup",
+]
+
+
+def option_choice(value: str, choices: Any, name: str) -> str:
+    """``value`` if it is one of ``choices``, else a ``ValueError`` naming ``name`` and the
+    choices."""
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(choices)}; got {value!r}")
+    return value
+
+
+def _example_camera() -> dict[str, str]:
+    table = load_table("example_camera")
+    return {
+        quantity: f"{value} {unit}".strip()
+        for quantity, value, unit in zip(
+            table.column("quantity"), table.column("value"), table.column("unit"), strict=True
+        )
+    }
+
+
+def option_quantity(text: str, kind: str, option: str, *, zero_allowed: bool = False) -> float:
+    """The option's quantity in SI units: finite (:func:`parse_quantity`), > 0 (or >= 0), and a
+    length within ±``limits.MAX_LENGTH`` (:func:`targetacq.limits.check_length`)."""
+    value = parse_quantity(text, kind, option)
+    if not (value >= 0 if zero_allowed else value > 0):
+        raise ValueError(f"{option} must be {'>= 0' if zero_allowed else '> 0'}; got {text!r}")
+    if kind == "length":
+        check_length(option, value)
+    return value
+
+
+def _temperature(text: str, option: str) -> float:
+    """A temperature option [K] (:func:`targetacq.limits.check_temperature`)."""
+    return check_temperature(option, parse_quantity(text, "temperature", option))
+
+
+def _temperature_difference(text: str, option: str, *, signed: bool = False) -> float:
+    """A temperature difference option [K]
+    (:func:`targetacq.limits.check_temperature_difference`)."""
+    value = parse_quantity(text, "temperature difference", option)
+    return check_temperature_difference(option, value, signed)
+
+
+def _half_turn_angle(text: str, option: str) -> float:
+    """An angle of view option [rad], in (0°, 180°): a lens sees less than a half-turn."""
+    value = parse_quantity(text, "angle", option)
+    if not 0 < value < math.pi:
+        raise ValueError(f"{option} must be in (0, 180) deg; got {text!r}")
+    return value
+
+
+def _number(value: float, option: str, valid: str) -> float:
+    """A plain number option, finite and ``valid``: "> 0", ">= 0", "in [0, 1]" or "finite"."""
+    ok = (
+        math.isfinite(value)
+        and {
+            "> 0": value > 0,
+            ">= 0": value >= 0,
+            "in [0, 1]": 0 <= value <= 1,
+            "finite": True,
+        }[valid]
+    )
+    if not ok:
+        # an interval excludes infinities by itself; an inequality needs saying finite
+        condition = valid if valid in ("finite", "in [0, 1]") else f"finite and {valid}"
+        raise ValueError(f"{option} must be {condition}; got {value:g}")
+    return value
+
+
+def _probabilities(text: str) -> list[float]:
+    values = []
+    for part in text.split(","):
+        try:
+            p = float(part)
+        except ValueError as error:
+            raise ValueError(f"--probability: {part!r} is not a number in (0, 1)") from error
+        if not 0 < p < 1:  # NaN fails too
+            raise ValueError(f"--probability must be in the open interval (0, 1); got {part}")
+        values.append(p)
+    return values
+
+
+def option_criterion(text: str) -> Criterion:
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles), e.g. 1,4,6.4; got {text!r}")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError as error:
+        raise ValueError(f"--n50 takes three numbers D,R,I (cycles); got {text!r}") from error
+    if not all(math.isfinite(v) and v > 0 for v in values):
+        raise ValueError(f"--n50 values must be finite and > 0 cycles; got {text!r}")
+    # A harder task needs more cycles (every published set, Johnson's first): equal or
+    # decreasing N50s are a slip, and would make recognition likelier than detection.
+    if not values[0] < values[1] < values[2]:
+        raise ValueError(
+            "--n50 must increase: detection < recognition < identification; got "
+            + ", ".join(f"{v:g}" for v in values)
+        )
+    return get_criterion(
+        dict(zip(("detection", "recognition", "identification"), values, strict=True))
+    )
+
+
+def _sensor_ifov(
+    pitch: str | None,
+    focal_length: str | None,
+    ifov: str | None,
+    hfov: str | None,
+    pixels: int | None,
+    projection: str | None,
+) -> tuple[float, dict[str, Any]]:
+    ways = [
+        pitch is not None or focal_length is not None,
+        ifov is not None,
+        hfov is not None or pixels is not None,
+    ]
+    if sum(ways) != 1:
+        raise ValueError(
+            "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
+            "--hfov and --pixels (or --example)"
+        )
+    if projection is not None:
+        option_choice(projection, optics.FIELD_OF_VIEW_PROJECTIONS, "--projection")
+        if not ways[2]:
+            raise ValueError("--projection applies to --hfov and --pixels")
+    if ways[0]:
+        if pitch is None or focal_length is None:
+            raise ValueError("--pitch and --focal-length go together")
+        p = option_quantity(pitch, "length", "--pitch")
+        f = option_quantity(focal_length, "length", "--focal-length")
+        value = float(optics.ifov(p, f))
+        if not 0 < value < math.pi:  # 1e-300 m over 1e300 m underflows to 0
+            raise ValueError(
+                f"--pitch {pitch} over --focal-length {focal_length} gives an IFOV of "
+                f"{value:g} rad, outside (0, π)"
+            )
+        return value, {"pitch_m": p, "focal_length_m": f}
+    if ways[1]:
+        assert ifov is not None
+        return _half_turn_angle(ifov, "--ifov"), {}
+    if hfov is None or pixels is None:
+        raise ValueError("--hfov and --pixels go together")
+    fov = _half_turn_angle(hfov, "--hfov")
+    check_count("--pixels", pixels)
+    projection = projection or "angular"
+    value = float(optics.ifov_from_field_of_view(fov, pixels, projection))
+    return value, {"hfov_rad": fov, "pixels": float(pixels), "projection": projection}
+
+
+PIXEL_DENSITY_DEFINITIONS = {
+    "plane": "rectilinear",  # EN 62676-4: pixels across the scene width 2 R tan(HFOV/2)
+    "arc": "angular",  # pixels across the arc R · HFOV
+}
+"""EN 62676-4 pixel density from a field of view: the definition → the projection it uses."""
+
+
+def _sensor_noise(
+    netd: str | None,
+    netd_temperature: str | None,
+    delta_t: str | None,
+    nec: float | None,
+    contrast: float | None,
+    mrtd: str | None,
+    scene: dict[str, Any],
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """RangeCase keywords of the sensor's noise and MRTD, from --netd/--delta-t, --nec/--contrast
+    and --mrtd; a ΔT from the temperatures where --delta-t is not given."""
+    from targetacq.radiometry import band_exitance_derivative
+
+    if (nec is None) != (contrast is None):
+        raise ValueError("--nec and --contrast go together (a TV camera's noise)")
+    if nec is not None and (netd is not None or mrtd is not None):
+        raise ValueError("--nec (a TV camera) and --netd or --mrtd (a thermal camera) exclude")
+    if netd is None and mrtd is None:
+        for option, value in (("--delta-t", delta_t), ("--netd-temperature", netd_temperature)):
+            if value is not None:
+                raise ValueError(f"{option} is used with --netd or --mrtd (a thermal camera)")
+        if nec is None:
+            return {}
+        assert contrast is not None
+        return {
+            "contrast": _number(contrast, "--contrast", "finite"),
+            "noise_equivalent_contrast": _number(nec, "--nec", ">= 0"),
+        }
+    if delta_t is not None:
+        if "contrast_w_per_m2" in scene:
+            raise ValueError(
+                "give the target's contrast one way: --delta-t, or --target-temperature and "
+                "--background-temperature"
+            )
+        if netd_temperature is not None:
+            raise ValueError(
+                "--netd-temperature converts the temperatures' contrast into a ΔT; with "
+                "--delta-t it is not used"
+            )
+        dt = _temperature_difference(delta_t, "--delta-t", signed=True)
+    elif "contrast_w_per_m2" in scene and band is not None:
+        reference = _temperature(netd_temperature or "300K", "--netd-temperature")
+        # The blackbody ΔT at the reference temperature that gives the same exitance contrast.
+        dt = scene["contrast_w_per_m2"] / float(band_exitance_derivative(reference, band))
+    else:
+        raise ValueError(
+            "--netd and --mrtd need the target's contrast: --delta-t (e.g. 2K), or "
+            "--target-temperature and --background-temperature with --band"
+        )
+    out: dict[str, Any] = {"contrast": dt}
+    if netd is not None:
+        out["noise_equivalent_contrast"] = _temperature_difference(netd, "--netd")
+    if mrtd is not None:
+        from targetacq.mrtd import MrtdCurve
+
+        try:
+            out["mrtd"] = MrtdCurve.from_csv(mrtd)
+        except ValueError as error:
+            raise ValueError(f"--mrtd: {error}") from None
+    return out
+
+
+def option_band(text: str) -> tuple[float, float]:
+    """A named band, or "8-12um"-style limits, as (λ1, λ2) [m]."""
+    return parse_band(text, "--band")
+
+
+def option_path(
+    extinction: str | None,
+    obscurant: str | None,
+    visibility: str | None,
+    convention: str | None,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """The path's extinction from one of --extinction, --obscurant, --visibility ({} if none)."""
+    given = [v is not None for v in (extinction, obscurant, visibility)]
+    if sum(given) > 1:
+        raise ValueError("give one of --extinction, --obscurant and --visibility")
+    if convention is not None and visibility is None:
+        raise ValueError("--visibility-convention goes with --visibility")
+    weather: dict[str, Any] = {}
+    if extinction is not None:
+        weather["extinction"] = option_quantity(
+            extinction, "extinction", "--extinction", zero_allowed=True
+        )
+        source = f"--extinction {extinction}"
+    elif obscurant is not None:
+        if band is None:
+            raise ValueError("--obscurant needs --band (Table 7.1 depends on the band)")
+        name, _, level = obscurant.partition(":")
+        option_choice(name, OBSCURANTS, "--obscurant")
+        level = level or "nominal"
+        option_choice(level, EXTINCTION_LEVELS, "--obscurant level")
+        weather["obscurant"] = f"{name}:{level}"
+        source = f"Table 7.1: {name}, {level}, {band_name(band)}"
+    elif visibility is not None:
+        if band is not None and band_name_or_none(band) != "visible":
+            raise ValueError(
+                "--visibility gives the visible-band extinction; for an infrared --band give "
+                "--extinction or --obscurant"
+            )
+        if convention is None:
+            raise ValueError(
+                "--visibility needs --visibility-convention koschmieder (2 % contrast, 3.912/V) "
+                "or mor (5 %, 2.996/V)"
+            )
+        option_choice(convention, VISIBILITY_CONVENTIONS, "--visibility-convention")
+        weather["visibility"] = option_quantity(visibility, "length", "--visibility")
+        weather["convention"] = convention
+        source = f"visibility {visibility} ({convention})"
+    else:
+        return {}
+    gamma = atmosphere.extinction_for_band(band, **weather)
+    term, visual_range = atmosphere.extinction_term(gamma)
+    return {
+        "extinction_np_per_m": gamma,
+        "extinction_np_per_km": gamma * 1e3,
+        "term": term,
+        "visual_range": visual_range,
+        "source": source,
+    }
+
+
+def band_name_or_none(band: tuple[float, float]) -> str | None:
+    try:
+        return band_name(band)
+    except ValueError:
+        return None
+
+
+def _clutter(
+    scr: float | None,
+    region: str | None,
+    clutter_std: str | None,
+    target_temperature: str | None,
+    background_temperature: str | None,
+    emissivity: float | None,
+    background_emissivity: float | None,
+    band: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
+    if sum(v is not None for v in (scr, region, clutter_std)) > 1:
+        raise ValueError("give one of --scr, --clutter and --clutter-std")
+    temperatures = (target_temperature, background_temperature)
+    if any(t is not None for t in temperatures) and None in temperatures:
+        raise ValueError("--target-temperature and --background-temperature go together")
+    if target_temperature is None:
+        for option, value in (
+            ("--emissivity", emissivity),
+            ("--background-emissivity", background_emissivity),
+        ):
+            if value is not None:
+                raise ValueError(
+                    f"{option} is used with --target-temperature and --background-temperature"
+                )
+    if scr is not None:
+        return {"scr": _number(scr, "--scr", ">= 0")}
+    if region is not None:
+        return {"region": option_choice(region, CLUTTER_REGIONS, "--clutter")}
+    if target_temperature is None or background_temperature is None:
+        if clutter_std is not None:
+            raise ValueError(
+                "--clutter-std needs --target-temperature and --background-temperature"
+            )
+        return {}
+    if band is None:
+        raise ValueError("temperatures need --band to compute the band exitance")
+    t_t = _temperature(target_temperature, "--target-temperature")
+    t_b = _temperature(background_temperature, "--background-temperature")
+    eps_t = 1.0 if emissivity is None else _number(emissivity, "--emissivity", "in [0, 1]")
+    eps_b = (
+        1.0
+        if background_emissivity is None
+        else _number(background_emissivity, "--background-emissivity", "in [0, 1]")
+    )
+    sigma_t = None
+    if clutter_std is not None:
+        sigma_t = _temperature_difference(clutter_std, "--clutter-std")
+    seen = scene_signature(
+        band,
+        t_t,
+        t_b,
+        target_emissivity=eps_t,
+        background_emissivity=eps_b,
+        clutter_std=sigma_t,
+    )
+    info: dict[str, Any] = {
+        "target_temperature_k": t_t,
+        "background_temperature_k": t_b,
+        "contrast_w_per_m2": float(seen.contrast),
+    }
+    if seen.scr is not None:
+        info["clutter_w_per_m2"] = float(seen.clutter)
+        info["scr"] = float(seen.scr)
+    return info
+
+
+@dataclass(frozen=True)
+class RangeSetup:
+    """Everything the dri, plot and report commands read from the sensor/target/path options:
+    the range case, and for the output how the sensor, the path and the scene were given."""
+
+    case: RangeCase
+    sensor: dict[str, float]
+    path: dict[str, Any]
+    scene: dict[str, Any]
+    probabilities: list[float]
+
+    @property
+    def criterion(self) -> Criterion:
+        return get_criterion(self.case.criterion)
+
+    @property
+    def optics(self) -> dict[str, Any]:
+        """The optics limits given (aperture, wavelength, blur_sigma) [SI]."""
+        names = ("aperture", "wavelength", "blur_sigma")
+        return {k: getattr(self.case, k) for k in names if getattr(self.case, k) is not None}
+
+    @property
+    def cycle(self) -> float:
+        return float(self.case.cycle_angle)
+
+
+def range_setup(
+    *,
+    pitch: str | None,
+    focal_length: str | None,
+    ifov: str | None,
+    hfov: str | None,
+    pixels: int | None,
+    projection: str | None,
+    pixel_density: str | None,
+    aperture: str | None,
+    f_number: float | None,
+    wavelength: str | None,
+    blur: str | None,
+    critical_dimension: str | None,
+    criterion: str,
+    n50: str | None,
+    transform: str | None,
+    bound: str | None,
+    scr: float | None,
+    clutter: str | None,
+    band: str | None,
+    target_temperature: str | None,
+    background_temperature: str | None,
+    emissivity: float | None,
+    background_emissivity: float | None,
+    clutter_std: str | None,
+    extinction: str | None,
+    obscurant: str | None,
+    visibility: str | None,
+    visibility_convention: str | None,
+    noise_model: str | None,
+    netd: str | None,
+    netd_temperature: str | None,
+    delta_t: str | None,
+    nec: float | None,
+    contrast: float | None,
+    target_area: str | None,
+    mrtd: str | None,
+    semantics: str | None,
+    probability: str | None,
+    example: bool,
+    default_probability: str,
+) -> RangeSetup:
+    """The range case and its description from the options of `dri` (also `plot curves` and
+    `report`, whose ``default_probability`` differs); every option checked finite and in its
+    domain, and every option that would be ignored refused, naming it."""
+    if transform is not None:
+        option_choice(transform, TRANSFORMS, "--transform")
+    if example:
+        camera = _example_camera()
+        if ifov is None and hfov is None and pixels is None:
+            pitch = pitch or camera["pitch"]
+            focal_length = focal_length or camera["focal_length"]
+        if blur is None:
+            aperture = aperture or camera["aperture"]
+            wavelength = wavelength or camera["wavelength"]
+        critical_dimension = critical_dimension or camera["critical_dimension"]
+    if critical_dimension is None:
+        raise ValueError("--critical-dimension is required (e.g. 2.3m), or use --example")
+    d = option_quantity(critical_dimension, "length", "--critical-dimension")
+    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
+    optics_kw: dict[str, Any] = {}
+    if f_number is not None:
+        if aperture is not None:
+            raise ValueError("give --aperture or --f-number, not both")
+        if "focal_length_m" not in sensor:
+            raise ValueError("--f-number needs --focal-length (aperture = focal length / F#)")
+        sensor["f_number"] = _number(f_number, "--f-number", "> 0")
+        if wavelength is None:
+            raise ValueError("--f-number gives the aperture for diffraction: give --wavelength")
+    if (aperture is None and f_number is None) != (wavelength is None):
+        raise ValueError("--aperture and --wavelength go together (diffraction limit)")
+    if wavelength is not None:
+        optics_kw["aperture"] = (
+            sensor["focal_length_m"] / f_number
+            if f_number is not None
+            else option_quantity(str(aperture), "length", "--aperture")
+        )
+        optics_kw["wavelength"] = option_quantity(wavelength, "length", "--wavelength")
+    if blur is not None:
+        optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
+        if not 0 <= optics_kw["blur_sigma"] < math.pi:
+            raise ValueError(f"--blur must be in [0, 180) deg; got {blur!r}")
+    if n50 is not None and criterion != "johnson":
+        raise ValueError("give either --criterion or --n50, not both")
+    crit = (
+        option_criterion(n50)
+        if n50 is not None
+        else get_criterion(option_choice(criterion, CRITERIA, "--criterion"))
+    )
+    if not crit.gives_probabilities:
+        # A pixel-density criterion gives thresholds, one range each: no probability, no
+        # transform, no semantics, and pixel density counted its own way (--pixel-density).
+        for option, value in (
+            ("--probability", probability),
+            ("--transform", transform),
+            ("--semantics", semantics),
+            ("--projection", projection),
+        ):
+            if value is not None:
+                raise ValueError(
+                    f"--criterion {crit.name} gives pixel-density thresholds; {option} does "
+                    "not apply"
+                )
+    options: dict[str, Any] = {}
+    if bound is not None:
+        options["bound"] = option_choice(bound, C2NVEO_BOUNDS, "--bound")
+    band_limits_m = option_band(band) if band is not None else None
+    path = option_path(extinction, obscurant, visibility, visibility_convention, band_limits_m)
+    scene = _clutter(
+        scr,
+        clutter,
+        clutter_std,
+        target_temperature,
+        background_temperature,
+        emissivity,
+        background_emissivity,
+        band_limits_m,
+    )
+    if noise_model is not None:
+        option_choice(noise_model, NOISE_MODELS, "--noise-model")
+    if semantics is not None:
+        option_choice(semantics, ACQUISITION_SEMANTICS, "--semantics")
+    if pixel_density is not None:
+        option_choice(pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
+    if not crit.gives_probabilities and "hfov_rad" in sensor:
+        # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
+        density = pixel_density or "plane"
+        ifov_rad = float(
+            optics.ifov_from_field_of_view(
+                sensor["hfov_rad"], pixels, PIXEL_DENSITY_DEFINITIONS[density]
+            )
+        )
+        sensor["pixel_density"] = density
+    elif pixel_density is not None:
+        raise ValueError("--pixel-density applies to a pixel-density criterion with --hfov")
+    noise_kw = _sensor_noise(
+        netd, netd_temperature, delta_t, nec, contrast, mrtd, scene, band_limits_m
+    )
+    if target_area is not None:
+        if "noise_equivalent_contrast" not in noise_kw:
+            raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
+        noise_kw["target_area"] = option_quantity(target_area, "area", "--target-area")
+    case = RangeCase(
+        d,
+        ifov_rad,
+        **optics_kw,
+        **noise_kw,
+        semantics=semantics or "nested",
+        criterion=crit,
+        transform=transform or "ttpf",
+        options=options,
+        extinction=path.get("extinction_np_per_m"),
+        scr=scene.get("scr"),
+        region=scene.get("region"),
+        noise_model=noise_model or "variance-sum",
+    )
+    if noise_model is not None and not case.noisy:
+        raise ValueError(
+            "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
+            "--visibility, --netd or --nec"
+        )
+    return RangeSetup(
+        case=case,
+        sensor=sensor,
+        path=path,
+        scene=scene,
+        probabilities=_probabilities(default_probability if probability is None else probability),
+    )
+
+
+def dri_report(setup: RangeSetup) -> dict[str, Any]:
+    case, crit = setup.case, setup.criterion
+    rows = []
+    for p in setup.probabilities:
+        for task, r in ranges.case_ranges(case, p).items():
+            value = float(r)
+            rows.append(
+                {
+                    "task": task,
+                    "probability": p if crit.gives_probabilities else None,
+                    "threshold": crit.threshold(task),
+                    "threshold_unit": "cycles" if crit.gives_probabilities else "pixels/m",
+                    # NaN: never reached (null in JSON); +inf: reached at any range ("inf")
+                    "range_m": None if math.isnan(value) else value,
+                    "reached": not math.isnan(value),
+                }
+            )
+        if not crit.gives_probabilities:
+            break
+    return {
+        "sensor": {
+            "ifov_rad": case.ifov,
+            "cycle_rad": setup.cycle,
+            **setup.sensor,
+            **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in setup.optics.items()},
+        },
+        "target": {
+            "critical_dimension_m": case.critical_dimension,
+            **setup.scene,
+            **_noise_report(case),
+        },
+        "path": setup.path,
+        "criterion": crit.name,
+        "criterion_kind": crit.kind,
+        "transform": case.transform if crit.gives_probabilities else None,
+        "options": case.options,
+        "noise_model": case.noise_model if case.noisy else None,
+        "semantics": case.semantics,
+        "resolution_model": case.resolution_model,
+        "ranges": rows,
+    }
+
+
+def _noise_report(case: RangeCase) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    if case.contrast is not None:
+        out[
+            "delta_t_k"
+            if case.mrtd is not None or case.noise_equivalent_contrast is None
+            else "contrast"
+        ] = float(case.contrast)
+    if case.noise_equivalent_contrast is not None:
+        out["noise_equivalent_contrast"] = float(case.noise_equivalent_contrast)
+    if case.target_area is not None:
+        out["target_area_m2"] = float(case.target_area)
+    if case.mrtd is not None:
+        out["mrtd_cutoff_cycles_per_mrad"] = case.mrtd.cutoff * 1e-3
+    return out

@@ -8,7 +8,6 @@ from typing import Annotated, Any
 import typer
 
 from targetacq import atmosphere
-from targetacq.acquisition import ACQUISITION_SEMANTICS
 from targetacq.atmosphere import np_per_km_to_db_per_km
 from targetacq.cli import (
     FORMATS,
@@ -21,8 +20,7 @@ from targetacq.cli import (
     _csv,
     app,
 )
-from targetacq.criteria import CRITERIA
-from targetacq.noise import NOISE_MODELS
+from targetacq.cli.options import range_case_options
 from targetacq.outputs import json_text
 from targetacq.services.range_case import (
     dri_report,
@@ -32,139 +30,17 @@ from targetacq.services.range_case import (
     option_quantity,
     range_setup,
 )
-from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 
 
 @app.command()
+@range_case_options
 def dri(
-    pitch: Annotated[str | None, typer.Option(help="Pixel pitch, e.g. 17um.")] = None,
-    focal_length: Annotated[str | None, typer.Option(help="Focal length, e.g. 75mm.")] = None,
-    ifov: Annotated[str | None, typer.Option(help="Pixel IFOV, e.g. 0.227mrad.")] = None,
-    hfov: Annotated[str | None, typer.Option(help="Horizontal field of view, e.g. 12deg.")] = None,
-    pixels: Annotated[int | None, typer.Option(help="Pixels across --hfov, e.g. 640.")] = None,
-    projection: Annotated[
-        str | None,
-        typer.Option(
-            help="How --hfov over --pixels gives the IFOV: angular (HFOV / pixels, datasheets; "
-            "the default) or rectilinear (2 tan(HFOV/2) / pixels)."
-        ),
-    ] = None,
-    pixel_density: Annotated[
-        str | None,
-        typer.Option(
-            help="EN 62676-4 pixel density from --hfov: plane (scene width 2R tan(HFOV/2), the "
-            "default) or arc (R · HFOV)."
-        ),
-    ] = None,
-    aperture: Annotated[
-        str | None, typer.Option(help="Lens aperture diameter for diffraction, e.g. 75mm.")
-    ] = None,
-    f_number: Annotated[
-        float | None, typer.Option(help="Lens F-number: aperture = focal length / F#.")
-    ] = None,
-    wavelength: Annotated[
-        str | None, typer.Option(help="Wavelength for diffraction, e.g. 10um.")
-    ] = None,
-    blur: Annotated[
-        str | None, typer.Option(help="Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.")
-    ] = None,
-    critical_dimension: Annotated[
-        str | None, typer.Option(help="Target critical dimension, e.g. 2.3m.")
-    ] = None,
-    criterion: Annotated[
-        str, typer.Option(help=f"Criteria set: {', '.join(CRITERIA)}.")
-    ] = "johnson",
-    n50: Annotated[
-        str | None,
-        typer.Option(help="User-defined N50 cycles for detection,recognition,identification."),
-    ] = None,
-    transform: Annotated[
-        str | None, typer.Option(help=f"Transform: {', '.join(TRANSFORMS)} (default ttpf).")
-    ] = None,
-    bound: Annotated[
-        str | None, typer.Option(help=f"c2nveo bound: {', '.join(C2NVEO_BOUNDS)}.")
-    ] = None,
-    scr: Annotated[
-        float | None, typer.Option(help="Signal-to-clutter ratio (schmieder-weathersby).")
-    ] = None,
-    clutter: Annotated[
-        str | None,
-        typer.Option(help=f"Clutter region (schmieder-weathersby): {', '.join(CLUTTER_REGIONS)}."),
-    ] = None,
-    band: BandOption = None,
-    target_temperature: Annotated[
-        str | None, typer.Option(help="Target temperature, e.g. 305K or 32degC.")
-    ] = None,
-    background_temperature: Annotated[
-        str | None, typer.Option(help="Background temperature, e.g. 295K.")
-    ] = None,
-    emissivity: Annotated[
-        float | None, typer.Option(help="Target emissivity in [0, 1] (default 1).")
-    ] = None,
-    background_emissivity: Annotated[
-        float | None, typer.Option(help="Background emissivity in [0, 1] (default 1).")
-    ] = None,
-    clutter_std: Annotated[
-        str | None,
-        typer.Option(help="Background temperature spread (clutter), e.g. 2K; gives the SCR."),
-    ] = None,
-    extinction: ExtinctionOption = None,
-    obscurant: ObscurantOption = None,
-    visibility: VisibilityOption = None,
-    visibility_convention: ConventionOption = None,
-    noise_model: Annotated[
-        str | None,
-        typer.Option(help=f"Noise model: {', '.join(NOISE_MODELS)} (default variance-sum)."),
-    ] = None,
-    netd: Annotated[
-        str | None, typer.Option(help="Thermal camera's NETD, e.g. 50mK (needs --delta-t).")
-    ] = None,
-    netd_temperature: Annotated[
-        str | None,
-        typer.Option(
-            help="Temperature at which the NETD is quoted, to turn the target and background "
-            "temperatures into a ΔT (default 300K)."
-        ),
-    ] = None,
-    delta_t: Annotated[
-        str | None, typer.Option(help="Target-background temperature difference, e.g. 2K.")
-    ] = None,
-    nec: Annotated[
-        float | None, typer.Option(help="TV camera's noise-equivalent contrast, e.g. 0.01.")
-    ] = None,
-    contrast: Annotated[
-        float | None, typer.Option(help="Target contrast for --nec, e.g. 0.3.")
-    ] = None,
-    target_area: Annotated[
-        str | None,
-        typer.Option(help="Area of the target as seen, for its pixels (default: dimension²)."),
-    ] = None,
-    mrtd: Annotated[
-        str | None,
-        typer.Option(help="MRTD curve CSV (frequency [cycles/mrad], mrtd [K]); needs --delta-t."),
-    ] = None,
-    semantics: Annotated[
-        str | None,
-        typer.Option(
-            help=f"Acquisition semantics: {', '.join(ACQUISITION_SEMANTICS)} (default nested)."
-        ),
-    ] = None,
-    probability: Annotated[
-        str | None,
-        typer.Option(
-            help="Probability, or several separated by commas, e.g. 0.5,0.8 (default 0.5)."
-        ),
-    ] = None,
+    case_options: dict[str, Any],
     output_format: FormatOption = "table",
-    example: Annotated[
-        bool, typer.Option("--example", help="Use the bundled example camera and target.")
-    ] = False,
 ) -> None:
     """Ranges at which each task (detection, recognition, identification) reaches a probability."""
     option_choice(output_format, FORMATS, "--format")
-    params = dict(locals())
-    params.pop("output_format")
-    setup = range_setup(**params, default_probability="0.5")
+    setup = range_setup(**case_options, default_probability="0.5")
     typer.echo(_render(dri_report(setup), output_format), nl=False)
 
 

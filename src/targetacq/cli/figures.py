@@ -14,9 +14,9 @@ from targetacq.atmosphere import (
 )
 from targetacq.bands import BANDS
 from targetacq.cli import (
-    _click_command,
     app,
 )
+from targetacq.cli.options import range_case_options
 from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, get_criterion
 from targetacq.model import ModelChain
@@ -40,22 +40,13 @@ PLOT_KIND_NAMES = ("curves", "transforms", "atmosphere")
 """The names of :data:`targetacq.plots.PLOT_KINDS`, known without importing matplotlib (for the
 help text; a test keeps the two equal)."""
 
-_PASS_THROUGH = {"allow_extra_args": True, "ignore_unknown_options": True}
-
 _REPORT_PROBABILITIES = "0.5,0.8,0.95"
 """The probabilities of a figure's or a report's DRI points unless --probability is given."""
 
 
-def _dri_params(args: list[str]) -> tuple[dict[str, Any], set[str]]:
-    """Parse sensor/target/path options with the `dri` command's own parser.
-
-    Returns the parameters and the names of those given on the command line.
-    """
-    command = _click_command().commands["dri"]
-    context = command.make_context("dri", list(args))
-    defaults = {p.name: p.default for p in command.params}
-    given = {name for name, value in context.params.items() if value != defaults.get(name)}
-    return dict(context.params), given
+def _given(case_options: dict[str, Any]) -> set[str]:
+    """The names of the range-case options given on the command line."""
+    return {name for name, value in case_options.items() if value not in (None, False)}
 
 
 def _title(setup: RangeSetup) -> str:
@@ -92,9 +83,9 @@ def _performance(
     return ranges.range_performance(grid, cases, probabilities)
 
 
-@app.command(context_settings=_PASS_THROUGH)
+@app.command()
+@range_case_options
 def plot(
-    context: typer.Context,
     kind: Annotated[str, typer.Argument(help=f"Figure: {', '.join(PLOT_KIND_NAMES)}.")],
     out: Annotated[str, typer.Option(help="Output file, .png or .svg.")],
     max_range: Annotated[
@@ -105,6 +96,8 @@ def plot(
         typer.Option(help="atmosphere: Table 7.1 level, low|nominal|high (default nominal)."),
     ] = None,
     title: Annotated[str | None, typer.Option(help="Figure title.")] = None,
+    *,
+    case_options: dict[str, Any],
 ) -> None:
     """Draw a figure. `curves` takes every sensor, target and path option of `targetacq dri`
     (and --probability for the marked DRI points); `transforms` takes --criterion or --n50;
@@ -120,7 +113,7 @@ def plot(
 
     option_choice(kind, PLOT_KINDS, "plot kind")
     output_path(out, FIGURE_FORMATS, "figure file")  # before any work
-    params, given = _dri_params(context.args)
+    params, given = case_options, _given(case_options)
     allowed = {
         "curves": None,
         "transforms": {"criterion", "n50"},
@@ -129,14 +122,11 @@ def plot(
     if allowed is not None and given - allowed:
         unused = ", ".join("--" + name.replace("_", "-") for name in sorted(given - allowed))
         raise ValueError(f"plot {kind} does not use {unused}")
-    if "output_format" in given:
-        raise ValueError("plot does not use --format: the figure's format is --out's suffix")
     if level is not None and kind != "atmosphere":
         raise ValueError(f"plot {kind} does not use --level (plot atmosphere does)")
     if max_range is not None and kind == "transforms":
         raise ValueError("plot transforms does not use --max-range (its axis is cycles)")
     if kind == "curves":
-        params.pop("output_format")
         setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
@@ -148,7 +138,13 @@ def plot(
         crit = (
             option_criterion(params["n50"])
             if params["n50"]
-            else get_criterion(option_choice(params["criterion"], CRITERIA, "--criterion"))
+            else get_criterion(
+                option_choice(
+                    "johnson" if params["criterion"] is None else params["criterion"],
+                    CRITERIA,
+                    "--criterion",
+                )
+            )
         )
         fig = plot_transforms(crit, title=title)
     else:
@@ -160,14 +156,20 @@ def plot(
     typer.echo(f"wrote {written}")
 
 
-@app.command(context_settings=_PASS_THROUGH)
+@app.command()
+@range_case_options
 def report(
-    context: typer.Context,
+    scenario: Annotated[
+        str | None,
+        typer.Argument(help="A scenario file: every sensor-target pair becomes a case."),
+    ] = None,
+    *,
     out: Annotated[str, typer.Option(help="Output file, .html.")],
     max_range: Annotated[
         str | None, typer.Option(help="Largest range of the curves, e.g. 8km (default: automatic).")
     ] = None,
     title: Annotated[str | None, typer.Option(help="Report title.")] = None,
+    case_options: dict[str, Any],
 ) -> None:
     """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
     50 / 80 / 95 % and the figures. Give a scenario file (every sensor-target pair becomes a
@@ -176,20 +178,16 @@ def report(
     from targetacq.report import render_report, write_report
 
     output_path(out, ("html", "htm"), "the report file")  # before any work
-    args = list(context.args)
-    if args and not args[0].startswith("-"):
-        if len(args) > 1:
-            raise ValueError(
-                f"a scenario report takes no sensor or target options; got {' '.join(args[1:])}"
-            )
-        heading, performance, sections, figures = _scenario_report(args[0], max_range, title)
+    given = _given(case_options)
+    if scenario is not None:
+        if given:
+            unused = ", ".join("--" + name.replace("_", "-") for name in sorted(given))
+            raise ValueError(f"a scenario report takes no sensor or target options; got {unused}")
+        heading, performance, sections, figures = _scenario_report(scenario, max_range, title)
         page = render_report(performance, sections, figures, title=heading, version=__version__)
         typer.echo(f"wrote {write_report(out, page)}")
         return
-    params, given = _dri_params(args)
-    if "output_format" in given:
-        raise ValueError("report does not use --format: it writes HTML")
-    params.pop("output_format")
+    params = case_options
     setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")

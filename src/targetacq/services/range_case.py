@@ -440,7 +440,7 @@ def range_setup(
     wavelength: str | None,
     blur: str | None,
     critical_dimension: str | None,
-    criterion: str,
+    criterion: str | None,
     n50: str | None,
     transform: str | None,
     bound: str | None,
@@ -509,12 +509,14 @@ def range_setup(
         optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
         if not 0 <= optics_kw["blur_sigma"] < math.pi:
             raise ValueError(f"--blur must be in [0, 180) deg; got {blur!r}")
-    if n50 is not None and criterion != "johnson":
+    if n50 is not None and criterion is not None:
         raise ValueError("give either --criterion or --n50, not both")
     crit = (
         option_criterion(n50)
         if n50 is not None
-        else get_criterion(option_choice(criterion, CRITERIA, "--criterion"))
+        else get_criterion(
+            option_choice("johnson" if criterion is None else criterion, CRITERIA, "--criterion")
+        )
     )
     if not crit.gives_probabilities:
         # A pixel-density criterion gives thresholds, one range each: no probability, no

@@ -8,7 +8,7 @@ import pytest
 import typer.main
 
 from targetacq.cli import app
-from targetacq.cli.options import RANGE_CASE_OPTIONS, option_coverage
+from targetacq.services.options import RANGE_CASE_OPTIONS, option_coverage
 from targetacq.services.range_case import range_setup
 
 

@@ -22,6 +22,7 @@ from targetacq.cli import (
 )
 from targetacq.cli.options import range_case_options
 from targetacq.outputs import json_text
+from targetacq.services.options import typed_options
 from targetacq.services.range_case import (
     dri_report,
     option_band,
@@ -40,7 +41,7 @@ def dri(
 ) -> None:
     """Ranges at which each task (detection, recognition, identification) reaches a probability."""
     option_choice(output_format, FORMATS, "--format")
-    setup = range_setup(**case_options, default_probability="0.5")
+    setup = range_setup(**typed_options(case_options, "dri"), default_probability="0.5")
     typer.echo(_render(dri_report(setup), output_format), nl=False)
 
 

@@ -23,6 +23,7 @@ from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import output_path
 from targetacq.scenario import load_scenario
+from targetacq.services.options import typed_options
 from targetacq.services.range_case import (
     RangeSetup,
     option_band,
@@ -113,7 +114,7 @@ def plot(
 
     option_choice(kind, PLOT_KINDS, "plot kind")
     output_path(out, FIGURE_FORMATS, "figure file")  # before any work
-    params, given = case_options, _given(case_options)
+    params, given = typed_options(case_options, "plot"), _given(case_options)
     allowed = {
         "curves": None,
         "transforms": {"criterion", "n50"},
@@ -187,7 +188,7 @@ def report(
         page = render_report(performance, sections, figures, title=heading, version=__version__)
         typer.echo(f"wrote {write_report(out, page)}")
         return
-    params = case_options
+    params = typed_options(case_options, "report")
     setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
     if not setup.criterion.gives_probabilities:
         raise ValueError("the report needs a criterion with probabilities (not en62676-4)")

@@ -104,7 +104,7 @@ def test_snr_from_transmittance_eqs_7_6_7_7():
 
 
 def test_db_per_km_erratum():
-    # 1 dB/km = 0.2303 Np/km (MODEL.md erratum to "Np/km = 0.23 dB/km").
+    # 1 dB/km = 0.2303 Np/km (erratum to §7.4's "Np/km = 0.23 dB/km", see the user guide).
     assert atmosphere.db_per_km_to_np_per_km(1.0) == pytest.approx(0.2303, abs=5e-5)
     assert atmosphere.np_per_km_to_db_per_km(1.0) == pytest.approx(4.343, abs=5e-4)
     assert atmosphere.np_per_km_to_db_per_km(

@@ -52,7 +52,7 @@ def test_fig_3_3_a_target_two_and_a_half_pixel_rows_high_is_1_25_cycles():
 
 
 def test_diffraction_check_value_0_1_m_at_1_km():
-    # MODEL.md §1 / Sonesson (2004) §5.5: D = 122 mm, λ = 10 µm -> 1e-4 rad -> 0.1 m at 1000 m.
+    # Sonesson (2004) §5.5, Eq. (5.3): D = 122 mm, λ = 10 µm -> 1e-4 rad -> 0.1 m at 1000 m.
     angle = ta.diffraction_angle(10e-6, 0.122)
     assert angle == pytest.approx(1e-4, rel=1e-6)
     assert angle * 1000.0 == pytest.approx(0.1, rel=1e-6)

@@ -27,7 +27,7 @@ def band_by_quadrature(t, low, high):
 
 @pytest.mark.parametrize(
     ("t", "band", "printed", "digits"),
-    [  # MODEL.md §4 check values (CODATA, numerical quadrature)
+    [  # check values of the user guide (CODATA, numerical quadrature)
         (300.0, (8e-6, 12e-6), 120.95, 0.005),
         (270.0, (8e-6, 12e-6), 70.32, 0.005),
         (300.0, (3e-6, 5e-6), 5.862, 0.0005),
@@ -121,7 +121,7 @@ def test_table_6_1_and_kirchhoff():
 
 
 def test_cos4_fall_off_and_lambert():
-    # MODEL.md §1: 30° → 0.5625, 10° → 0.9406 (Eq. (6.17)).
+    # cos⁴θ: 30° → 0.5625, 10° → 0.9406 (Eq. (6.17)).
     e0 = radiometry.irradiance_at_sensor(1.0, 1.0)
     assert radiometry.irradiance_at_sensor(
         1.0, 1.0, off_axis_angle=math.radians(30)

@@ -3,7 +3,8 @@
 Sources: Sonesson (2004) ch. 7: Beer–Lambert (7.1)–(7.3), the band mean (7.4), Tables 7.1 and 7.2,
 paths through regions of different conditions (§7.8), local obscurant clouds behind vehicles
 (§7.5–7.7), and the SNR from transmittance (7.5)–(7.7). Foliage in front of a target (§6.8) acts as
-a transmittance. Errata from MODEL.md §5: 1 dB/km = 0.2303 Np/km (not "Np/km = 0.23 dB/km").
+a transmittance. Erratum to §7.4 (see the user guide's errata): 1 dB/km = 0.2303 Np/km (not
+"Np/km = 0.23 dB/km").
 
 Units: extinction coefficients are in Np/m inside (SI); the tables and the CLI use Np/km, converted
 at the boundary. Visibility conventions are in the registry :data:`VISIBILITY_CONVENTIONS`.
@@ -45,7 +46,7 @@ __all__ = [
 ]
 
 DB_PER_NEPER = 10.0 / math.log(10.0)
-"""Decibels per neper for power, 10·log10(e) ≈ 4.343 (so 1 dB = 0.2303 Np; MODEL.md erratum)."""
+"""Decibels per neper for power, 10·log10(e) ≈ 4.343 (so 1 dB = 0.2303 Np; erratum to §7.4)."""
 
 VISIBILITY_CONVENTIONS: Mapping[str, float] = MappingProxyType(
     {
@@ -193,7 +194,7 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
 
 
 def db_per_km_to_np_per_km(value: Any) -> Any:
-    """Convert an extinction in dB/km to Np/km: ×0.2303 (MODEL.md erratum to §7.4)."""
+    """Convert an extinction in dB/km to Np/km: ×0.2303 (the erratum to §7.4)."""
     _, (v,) = _arrays.arrays(value, names=("value",))
     return _arrays.result(v / DB_PER_NEPER)
 

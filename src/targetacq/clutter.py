@@ -238,7 +238,8 @@ def image_clutter(image: Any, boxes: Any, cell_factor: float = 2.0) -> ImageClut
     Around each box, a 3 × 3 grid of square cells of side ``round(cell_factor · min(w, h))``
     (about twice the target's minimum dimension, §3.7) is laid with the centre cell on the box's
     centre. Each cell's variance is the ordinary (population) variance of its pixels (the
-    MODEL.md erratum to (3.13)); the clutter is the RMS of the cells' standard deviations (3.12).
+    erratum to Eq. (3.13), see the user guide's errata); the clutter is the RMS of the cells'
+    standard deviations (3.12).
 
     Choices, documented:
 

@@ -29,7 +29,7 @@ STEFAN_BOLTZMANN: float = _c.Stefan_Boltzmann
 """Stefan–Boltzmann constant σ [W m⁻² K⁻⁴]."""
 
 FIRST_RADIATION_CONSTANT: float = 2.0 * math.pi * PLANCK * SPEED_OF_LIGHT**2
-"""c1 = 2π h c² [W m²] of Planck's law for exitance, Eq. (6.2) (MODEL.md erratum to (6.12))."""
+"""c1 = 2π h c² [W m²] of Planck's law for exitance, Eq. (6.2) (the erratum to (6.12))."""
 
 SECOND_RADIATION_CONSTANT: float = PLANCK * SPEED_OF_LIGHT / BOLTZMANN
 """c2 = h c / k [m K]."""

@@ -7,7 +7,8 @@ One *cycle* (line pair) is the angle of two adjacent pixel rows, ``2·IFOV`` (Fi
 2.5 pixel rows high is 1.25 cycles). Optics can make the resolvable cycle coarser than that:
 
 - diffraction: one cycle is ``1.22 λ / D`` (the Rayleigh separation, Eq. (5.3)), and the
-  sensor resolves ``max(2·IFOV, 1.22 λ/D)`` (MODEL.md erratum to §5.5);
+  sensor resolves ``max(2·IFOV, 1.22 λ/D)`` (the erratum to §5.5, see the
+  user guide's errata);
 - a Gaussian blur of angular standard deviation σ (Eq. (5.2)) limits resolution where its
   modulation transfer function ``exp(-2π²σ²ξ²)`` falls to the modulation that the diffraction
   rule accepts at its own limit: the diffraction MTF of a circular aperture at the spatial
@@ -240,7 +241,8 @@ def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
     """Gaussian point-spread function of the optics, peak-normalised to 1.
 
     ``h(x, y) = exp(-x²/(2σx²) - y²/(2σy²))``: Eq. (5.2) in Sonesson (2004) with the erratum
-    of MODEL.md §1 (the printed ``exp(-(x²+y²)/(2(σx²+σy²)))`` is not a separable Gaussian).
+    of the user guide's errata (the printed ``exp(-(x²+y²)/(2(σx²+σy²)))`` is not a separable
+    Gaussian).
 
     Parameters
     ----------
@@ -316,8 +318,8 @@ def resolvable_cycle_angle(
     """Angle of one resolvable cycle: the coarser of the sampling and the optics limits.
 
     ``cycle = max(2·IFOV, sqrt(θ_diff² + θ_blur²))`` with ``θ_diff = asin(1.22 λ/D)``
-    (Eq. (5.3) and the MODEL.md erratum to §5.5) and ``θ_blur = 2.86 σ`` (Eq. (5.2), see the
-    module docstring for the threshold and the quadrature sum).
+    (Eq. (5.3) and the erratum to §5.5 in the user guide) and ``θ_blur = 2.86 σ`` (Eq. (5.2),
+    see the module docstring for the threshold and the quadrature sum).
 
     Parameters
     ----------

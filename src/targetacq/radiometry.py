@@ -1,7 +1,8 @@
 """Thermal and reflected radiation: Planck, band exitance, emissivity, signal at the sensor.
 
-Sources: Sonesson (2004) ch. 6, Eqs. (6.1)–(6.18) with the MODEL.md erratum (``2π h c²``),
-Table 6.1; CODATA constants via :mod:`targetacq.constants`.
+Sources: Sonesson (2004) ch. 6, Eqs. (6.1)–(6.18) with the erratum ``2π h c²`` to Eqs. (6.12)
+and (6.13) (see the user guide's errata), Table 6.1; CODATA constants via
+:mod:`targetacq.constants`.
 
 Band exitance is computed in closed form, with no quadrature, through the integral
 ``Q(x) = ∫_x^∞ t³ / (e^t − 1) dt`` with ``x = c2 / (λ T)``; the exitance between λ1 and λ2 is

@@ -13,10 +13,11 @@ cases at once. Tolerance: the returned range ``R`` satisfies ``P(R) >= p`` and
 ``p`` (a Schmieder–Weathersby clutter-region boundary crossed as the noise grows with range), the
 range is that of the jump.
 
-Ordering: nothing is recognised that was not detected (MODEL.md §2), so the recognition range
-is at most the detection range, and identification at most recognition (as the capped
-probabilities of :func:`targetacq.acquisition_probabilities`). Where a probability is never
-reached the range is NaN; where no resolution is needed (a moving target's detection) it is +inf.
+Ordering: nothing is recognised that was not detected (the nested reading of Eq. (2.5), see the
+user guide), so the recognition range is at most the detection range, and identification at
+most recognition (as the capped probabilities of :func:`targetacq.acquisition_probabilities`).
+Where a probability is never reached the range is NaN; where no resolution is needed (a moving
+target's detection) it is +inf.
 """
 
 from __future__ import annotations

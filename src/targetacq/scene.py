@@ -4,8 +4,8 @@
 signals and their contrast (ch. 6), the clutter the SCR (§3.7, (6.9)) — both in
 :func:`scene_signature` — and the range case of :mod:`targetacq.core.cases` the rest: geometry
 and optics the cycles on target (ch. 3, 5), the atmosphere the transmittance and SNR (ch. 7),
-and the transforms with the noise model the three probabilities (ch. 3, MODEL.md §6). It adds
-no physics of its own.
+and the transforms with the noise model the three probabilities (ch. 3, and the noise law of the
+user guide's assumptions). It adds no physics of its own.
 
 Atmosphere and SCR: target and background are attenuated alike along the same path, and the
 1/R² and cos⁴ factors of (6.18) are the same for neighbouring cells, so the SCR is the ratio of
@@ -41,7 +41,7 @@ class SceneSignature:
     target, background : array_like
         Exitances at the scene [W/m²].
     contrast : array_like
-        |target − background| [W/m²].
+        ``|target − background|`` [W/m²].
     clutter : array_like or None
         Standard deviation of the background exitance [W/m²]; None where none was given.
     scr : array_like or None
@@ -163,7 +163,7 @@ class SceneAcquisition(Acquisition):
     cycles : array_like
         N, resolvable cycles across the critical dimension [cycles].
     contrast : array_like
-        |ε_t M_t − ε_b M_b| at the scene [W/m²].
+        ``|ε_t M_t − ε_b M_b|`` at the scene [W/m²].
     scr : array_like
         Signal-to-clutter ratio [1] (+inf where no clutter was given).
     transmittance : array_like

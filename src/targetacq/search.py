@@ -2,13 +2,13 @@
 
 Search model. An observer looking at a target whose static probability of detection is P∞
 detects it by time t with ``P(t) = P∞ (1 − exp(−t/τ))``, ``τ = t_s / P∞`` (the NVESD
-field-of-view search model; ``t_s = 3.4 s`` by default, MODEL.md and the scenario's
+field-of-view search model; ``t_s = 3.4 s`` by default, the scenario's
 ``model.search_time``). Sampled per sensor, target and run:
 
 - a *capability* draw ``u`` per viewing episode: the target can be detected while ``u < P∞(t)``,
   recognised while ``u < P_rec(t)``, identified while ``u < P_id(t)``: nested events from one
-  uniform (MODEL.md §2), so nothing is identified that was not recognised and detected, and the
-  marginal frequencies are the model's probabilities;
+  uniform (see the user guide's errata to Eq. (2.5)), so nothing is identified that was not
+  recognised and detected, and the marginal frequencies are the model's probabilities;
 - an exponential *clock* ``E = −ln(v)`` per episode: detection happens when the integrated hazard
   ``Λ(t) = ∫ P∞(s)/t_s ds`` (counted while capable) first reaches ``E``;
 - recognition and identification follow at the first moment (at or after detection, at or

@@ -19,8 +19,8 @@ module wires them together:
    ``P_id <= P_rec <= P_det``, zero outside the field of view;
 5. sensor-level fusion (8.4).
 
-Shapes: ``sensor_positions`` (n_s, *batch, 3), ``target_positions`` (n_g, *batch, 3); every
-result is (n_s, n_g, *batch), the fused ones (n_g, *batch). ``batch`` is the time axis of
+Shapes: ``sensor_positions`` ``(n_s, *batch, 3)``, ``target_positions`` ``(n_g, *batch, 3)``; every
+result is ``(n_s, n_g, *batch)``, the fused ones ``(n_g, *batch)``. ``batch`` is the time axis of
 :class:`targetacq.model.ModelChain` and empty for one step of :class:`targetacq.Simulation`.
 
 JAX. With a scene of JAX arrays (:func:`targetacq.core.records.as_jax`) every function here
@@ -86,7 +86,7 @@ _POSITIONS = ("sensor_positions", "target_positions")
 @pytree_record
 @dataclass(frozen=True)
 class Factors:
-    """The descriptive factors of every sensor-target pair, (n_s, n_g, *batch) each.
+    """The descriptive factors of every sensor-target pair, ``(n_s, n_g, *batch)`` each.
 
     Attributes
     ----------
@@ -121,7 +121,7 @@ class Factors:
 @pytree_record
 @dataclass(frozen=True)
 class Probabilities:
-    """Per-pair probabilities (n_s, n_g, *batch) and their sensor-level fusion (n_g, *batch)."""
+    """Per-pair probabilities ``(n_s, n_g, *batch)``; sensor-level fusion ``(n_g, *batch)``."""
 
     detection: Any
     recognition: Any
@@ -150,7 +150,7 @@ def boresight(
 
     Parameters
     ----------
-    sensor_positions : array (n_s, *batch, 3)
+    sensor_positions : array ``(n_s, *batch, 3)``
         [m].
     sensors : SensorArrays
     pointing : array (n_s, 2), optional
@@ -159,7 +159,7 @@ def boresight(
     Returns
     -------
     (east, north, up), pointed
-        Boresight components (n_s, *batch) and a bool array (n_s, 1, *[1]*batch) for the
+        Boresight components ``(n_s, *batch)`` and a bool array ``(n_s, 1, *[1]*batch)`` for the
         field-of-view test.
     """
     xp, (pos, look_at, angles) = _arrays.arrays(sensor_positions, sensors.look_at, sensors.pointing)
@@ -202,15 +202,15 @@ def factors(
     Parameters
     ----------
     scene : SceneArrays
-    sensor_positions : array (n_s, *batch, 3)
+    sensor_positions : array ``(n_s, *batch, 3)``
         [m] (east, north, up).
-    target_positions : array (n_g, *batch, 3)
+    target_positions : array ``(n_g, *batch, 3)``
         [m].
-    headings : array (n_g, *batch), optional
+    headings : array ``(n_g, *batch)``, optional
         Direction of each target's long axis [rad]; default the targets' own.
     pointing : array (n_s, 2), optional
         See :func:`boresight`.
-    scr : array (n_s, n_g, *batch), optional
+    scr : array ``(n_s, n_g, *batch)``, optional
         SCR per pair, replacing the scene's (e.g. :func:`footprint_scr` of a terrain map).
 
     Returns
@@ -314,7 +314,7 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
 
     Parameters
     ----------
-    cycles : array (n_s, n_g, *batch)
+    cycles : array ``(n_s, n_g, *batch)``
     snr : array or None
         [dB]; None for no path noise.
     scr : array or None
@@ -414,9 +414,9 @@ def footprint_scr(
     Parameters
     ----------
     terrain : targetacq.core.compile.TerrainArrays
-    range : numpy.ndarray (n_s, n_g, *batch)
+    range : numpy.ndarray ``(n_s, n_g, *batch)``
         [m].
-    target_positions : numpy.ndarray (n_g, *batch, 3)
+    target_positions : numpy.ndarray ``(n_g, *batch, 3)``
         [m].
     target_signal : numpy.ndarray (n_s, n_g)
         [W/m²].
@@ -425,7 +425,7 @@ def footprint_scr(
 
     Returns
     -------
-    numpy.ndarray (n_s, n_g, *batch)
+    numpy.ndarray ``(n_s, n_g, *batch)``
     """
     from targetacq.terrain import resolution_variance
 

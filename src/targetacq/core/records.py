@@ -190,7 +190,7 @@ class SignatureArrays:
     Attributes
     ----------
     contrast : array (n_s, n_g)
-        |target − background| signal at the scene [W/m²].
+        ``|target − background|`` signal at the scene [W/m²].
     target : array (n_s, n_g)
         Target signal [W/m²].
     scr : array (n_s, n_g) or None

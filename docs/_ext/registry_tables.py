@@ -1,0 +1,391 @@
+"""Render targetacq's registries as reStructuredText tables at build time.
+
+Every row comes from the registry itself (its entries' ``source`` and ``description`` fields,
+the provenance headers of the bundled data files, or the attribute docstring of a name tuple),
+so nothing is typed twice. :func:`registries` is the generator; the Sphinx hook writes one
+``.rst.inc`` file per registry under ``docs/generated/registries``.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = ["RegistryTable", "registries", "render", "write_tables"]
+
+
+@dataclass(frozen=True)
+class RegistryTable:
+    """One registry as a table: a file stem, a title, the registry's Python name, rows."""
+
+    stem: str
+    title: str
+    origin: str
+    header: tuple[str, ...]
+    rows: tuple[tuple[str, ...], ...]
+    intro: str = ""
+
+
+def _attr_doc(module: str, name: str) -> str:
+    """The docstring written under a module-level name (``NAME = ...`` then ``\"\"\"...\"\"\"``)."""
+    from sphinx.pycode import ModuleAnalyzer
+
+    docs = ModuleAnalyzer.for_module(module).find_attr_docs()
+    return " ".join(line.strip() for line in docs.get(("", name), []) if line.strip())
+
+
+def _first_line(text: str) -> str:
+    return text.strip().splitlines()[0] if text.strip() else ""
+
+
+def _number(value: float) -> str:
+    return f"{value:g}"
+
+
+def _criteria() -> RegistryTable:
+    from targetacq.criteria import CRITERIA, TASKS
+
+    rows = []
+    for name, c in CRITERIA.items():
+        unit = "cycles (N50)" if c.kind == "cycles" else "pixels/m"
+        values = ", ".join(
+            f"{task} {_number(c.thresholds[task])}" for task in TASKS if task in c.thresholds
+        )
+        extra = [t for t in c.thresholds if t not in TASKS]
+        values += "".join(f", {t} {_number(c.thresholds[t])}" for t in extra)
+        rows.append((name, unit, values, c.source))
+    return RegistryTable(
+        "criteria",
+        "Criteria sets",
+        "targetacq.criteria.CRITERIA",
+        ("name", "thresholds in", "values", "source"),
+        tuple(rows),
+        _attr_doc("targetacq.criteria", "CRITERIA"),
+    )
+
+
+def _transforms() -> RegistryTable:
+    from targetacq.transforms import TRANSFORMS
+
+    rows = []
+    for name, t in TRANSFORMS.items():
+        tasks = "all" if t.tasks is None else ", ".join(t.tasks)
+        options = ", ".join(f"{k}={v!r}" for k, v in t.options.items()) or "none"
+        rows.append((name, tasks, options, t.source))
+    return RegistryTable(
+        "transforms",
+        "Transforms",
+        "targetacq.transforms.TRANSFORMS",
+        ("name", "tasks", "options (defaults)", "source"),
+        tuple(rows),
+        _attr_doc("targetacq.transforms", "TRANSFORMS"),
+    )
+
+
+def _noise_models() -> RegistryTable:
+    from targetacq.noise import NOISE_MODELS
+
+    rows = tuple(
+        (name, "yes" if m.combines_with_clutter else "no", m.source)
+        for name, m in NOISE_MODELS.items()
+    )
+    return RegistryTable(
+        "noise_models",
+        "Noise models",
+        "targetacq.noise.NOISE_MODELS",
+        ("name", "combines with clutter", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.noise", "NOISE_MODELS"),
+    )
+
+
+def _sensor_types() -> RegistryTable:
+    from targetacq.sensors import SENSOR_TYPES
+
+    rows = tuple((name, s.description, s.source) for name, s in SENSOR_TYPES.items())
+    return RegistryTable(
+        "sensor_types",
+        "Sensor types",
+        "targetacq.sensors.SENSOR_TYPES",
+        ("name", "what it is", "source"),
+        rows,
+        _attr_doc("targetacq.sensors", "SENSOR_TYPES"),
+    )
+
+
+def _obscurants() -> RegistryTable:
+    from targetacq.atmosphere import OBSCURANTS
+    from targetacq.bands import BANDS
+    from targetacq.tables import load_table
+
+    table = load_table("extinction")
+    cells = table.keyed_ranges(("obscurant", "band"), "low_np_per_km", "high_np_per_km")
+    rows = []
+    for obscurant in OBSCURANTS:
+        values = []
+        for band in BANDS:
+            low, high = cells[(obscurant, band)]
+            values.append(_number(low) if low == high else f"{_number(low)}–{_number(high)}")
+        rows.append((obscurant, *values, "data/extinction.csv"))
+    return RegistryTable(
+        "obscurants",
+        "Obscurants (extinction in Np/km)",
+        "targetacq.atmosphere.OBSCURANTS",
+        ("name", *BANDS, "source"),
+        tuple(rows),
+        _attr_doc("targetacq.atmosphere", "OBSCURANTS")
+        + " Source: "
+        + " ".join(table.provenance.split()),
+    )
+
+
+def _levels() -> RegistryTable:
+    from targetacq.atmosphere import EXTINCTION_LEVELS
+
+    what = _attr_doc("targetacq.atmosphere", "EXTINCTION_LEVELS")
+    rows = tuple((level, str(i + 1)) for i, level in enumerate(EXTINCTION_LEVELS))
+    return RegistryTable(
+        "extinction_levels",
+        "Extinction levels",
+        "targetacq.atmosphere.EXTINCTION_LEVELS",
+        ("name", "position in the list"),
+        rows,
+        what,
+    )
+
+
+def _visibility() -> RegistryTable:
+    from targetacq.atmosphere import VISIBILITY_CONVENTIONS
+
+    rows = tuple((name, f"{value:.4f}") for name, value in VISIBILITY_CONVENTIONS.items())
+    return RegistryTable(
+        "visibility_conventions",
+        "Visibility conventions",
+        "targetacq.atmosphere.VISIBILITY_CONVENTIONS",
+        ("name", "−ln(contrast threshold)"),
+        rows,
+        _attr_doc("targetacq.atmosphere", "VISIBILITY_CONVENTIONS"),
+    )
+
+
+def _bands() -> RegistryTable:
+    from targetacq.bands import BANDS
+    from targetacq.tables import load_table
+
+    table = load_table("bands")
+    labels = dict(zip(table.column("band"), table.column("label"), strict=True))
+    rows = tuple(
+        (name, f"{low * 1e6:g}–{high * 1e6:g}", labels.get(name, ""), "data/bands.csv")
+        for name, (low, high) in BANDS.items()
+    )
+    return RegistryTable(
+        "bands",
+        "Spectral bands",
+        "targetacq.bands.BANDS",
+        ("name", "limits [µm]", "label", "source"),
+        rows,
+        _attr_doc("targetacq.bands", "BANDS") + " Source: " + " ".join(table.provenance.split()),
+    )
+
+
+def _motion_rules() -> RegistryTable:
+    from targetacq.acquisition import MOTION_RULES
+
+    rows = tuple((name, rule.source) for name, rule in MOTION_RULES.items())
+    return RegistryTable(
+        "motion_rules",
+        "Motion rules",
+        "targetacq.acquisition.MOTION_RULES",
+        ("name", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.acquisition", "MOTION_RULES"),
+    )
+
+
+def _semantics() -> RegistryTable:
+    from targetacq.acquisition import ACQUISITION_SEMANTICS
+
+    rows = tuple((name, s.source) for name, s in ACQUISITION_SEMANTICS.items())
+    return RegistryTable(
+        "acquisition_semantics",
+        "Acquisition semantics",
+        "targetacq.acquisition.ACQUISITION_SEMANTICS",
+        ("name", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.acquisition", "ACQUISITION_SEMANTICS"),
+    )
+
+
+def _projections() -> RegistryTable:
+    from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
+
+    rows = tuple((name, text) for name, text in FIELD_OF_VIEW_PROJECTIONS.items())
+    return RegistryTable(
+        "fov_projections",
+        "Field-of-view projections",
+        "targetacq.optics.FIELD_OF_VIEW_PROJECTIONS",
+        ("name", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.optics", "FIELD_OF_VIEW_PROJECTIONS"),
+    )
+
+
+def _clutter_regions() -> RegistryTable:
+    from targetacq.tables import load_table
+    from targetacq.transforms import CLUTTER_REGIONS
+
+    table = load_table("schmieder_weathersby")
+    p = [float(v) for v in table.column("probability")]
+    rows = tuple(
+        (region, _number(table.numbers(region)[p.index(0.5)]), "data/schmieder_weathersby.csv")
+        for region in CLUTTER_REGIONS
+    )
+    return RegistryTable(
+        "clutter_regions",
+        "Clutter regions",
+        "targetacq.transforms.CLUTTER_REGIONS",
+        ("name", "N50 of detection [cycles]", "source"),
+        rows,
+        _attr_doc("targetacq.transforms", "CLUTTER_REGIONS")
+        + " Source: "
+        + " ".join(table.provenance.split()),
+    )
+
+
+_GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
+    _criteria,
+    _transforms,
+    _noise_models,
+    _sensor_types,
+    _bands,
+    _obscurants,
+    _levels,
+    _visibility,
+    _clutter_regions,
+    _motion_rules,
+    _semantics,
+    _projections,
+)
+
+
+@functools.cache
+def registries() -> tuple[RegistryTable, ...]:
+    """Every rendered registry, one :class:`RegistryTable` each, in the order of the page."""
+    return tuple(make() for make in _GENERATORS)
+
+
+def _cell(text: Any) -> str:
+    """Plain text as one table cell: one line, with the characters that start markup escaped."""
+    text = " ".join(str(text).split())
+    for char in ("\\", "*", "`", "|", "_"):
+        text = text.replace(char, "\\" + char)
+    return text
+
+
+def _rest(text: str) -> str:
+    """reStructuredText (a docstring) as one line."""
+    return " ".join(text.split())
+
+
+def render(table: RegistryTable) -> str:
+    """The reStructuredText of one registry: a section with its intro and a list-table."""
+    lines = [table.title, "-" * len(table.title), ""]
+    lines.append(f"Rendered from ``{table.origin}`` ({len(table.rows)} entries).")
+    if table.intro:
+        lines += ["", _rest(table.intro)]
+    lines += ["", ".. list-table::", "   :header-rows: 1", "   :class: registry", ""]
+    for row in (table.header, *table.rows):
+        lines.append(f"   * - {_cell(row[0]) if row is table.header else '``' + row[0] + '``'}")
+        lines += [f"     - {_cell(cell)}" for cell in row[1:]]
+    return "\n".join(lines) + "\n"
+
+
+def write_tables(outdir: Path) -> list[Path]:
+    """Write ``<stem>.rst.inc`` per registry into ``outdir``, only where the text changed."""
+    written = []
+    for table in registries():
+        path = outdir / f"{table.stem}.rst.inc"
+        _write(path, render(table))
+        written.append(path)
+    return written
+
+
+def _api_summary() -> str:
+    """The top-level names of ``targetacq.__all__`` with links to where they are documented."""
+    import targetacq
+
+    lines = [".. list-table::", "   :header-rows: 1", "", "   * - name", "     - summary"]
+    for name in targetacq.__all__:
+        obj = getattr(targetacq, name)
+        module = getattr(obj, "__module__", None)
+        if callable(obj) and module and module.startswith("targetacq"):
+            role = "class" if isinstance(obj, type) else "func"
+            ref = f":{role}:`~{module}.{name}`"
+            summary = _first_line(obj.__doc__ or "")
+        else:
+            source = _owner_module(name)
+            ref = f":data:`~{source}.{name}`"
+            summary = _attr_doc(source, name)
+        lines += [f"   * - {ref}", f"     - {_rest(summary)}"]
+    return "\n".join(lines) + "\n"
+
+
+def _owner_module(name: str) -> str:
+    import importlib
+    import pkgutil
+
+    import targetacq
+
+    for info in pkgutil.iter_modules(targetacq.__path__):
+        module = importlib.import_module(f"targetacq.{info.name}")
+        if name in getattr(module, "__all__", ()) and _attr_doc(module.__name__, name):
+            return module.__name__
+    raise LookupError(f"no module of targetacq documents {name!r}")
+
+
+def _write(path: Path, text: str) -> None:
+    # Rewriting an unchanged file would make Sphinx re-read every page that includes it.
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        path.write_text(text, encoding="utf-8")
+
+
+REEXPORTING = ("targetacq", "targetacq.core")
+"""Packages that only re-export: their members are documented in the modules that define them."""
+
+
+def module_page(module: str) -> str:
+    """The API page of one module: its docstring and members (autodoc with numpydoc)."""
+    title = f"``{module}``"
+    text = f"{title}\n{'=' * len(title)}\n\n.. automodule:: {module}\n"
+    if module in REEXPORTING:
+        text += "   :no-members:\n"
+    return text
+
+
+def _on_builder_inited(app: Any) -> None:
+    generated = Path(app.srcdir) / "generated"
+    tables = write_tables(generated / "registries")
+    _write(
+        generated / "registries" / "all.rst.inc",
+        "".join(f".. include:: /generated/registries/{path.name}\n" for path in tables),
+    )
+    modules = app.config.api_modules
+    for module in modules:
+        _write(generated / "api" / f"{module}.rst", module_page(module))
+    _write(
+        generated / "api_modules.rst.inc",
+        ".. toctree::\n   :maxdepth: 1\n\n"
+        + "".join(f"   /generated/api/{module}\n" for module in modules),
+    )
+    _write(generated / "api_summary.rst.inc", _api_summary())
+
+
+def setup(app: Any) -> dict[str, Any]:
+    """Sphinx entry point."""
+    app.add_config_value("api_modules", [], "env")
+    app.connect("builder-inited", _on_builder_inited)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -113,7 +113,7 @@ sphinx_gallery_conf = {
     "remove_config_comments": True,
     "within_subsection_order": "FileNameSortKey",
     "matplotlib_animations": False,
-    "image_scrapers": ("matplotlib",),
+    "image_scrapers": ("gallery_figures.scrape", "matplotlib"),
     "reset_modules": ("matplotlib",),
     "show_memory": False,
     "write_computation_times": False,

@@ -26,6 +26,7 @@ from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
 from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.services.range_case import PIXEL_DENSITY_DEFINITIONS, range_setup
+from targetacq.targets import TARGETS
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 
 __all__ = [
@@ -94,6 +95,12 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec("wavelength", str, "Wavelength for diffraction, e.g. 10um.", SENSOR),
     OptionSpec("blur", str, "Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.", SENSOR),
     OptionSpec("critical_dimension", str, "Target critical dimension, e.g. 2.3m.", TARGET),
+    OptionSpec(
+        "target",
+        str,
+        f"Named target: {_names(TARGETS)} (sets the critical dimension).",
+        TARGET,
+    ),
     OptionSpec("criterion", str, f"Criteria set: {_names(CRITERIA)} (default johnson).", MODEL),
     OptionSpec(
         "n50", str, "User-defined N50 cycles for detection,recognition,identification.", MODEL

@@ -28,6 +28,7 @@ from targetacq.limits import (
 from targetacq.noise import NOISE_MODELS
 from targetacq.scene import scene_signature
 from targetacq.tables import load_table
+from targetacq.targets import TARGETS
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.units import parse_quantity
 
@@ -277,7 +278,8 @@ def option_path(
     convention: str | None,
     band: tuple[float, float] | None,
 ) -> dict[str, Any]:
-    """The path's extinction from one of --extinction, --obscurant, --visibility ({} if none)."""
+    """The path's extinction from one of --extinction, --obscurant, --visibility ({} if none,
+    or ``--obscurant none``: a clear path)."""
     given = [v is not None for v in (extinction, obscurant, visibility)]
     if sum(given) > 1:
         raise ValueError("give one of --extinction, --obscurant and --visibility")
@@ -289,6 +291,8 @@ def option_path(
             extinction, "extinction", "--extinction", zero_allowed=True
         )
         source = f"--extinction {extinction}"
+    elif obscurant == "none":
+        return {}  # a clear path, e.g. one value of an --obscurant none,fog:low sweep
     elif obscurant is not None:
         if band is None:
             raise ValueError("--obscurant needs --band (Table 7.1 depends on the band)")
@@ -440,6 +444,7 @@ def range_setup(
     wavelength: str | None,
     blur: str | None,
     critical_dimension: str | None,
+    target: str | None,
     criterion: str | None,
     n50: str | None,
     transform: str | None,
@@ -474,6 +479,12 @@ def range_setup(
     domain, and every option that would be ignored refused, naming it."""
     if transform is not None:
         option_choice(transform, TRANSFORMS, "--transform")
+    if target is not None:
+        if critical_dimension is not None:
+            raise ValueError("give --target or --critical-dimension, not both")
+        # a named target sets the critical dimension (and replaces --example's own target)
+        named = TARGETS[option_choice(target, TARGETS, "--target")]
+        critical_dimension = f"{named.critical_dimension!r}m"
     if example:
         camera = _example_camera()
         if ifov is None and hfov is None and pixels is None:
@@ -484,7 +495,9 @@ def range_setup(
             wavelength = wavelength or camera["wavelength"]
         critical_dimension = critical_dimension or camera["critical_dimension"]
     if critical_dimension is None:
-        raise ValueError("--critical-dimension is required (e.g. 2.3m), or use --example")
+        raise ValueError(
+            "--critical-dimension is required (e.g. 2.3m), or --target NAME, or use --example"
+        )
     d = option_quantity(critical_dimension, "length", "--critical-dimension")
     ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
     optics_kw: dict[str, Any] = {}
@@ -580,7 +593,8 @@ def range_setup(
         criterion=crit,
         transform=transform or "ttpf",
         options=options,
-        extinction=path.get("extinction_np_per_m"),
+        # a zero extinction (--extinction 0/km) is a clear path: no noise from it
+        extinction=path.get("extinction_np_per_m") or None,
         scr=scene.get("scr"),
         region=scene.get("region"),
         noise_model=noise_model or "variance-sum",

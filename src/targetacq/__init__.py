@@ -3,58 +3,106 @@
 An implementation of the probabilistic conceptual sensor model of Sonesson (2004): geometry →
 cycles on target, clutter → SCR, then Johnson-style transforms → probabilities, fused over
 sensors. SI units throughout (m, rad, K, s). This module only re-exports the public API.
+
+The names are imported on first use (PEP 562): ``import targetacq`` costs almost nothing, and
+``targetacq.dri_ranges`` imports :mod:`targetacq.ranges` (NumPy, SciPy) when first looked up.
+
+Examples
+--------
+>>> import targetacq
+>>> targetacq.__version__
+'0.1.0'
+>>> targetacq.TASKS
+('detection', 'orientation', 'recognition', 'identification')
 """
 
-from targetacq.acquisition import (
-    Acquisition,
-    acquisition_probabilities,
-    effect_probability,
-    probability,
-)
-from targetacq.atmosphere import (
-    extinction_from_visibility,
-    obscurant_extinction,
-    path_transmittance,
-    snr_from_transmittance,
-    transmittance,
-)
-from targetacq.bands import BANDS
-from targetacq.clutter import image_clutter, signal_to_clutter_ratio, terrain_clutter
-from targetacq.criteria import CRITERIA, TASKS, Criterion, get_criterion
-from targetacq.fusion import central_level_bounds, fuse
-from targetacq.geometry import critical_dimension, projected_extents, slant_range, solid_angle
-from targetacq.noise import NOISE_MODELS, effective_scr, noise_n50_factor
-from targetacq.optics import (
-    cycles_on_target,
-    diffraction_angle,
-    diffraction_spot,
-    field_of_view,
-    gaussian_psf,
-    ifov,
-    ifov_from_field_of_view,
-    pixels_per_metre,
-    range_for_cycles,
-    range_for_pixel_density,
-    resolvable_cycle_angle,
-)
-from targetacq.radiometry import band_exitance, spectral_exitance
-from targetacq.ranges import dri_ranges
-from targetacq.scene import SceneAcquisition, scene_acquisition
-from targetacq.simulation import Simulation
-from targetacq.transforms import (
-    TRANSFORMS,
-    c2nveo,
-    c2nveo_inverse,
-    clutter_region,
-    inverse_transform,
-    schmieder_weathersby,
-    schmieder_weathersby_inverse,
-    transform,
-    ttpf,
-    ttpf_inverse,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
+
+_EXPORTS: dict[str, tuple[str, ...]] = {
+    "acquisition": (
+        "Acquisition",
+        "acquisition_probabilities",
+        "effect_probability",
+        "probability",
+    ),
+    "atmosphere": (
+        "extinction_from_visibility",
+        "obscurant_extinction",
+        "path_transmittance",
+        "snr_from_transmittance",
+        "transmittance",
+    ),
+    "bands": ("BANDS",),
+    "clutter": (
+        "image_clutter",
+        "signal_to_clutter_ratio",
+        "terrain_clutter",
+    ),
+    "criteria": (
+        "CRITERIA",
+        "TASKS",
+        "Criterion",
+        "get_criterion",
+    ),
+    "fusion": (
+        "central_level_bounds",
+        "fuse",
+    ),
+    "geometry": (
+        "critical_dimension",
+        "projected_extents",
+        "slant_range",
+        "solid_angle",
+    ),
+    "noise": (
+        "NOISE_MODELS",
+        "effective_scr",
+        "noise_n50_factor",
+    ),
+    "optics": (
+        "cycles_on_target",
+        "diffraction_angle",
+        "diffraction_spot",
+        "field_of_view",
+        "gaussian_psf",
+        "ifov",
+        "ifov_from_field_of_view",
+        "pixels_per_metre",
+        "range_for_cycles",
+        "range_for_pixel_density",
+        "resolvable_cycle_angle",
+    ),
+    "radiometry": (
+        "band_exitance",
+        "spectral_exitance",
+    ),
+    "ranges": ("dri_ranges",),
+    "scene": (
+        "SceneAcquisition",
+        "scene_acquisition",
+    ),
+    "simulation": ("Simulation",),
+    "transforms": (
+        "TRANSFORMS",
+        "c2nveo",
+        "c2nveo_inverse",
+        "clutter_region",
+        "inverse_transform",
+        "schmieder_weathersby",
+        "schmieder_weathersby_inverse",
+        "transform",
+        "ttpf",
+        "ttpf_inverse",
+    ),
+}
+"""Submodule (of ``targetacq``) → the names this package re-exports from it."""
+
+_MODULE_OF = {name: module for module, names in _EXPORTS.items() for name in names}
 
 __all__ = [
     "BANDS",
@@ -111,3 +159,100 @@ __all__ = [
     "ttpf",
     "ttpf_inverse",
 ]
+
+if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps them equal)
+    from targetacq.acquisition import (
+        Acquisition,
+        acquisition_probabilities,
+        effect_probability,
+        probability,
+    )
+    from targetacq.atmosphere import (
+        extinction_from_visibility,
+        obscurant_extinction,
+        path_transmittance,
+        snr_from_transmittance,
+        transmittance,
+    )
+    from targetacq.bands import (
+        BANDS,
+    )
+    from targetacq.clutter import (
+        image_clutter,
+        signal_to_clutter_ratio,
+        terrain_clutter,
+    )
+    from targetacq.criteria import (
+        CRITERIA,
+        TASKS,
+        Criterion,
+        get_criterion,
+    )
+    from targetacq.fusion import (
+        central_level_bounds,
+        fuse,
+    )
+    from targetacq.geometry import (
+        critical_dimension,
+        projected_extents,
+        slant_range,
+        solid_angle,
+    )
+    from targetacq.noise import (
+        NOISE_MODELS,
+        effective_scr,
+        noise_n50_factor,
+    )
+    from targetacq.optics import (
+        cycles_on_target,
+        diffraction_angle,
+        diffraction_spot,
+        field_of_view,
+        gaussian_psf,
+        ifov,
+        ifov_from_field_of_view,
+        pixels_per_metre,
+        range_for_cycles,
+        range_for_pixel_density,
+        resolvable_cycle_angle,
+    )
+    from targetacq.radiometry import (
+        band_exitance,
+        spectral_exitance,
+    )
+    from targetacq.ranges import (
+        dri_ranges,
+    )
+    from targetacq.scene import (
+        SceneAcquisition,
+        scene_acquisition,
+    )
+    from targetacq.simulation import (
+        Simulation,
+    )
+    from targetacq.transforms import (
+        TRANSFORMS,
+        c2nveo,
+        c2nveo_inverse,
+        clutter_region,
+        inverse_transform,
+        schmieder_weathersby,
+        schmieder_weathersby_inverse,
+        transform,
+        ttpf,
+        ttpf_inverse,
+    )
+
+
+def __getattr__(name: str) -> Any:
+    """Import a re-exported name's submodule on first use and keep the name here."""
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module 'targetacq' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"targetacq.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

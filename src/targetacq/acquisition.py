@@ -466,6 +466,12 @@ def effect_probability(detection: Any, recognition: Any, identification: Any) ->
     ----------
     detection, recognition, identification : array_like
         Probabilities in [0, 1].
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> print(f"{ta.effect_probability(0.9, 0.5, 0.2):.4f}")
+    0.0900
     """
     xp, (d, r, i) = _arrays.arrays(
         detection, recognition, identification, names=("detection", "recognition", "identification")
@@ -592,6 +598,27 @@ def acquisition_probabilities(
     -------
     Acquisition
         ``detection``, ``recognition``, ``identification`` and, on demand, ``effect``.
+
+    Examples
+    --------
+    Johnson's N50s (1, 4, 6.4 cycles) through the TTPF at N = 1, 4 and 6.4: each task is 0.5 at
+    its own N50.
+
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> acq = ta.acquisition_probabilities([1.0, 4.0, 6.4])
+    >>> print(np.round(acq.detection, 4))
+    [0.5    0.9995 1.    ]
+    >>> print(np.round(acq.recognition, 4))
+    [0.0182 0.5    0.8576]
+    >>> print(np.round(acq.identification, 4))
+    [0.0054 0.1862 0.5   ]
+
+    Under the ``conditional`` semantics the events are the products of Eq. (2.5):
+
+    >>> acq = ta.acquisition_probabilities(4.0, semantics="conditional")
+    >>> print(f"{acq.recognition:.4f} {acq.detection * 0.5:.4f}")
+    0.4998 0.4998
     """
     chosen = _transforms.get_transform(transform)
     if chosen.tasks is not None and "recognition" not in chosen.tasks:

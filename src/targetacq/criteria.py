@@ -184,6 +184,18 @@ def get_criterion(criterion: str | Criterion | Mapping[str, float]) -> Criterion
     ValueError
         Unknown name (the message lists the valid ones), unknown task, or a threshold that is
         not a finite number > 0.
+
+    Examples
+    --------
+    Johnson's averages (Table 3.2), a row of Table 3.1, and a set of one's own:
+
+    >>> import targetacq as ta
+    >>> dict(ta.get_criterion("johnson").thresholds)
+    {'detection': 1.0, 'orientation': 1.4, 'recognition': 4.0, 'identification': 6.4}
+    >>> ta.get_criterion("johnson-truck").n50("identification")
+    8.0
+    >>> ta.get_criterion({"detection": 0.75, "recognition": 3.0}).tasks
+    ('detection', 'recognition')
     """
     if isinstance(criterion, Criterion):
         return criterion

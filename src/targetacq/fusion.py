@@ -30,6 +30,18 @@ def fuse(probabilities: Any, axis: int = -1) -> Any:
     -------
     array_like
         Fused probability, ``axis`` removed; symmetric in the sensors and >= each input.
+
+    Examples
+    --------
+    Two sensors with 0.5 and 0.3 miss together with probability ``0.5 · 0.7``; one row per
+    target:
+
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> print(f"{ta.fuse([0.5, 0.3]):.2f}")
+    0.65
+    >>> print(np.round(ta.fuse([[0.5, 0.3], [0.9, 0.1]]), 4))
+    [0.65 0.91]
     """
     xp, (p,) = _arrays.arrays(probabilities, names=("probabilities",))
     _arrays.require_unit_interval("probabilities", p, xp)
@@ -45,6 +57,13 @@ def central_level_bounds(probabilities: Any, axis: int = -1) -> tuple[Any, Any]:
     -------
     lower, upper : array_like
         The sensor-level fusion :func:`fuse` and 1 (NaN where the inputs have NaN).
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> low, high = ta.central_level_bounds([0.5, 0.3])
+    >>> print(f"{low:.2f} {high:.2f}")
+    0.65 1.00
     """
     lower = fuse(probabilities, axis=axis)
     xp, (low,) = _arrays.arrays(lower)

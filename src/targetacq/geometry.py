@@ -47,6 +47,14 @@ def slant_range(height: Any, ground_distance: Any) -> Any:
     -------
     array_like
         Slant range ``s = sqrt(h² + r²)`` [m] (Sonesson 2004, §3.2 and Fig. 3.1).
+
+    Examples
+    --------
+    A sensor 1.5 km up, 2 km from the point on the ground (a 3-4-5 triangle):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.slant_range(1500.0, 2000.0):.1f}")
+    2500.0
     """
     xp, (h, r) = _arrays.arrays(height, ground_distance, names=("height", "ground_distance"))
     _arrays.require_nonnegative("height", h, xp, "m")
@@ -74,6 +82,14 @@ def solid_angle(height: Any, ground_distance: Any, area: Any) -> Any:
     -------
     array_like
         φ [sr] as defined by Eq. (3.5).
+
+    Examples
+    --------
+    Straight down from 1 km on 10 m² (Eq. (3.5) reduces to ``A / (π h²)``):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.solid_angle(1000.0, 0.0, 10.0):.4e}")
+    3.1831e-06
     """
     xp, (h, r, a) = _arrays.arrays(
         height, ground_distance, area, names=("height", "ground_distance", "area")
@@ -115,6 +131,21 @@ def projected_extents(
     -------
     horizontal, vertical : array_like
         Sides of the circumscribing rectangle [m].
+
+    Examples
+    --------
+    A 7 × 2.5 × 3 m truck seen from its side (aspect 90°, the default) shows its length and
+    height; seen head-on (aspect 0), its width and height; seen from straight above, its
+    length and width:
+
+    >>> import math
+    >>> import targetacq as ta
+    >>> [round(float(x), 6) for x in ta.projected_extents(7.0, 2.5, 3.0)]
+    [7.0, 3.0]
+    >>> [round(float(x), 6) for x in ta.projected_extents(7.0, 2.5, 3.0, aspect=0.0)]
+    [2.5, 3.0]
+    >>> [round(float(x), 6) for x in ta.projected_extents(7.0, 2.5, 3.0, depression=math.pi / 2)]
+    [7.0, 2.5]
     """
     xp, (ln, wd, ht, a, e) = _arrays.arrays(
         length,
@@ -172,6 +203,16 @@ def critical_dimension(
     -------
     array_like
         Critical dimension [m].
+
+    Examples
+    --------
+    The smaller projected side of the same truck: its height from the side, its width head-on.
+
+    >>> import targetacq as ta
+    >>> print(round(float(ta.critical_dimension(7.0, 2.5, 3.0)), 6))
+    3.0
+    >>> print(round(float(ta.critical_dimension(7.0, 2.5, 3.0, aspect=0.0)), 6))
+    2.5
     """
     if method not in CRITICAL_DIMENSION_METHODS:
         raise ValueError(

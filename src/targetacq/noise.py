@@ -103,6 +103,15 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     -------
     array_like
         R_eff, equal to SCR exactly where SNR = +inf.
+
+    Examples
+    --------
+    SCR 3 and an SNR of 4 (12.04 dB) add in variance: ``(1/9 + 1/16)^(-1/2) = 2.4``.
+
+    >>> import math
+    >>> import targetacq as ta
+    >>> print(f"{ta.effective_scr(3.0, 20 * math.log10(4.0)):.4f}")
+    2.4000
     """
     xp, (c, s) = _arrays.arrays(scr, snr, names=("scr", "snr"))
     _arrays.require_nonnegative("scr", c, xp)
@@ -252,6 +261,16 @@ def noise_n50_factor(
     -------
     array_like
         f >= 1 (+inf where no signal is left); exactly 1 at SNR = +inf for the built-in models.
+
+    Examples
+    --------
+    ``sqrt(1 + 3 / SNR_lin²)``: no noise, 0 dB (the factor 2 of §3.7), 10 dB and 20 dB.
+
+    >>> import math
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> print(np.round(ta.noise_n50_factor([math.inf, 0.0, 10.0, 20.0]), 4))
+    [1.     2.     1.1402 1.0149]
     """
     model = get_noise_model(noise_model)
     factor = model.n50_factor(snr)

@@ -85,6 +85,14 @@ def ifov(pitch: Any, focal_length: Any) -> Any:
     -------
     array_like
         IFOV [rad].
+
+    Examples
+    --------
+    The bundled example camera, 17 µm pixels behind a 75 mm lens (17e-6 / 75e-3):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.ifov(17e-6, 75e-3) * 1e3:.4f} mrad")
+    0.2267 mrad
     """
     xp, (p, f) = _arrays.arrays(pitch, focal_length, names=("pitch", "focal_length"))
     _arrays.require_positive("pitch", p, xp, "m")
@@ -106,6 +114,15 @@ def field_of_view(detector_size: Any, focal_length: Any) -> Any:
     -------
     array_like
         Full field of view [rad].
+
+    Examples
+    --------
+    640 pixels of 17 µm (10.88 mm) behind a 75 mm lens, ``2 arctan(10.88 / 150)``:
+
+    >>> import math
+    >>> import targetacq as ta
+    >>> print(f"{math.degrees(ta.field_of_view(640 * 17e-6, 75e-3)):.3f} deg")
+    8.297 deg
     """
     xp, (a, f) = _arrays.arrays(
         detector_size, focal_length, names=("detector_size", "focal_length")
@@ -201,6 +218,14 @@ def diffraction_angle(wavelength: Any, aperture: Any) -> Any:
     -------
     array_like
         Δθ [rad]. Check value: D = 122 mm, λ = 10 µm → 1.0e-4 rad (0.1 m at 1 km).
+
+    Examples
+    --------
+    The check value of §5.5: a 122 mm aperture at 10 µm resolves 1e-4 rad (0.1 m at 1 km):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.diffraction_angle(10e-6, 0.122) * 1e3:.4f} mrad")
+    0.1000 mrad
     """
     xp, (lam, d) = _arrays.arrays(wavelength, aperture, names=("wavelength", "aperture"))
     return _arrays.result(_diffraction_angle(lam, d, xp))
@@ -227,6 +252,14 @@ def diffraction_spot(wavelength: Any, aperture: Any, focal_length: Any) -> Any:
     -------
     array_like
         Δx_min [m].
+
+    Examples
+    --------
+    The same aperture behind a 0.5 m focal length: ``0.5 · 1.22 · 10e-6 / 0.122`` = 50 µm.
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.diffraction_spot(10e-6, 0.122, 0.5) * 1e6:.2f} um")
+    50.00 um
     """
     xp, (lam, d, f) = _arrays.arrays(
         wavelength, aperture, focal_length, names=("wavelength", "aperture", "focal_length")
@@ -255,6 +288,14 @@ def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
     -------
     array_like
         h in [0, 1].
+
+    Examples
+    --------
+    One standard deviation off the centre along each axis: ``exp(-1/2 - 1/2) = exp(-1)``.
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.gaussian_psf(1.0, 2.0, 1.0, 2.0):.6f}")
+    0.367879
     """
     xp, (xx, yy, sx, sy) = _arrays.arrays(
         x, y, sigma_x, sigma_y, names=("x", "y", "sigma_x", "sigma_y")
@@ -334,6 +375,18 @@ def resolvable_cycle_angle(
     -------
     array_like
         Cycle angle [rad].
+
+    Examples
+    --------
+    Sampling-limited (two pixels of the example camera), then a 25 mm aperture at 10 µm whose
+    Rayleigh angle, ``asin(1.22 · 10e-6 / 0.025)`` = 0.488 mrad, is the coarser limit:
+
+    >>> import targetacq as ta
+    >>> ifov = ta.ifov(17e-6, 75e-3)
+    >>> print(f"{ta.resolvable_cycle_angle(ifov) * 1e3:.4f} mrad")
+    0.4533 mrad
+    >>> print(f"{ta.resolvable_cycle_angle(ifov, wavelength=10e-6, aperture=0.025) * 1e3:.4f} mrad")
+    0.4880 mrad
     """
     xp, (i,) = _arrays.arrays(ifov, names=("ifov",))
     _arrays.require_positive("ifov", i, xp, "rad")
@@ -371,6 +424,16 @@ def cycles_on_target(
     -------
     array_like
         N [cycles].
+
+    Examples
+    --------
+    A 2.3 m target seen by the example camera (one cycle = 0.4533 mrad): ``2.3 / R / 0.4533e-3``.
+
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> ifov = ta.ifov(17e-6, 75e-3)
+    >>> print(np.round(ta.cycles_on_target(2.3, [1000.0, 5000.0], ifov), 4))
+    [5.0735 1.0147]
     """
     xp, (d, r, i) = _arrays.arrays(
         critical_dimension, range, ifov, names=("critical_dimension", "range", "ifov")
@@ -409,6 +472,15 @@ def range_for_cycles(
     -------
     array_like
         Range [m].
+
+    Examples
+    --------
+    Johnson's detection N50 (one cycle) across 2.3 m for the example camera: the 5074 m of
+    ``targetacq dri --example``.
+
+    >>> import targetacq as ta
+    >>> print(round(float(ta.range_for_cycles(2.3, 1.0, ta.ifov(17e-6, 75e-3)))))
+    5074
     """
     xp, (d, n, i) = _arrays.arrays(
         critical_dimension, cycles, ifov, names=("critical_dimension", "cycles", "ifov")
@@ -433,6 +505,12 @@ def pixels_per_metre(range: Any, ifov: Any) -> Any:
         [m], > 0.
     ifov : array_like
         [rad], > 0.
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> print(f"{ta.pixels_per_metre(1000.0, ta.ifov(17e-6, 75e-3)):.4f}")
+    4.4118
     """
     xp, (r, i) = _arrays.arrays(range, ifov, names=("range", "ifov"))
     _arrays.require_positive("range", r, xp, "m")
@@ -450,6 +528,14 @@ def range_for_pixel_density(pixel_density: Any, ifov: Any) -> Any:
         [pixels/m], > 0.
     ifov : array_like
         [rad], > 0.
+
+    Examples
+    --------
+    EN 62676-4's 25 pixels/m (detect) for the example camera: ``1 / (25 · 0.2267e-3)``.
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.range_for_pixel_density(25.0, ta.ifov(17e-6, 75e-3)):.2f} m")
+    176.47 m
     """
     xp, (q, i) = _arrays.arrays(pixel_density, ifov, names=("pixel_density", "ifov"))
     _arrays.require_positive("pixel_density", q, xp, "pixels/m")

@@ -175,6 +175,19 @@ def spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     -------
     array_like
         M_λ [W m⁻² m⁻¹] (per metre of wavelength).
+
+    Examples
+    --------
+    A 300 K blackbody at 10 µm, checked against Planck's law written out with CODATA constants
+    (scipy.constants):
+
+    >>> import math
+    >>> from scipy.constants import c, h, k
+    >>> import targetacq as ta
+    >>> print(f"{ta.spectral_exitance(10e-6, 300.0):.6e}")
+    3.117727e+07
+    >>> print(f"{2 * math.pi * h * c**2 / 10e-6**5 / math.expm1(h * c / (10e-6 * k * 300.0)):.6e}")
+    3.117727e+07
     """
     xp, (lam, t) = _arrays.arrays(wavelength, temperature, names=("wavelength", "temperature"))
     _arrays.require_positive("wavelength", lam, xp, "m")
@@ -218,6 +231,20 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
     -------
     array_like
         M [W/m²]. Check values: 8–12 µm at 300 K ≈ 120.95 W/m²; (0, ∞) gives σT⁴.
+
+    Examples
+    --------
+    The user guide's check values (numerical quadrature of Eq. (6.2) with CODATA constants):
+    8–12 µm at 300 K ≈ 120.95 W/m², 3–5 µm ≈ 5.862 W/m², and the whole spectrum σT⁴ =
+    459.30 W/m² (Eq. (6.1)).
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.band_exitance(300.0, 'lwir'):.2f}")
+    120.95
+    >>> print(f"{ta.band_exitance(300.0, 'mwir'):.3f}")
+    5.862
+    >>> print(f"{ta.band_exitance(300.0, (1e-9, 1.0)):.2f}")
+    459.30
     """
     if method not in BAND_EXITANCE_METHODS:
         raise ValueError(

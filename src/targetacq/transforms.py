@@ -165,6 +165,16 @@ def ttpf(cycles: Any, n50: Any) -> Any:
     -------
     array_like
         P in [0, 1]; NaN where ``cycles`` is NaN.
+
+    Examples
+    --------
+    Recognition by Johnson's N50 of 4 cycles, at a quarter, one and two times N50. At twice
+    N50, ``x = 2`` and ``E = 2.7 + 1.4``, so ``P = 2^4.1 / (1 + 2^4.1) = 0.9449``:
+
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> print(np.round(ta.ttpf([1.0, 4.0, 8.0], 4.0), 4))
+    [0.0182 0.5    0.9449]
     """
     xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
@@ -186,6 +196,17 @@ def ttpf_inverse(probability: Any, n50: Any) -> Any:
     -------
     array_like
         N [cycles].
+
+    Examples
+    --------
+    The cycles for 50 % are N50 itself; for 80 %, a little under 1.5 N50 (and back again):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.ttpf_inverse(0.5, 4.0):.4f}")
+    4.0000
+    >>> n = ta.ttpf_inverse(0.8, 4.0)
+    >>> print(f"{n:.4f} {ta.ttpf(n, 4.0):.4f}")
+    5.8084 0.8000
     """
     xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
@@ -324,6 +345,19 @@ def c2nveo(cycles: Any, n50: Any, task: str = "detection", bound: str = "nominal
     -------
     array_like
         P in [0, 1]: 0 at N = 0, 1 from the 1.00 row on.
+
+    Examples
+    --------
+    With the table's own 50 % points (the ``c2nveo`` criterion) the printed cells of Table 3.3
+    come back: 0.75 cycles give 0.80 for detection on the optimistic curve, 4.5 cycles 0.80 for
+    recognition.
+
+    >>> import targetacq as ta
+    >>> n50 = ta.CRITERIA["c2nveo"].thresholds
+    >>> print(f"{ta.c2nveo(0.75, n50['detection'], bound='optimistic'):.2f}")
+    0.80
+    >>> print(f"{ta.c2nveo(4.5, n50['recognition'], 'recognition', bound='optimistic'):.2f}")
+    0.80
     """
     _check_task("c2nveo", task, _C2NVEO_TASKS)
     _check_bound(bound)
@@ -340,6 +374,15 @@ def c2nveo_inverse(
     """Cycles needed for a probability on the C2NVEO curve (inverse of :func:`c2nveo`).
 
     Returns the smallest N whose probability reaches ``probability`` in (0, 1).
+
+    Examples
+    --------
+    Table 3.3's pessimistic recognition cell at P = 0.80 is 6 cycles:
+
+    >>> import targetacq as ta
+    >>> n50 = ta.CRITERIA["c2nveo"].thresholds["recognition"]
+    >>> print(f"{ta.c2nveo_inverse(0.8, n50, 'recognition', bound='pessimistic'):.4f}")
+    6.0000
     """
     _check_task("c2nveo", task, _C2NVEO_TASKS)
     _check_bound(bound)
@@ -362,6 +405,12 @@ def clutter_region(scr: Any) -> Any:
     -------
     numpy.ndarray of str or str
         "low" (SCR > 10), "medium" (1 <= SCR <= 10) or "high" (SCR < 1); "" for NaN.
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> [str(r) for r in ta.clutter_region([0.5, 3.0, 20.0])]
+    ['high', 'medium', 'low']
     """
     s = np.asarray(_arrays.as_float(scr, _np(), "scr"))
     _arrays.require_nonnegative("scr", s, _np())
@@ -510,6 +559,22 @@ def schmieder_weathersby(
     -------
     array_like
         P(detection) in [0, 1].
+
+    Examples
+    --------
+    Table 3.5 in high clutter: 1.0 cycle gives 0.02 and 2.5 cycles 0.50; at 1.0 cycle the three
+    regions give 0.02, 0.50 and 0.95, and an SCR at each region's anchor (0.33, 1 and 10) gives
+    the same:
+
+    >>> import numpy as np
+    >>> import targetacq as ta
+    >>> print(np.round(ta.schmieder_weathersby([1.0, 2.5], region="high"), 4))
+    [0.02 0.5 ]
+    >>> regions = ("high", "medium", "low")
+    >>> print([round(float(ta.schmieder_weathersby(1.0, region=r)), 4) for r in regions])
+    [0.02, 0.5, 0.95]
+    >>> print(np.round(ta.schmieder_weathersby(1.0, scr=[0.33, 1.0, 10.0]), 4))
+    [0.02 0.5  0.95]
     """
     xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
@@ -538,7 +603,18 @@ def schmieder_weathersby_inverse(
     """Cycles needed for a probability of detection in clutter (inverse of
     :func:`schmieder_weathersby`): the smallest N with ``P(N) >= p``; +inf where the curve
     never reaches it (high clutter above 0.9); 0 for a moving target. With an SCR (curves
-    blended in ``log SCR``) it is found by bisection in ``log N`` to 1e-12 relative."""
+    blended in ``log SCR``) it is found by bisection in ``log N`` to 1e-12 relative.
+
+    Examples
+    --------
+    Table 3.5: 2.5 cycles for 50 % in high clutter, 1.7 cycles for 90 % in medium clutter.
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.schmieder_weathersby_inverse(0.5, region='high'):.4f}")
+    2.5000
+    >>> print(f"{ta.schmieder_weathersby_inverse(0.9, region='medium'):.4f}")
+    1.7000
+    """
     xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
@@ -698,6 +774,17 @@ def transform(
     **options
         The transform's own options (see ``TRANSFORMS[method].options``); any other keyword
         raises ``ValueError``.
+
+    Examples
+    --------
+    Recognition at its N50 by the TTPF, and detection at 1.7 cycles in medium clutter (Table 3.5:
+    0.90):
+
+    >>> import targetacq as ta
+    >>> print(f"{ta.transform(4.0, 4.0, 'recognition'):.4f}")
+    0.5000
+    >>> print(f"{ta.transform(1.7, 1.0, 'detection', 'schmieder-weathersby', region='medium'):.4f}")
+    0.9000
     """
     chosen = get_transform(method)
     chosen.check(task, options)
@@ -707,7 +794,17 @@ def transform(
 def inverse_transform(
     probability: Any, n50: Any, task: str = "detection", method: str = "ttpf", **options: Any
 ) -> Any:
-    """Cycles needed for a probability by the named transform (inverse of :func:`transform`)."""
+    """Cycles needed for a probability by the named transform (inverse of :func:`transform`).
+
+    Examples
+    --------
+    Table 3.5 in low clutter: 0.75 cycles for a detection probability of 0.80.
+
+    >>> import targetacq as ta
+    >>> n = ta.inverse_transform(0.8, 1.0, "detection", "schmieder-weathersby", region="low")
+    >>> print(f"{n:.4f}")
+    0.7500
+    """
     chosen = get_transform(method)
     chosen.check(task, options)
     return chosen.inverse(probability, n50, task, **options)

@@ -141,6 +141,14 @@ def cloud_transmittance(
         Extra extinction inside the cloud [Np/m], >= 0.
     cloud_length : array_like
         Length of the line of sight inside the cloud [m], >= 0.
+
+    Examples
+    --------
+    2 km at 0.4 Np/km with 100 m of dust at 5 Np/km: ``exp(-0.8 - 0.5)``.
+
+    >>> from targetacq.atmosphere import cloud_transmittance
+    >>> print(f"{cloud_transmittance(0.4e-3, 2000.0, 5e-3, 100.0):.4f}")
+    0.2725
     """
     xp, (g, r, gc, lc) = _arrays.arrays(
         extinction,
@@ -172,6 +180,14 @@ def foliage_transmittance(depth: Any, extinction: Any) -> Any:
         Line-of-sight length through foliage [m], >= 0.
     extinction : array_like
         κ [Np/m], >= 0.
+
+    Examples
+    --------
+    5 m of foliage at 0.2 per metre: ``exp(-1)``.
+
+    >>> from targetacq.atmosphere import foliage_transmittance
+    >>> print(f"{foliage_transmittance(5.0, 0.2):.4f}")
+    0.3679
     """
     xp, (d, k) = _arrays.arrays(depth, extinction, names=("depth", "extinction"))
     _arrays.require_nonnegative("depth", d, xp, "m")
@@ -193,6 +209,17 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
         Increasing grid λ [m], 1-D, the same length as the last axis of ``extinction``.
     range : array_like
         R [m], >= 0; broadcasts with ``extinction[..., 0]``.
+
+    Examples
+    --------
+    A flat γ of 0.4 Np/km over 8–12 µm is Eq. (7.3), ``exp(-0.8)``; γ rising linearly from 0.2
+    to 0.6 Np/km gives the trapezoid ``(exp(-0.4) + exp(-1.2)) / 2`` at 2 km:
+
+    >>> from targetacq.atmosphere import band_transmittance
+    >>> print(f"{band_transmittance([0.4e-3, 0.4e-3], [8e-6, 12e-6], 2000.0):.4f}")
+    0.4493
+    >>> print(f"{band_transmittance([0.2e-3, 0.6e-3], [8e-6, 12e-6], 2000.0):.4f}")
+    0.4858
     """
     xp, (g, lam, r) = _arrays.arrays(extinction, wavelength, range)
     _arrays.require_nonnegative("extinction", g, xp, "Np/m")
@@ -210,13 +237,29 @@ def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
 
 
 def db_per_km_to_np_per_km(value: Any) -> Any:
-    """Convert an extinction in dB/km to Np/km: ×0.2303 (the erratum to §7.4)."""
+    """Convert an extinction in dB/km to Np/km: ×0.2303 (the erratum to §7.4).
+
+    Examples
+    --------
+    The erratum to §7.4: 1 dB/km is 0.2303 Np/km.
+
+    >>> from targetacq.atmosphere import db_per_km_to_np_per_km
+    >>> print(f"{db_per_km_to_np_per_km(1.0):.4f}")
+    0.2303
+    """
     _, (v,) = _arrays.arrays(value, names=("value",))
     return _arrays.result(v / DB_PER_NEPER)
 
 
 def np_per_km_to_db_per_km(value: Any) -> Any:
-    """Convert an extinction in Np/km to dB/km: ×4.343."""
+    """Convert an extinction in Np/km to dB/km: ×4.343.
+
+    Examples
+    --------
+    >>> from targetacq.atmosphere import np_per_km_to_db_per_km
+    >>> print(f"{np_per_km_to_db_per_km(1.0):.3f}")
+    4.343
+    """
     _, (v,) = _arrays.arrays(value, names=("value",))
     return _arrays.result(v * DB_PER_NEPER)
 
@@ -267,7 +310,17 @@ def extinction_from_visibility(visibility: Any, convention: str | None = None) -
 
 
 def visibility_from_extinction(extinction: Any, convention: str | None = None) -> Any:
-    """Visibility [m] from a visible-band extinction [Np/m] > 0 (inverse of the above)."""
+    """Visibility [m] from a visible-band extinction [Np/m] > 0 (inverse of the above).
+
+    Examples
+    --------
+    The round trip of :func:`extinction_from_visibility`:
+
+    >>> from targetacq.atmosphere import extinction_from_visibility, visibility_from_extinction
+    >>> gamma = extinction_from_visibility(10e3, "mor")
+    >>> print(f"{visibility_from_extinction(gamma, 'mor'):.1f}")
+    10000.0
+    """
     k = _convention(convention)
     xp, (g,) = _arrays.arrays(extinction, names=("extinction",))
     _arrays.require_positive("extinction", g, xp, "Np/m")
@@ -417,6 +470,15 @@ def snr_from_optical_depth(depth: Any) -> Any:
     ----------
     depth : array_like
         d >= 0 (0: no attenuation, +inf SNR; +inf: nothing left, −inf SNR).
+
+    Examples
+    --------
+    An optical depth of ln 2 (τ = 0.5) gives 0 dB; a depth of 1 gives ``-20 log10(e − 1)``.
+
+    >>> import math
+    >>> from targetacq.atmosphere import snr_from_optical_depth
+    >>> print([round(float(x), 4) for x in snr_from_optical_depth([math.log(2.0), 1.0])])
+    [0.0, -4.7019]
     """
     xp, (d,) = _arrays.arrays(depth, names=("depth",))
     _arrays.require_nonnegative("depth", d, xp)

@@ -42,6 +42,12 @@ def band_limits(band: Any) -> tuple[float, float]:
     ValueError
         Unknown name (the valid ones are listed), or not ``0 <= λ1 < λ2`` (λ2 may be +inf: the
         whole spectrum).
+
+    Examples
+    --------
+    >>> from targetacq.bands import band_limits
+    >>> [round(x * 1e6, 6) for x in band_limits("lwir")]
+    [8.0, 12.0]
     """
     if isinstance(band, str):
         if band not in BANDS:
@@ -65,6 +71,12 @@ def parse_band(text: str, name: str = "band") -> tuple[float, float]:
     ------
     ValueError
         Naming the input (``name``), the named bands and the form expected.
+
+    Examples
+    --------
+    >>> from targetacq.bands import parse_band
+    >>> [round(x * 1e6, 6) for x in parse_band("3-5 um")]
+    [3.0, 5.0]
     """
     from targetacq.units import parse_quantity
 
@@ -90,6 +102,12 @@ def band_name(band: Any) -> str:
     ------
     ValueError
         If the band is not one of the named bands (tables are given for those only).
+
+    Examples
+    --------
+    >>> from targetacq.bands import band_name
+    >>> band_name((8e-6, 12e-6))
+    'lwir'
     """
     limits = band_limits(band)
     for name, named in BANDS.items():

@@ -84,7 +84,14 @@ def _amplitude(s: Any, xp: Any) -> Any:
 
 
 def snr_ratio(snr: Any) -> Any:
-    """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6))."""
+    """Amplitude ratio of an SNR in decibels, ``10^(SNR/20)`` (the dB of Eq. (7.6)).
+
+    Examples
+    --------
+    >>> from targetacq.noise import snr_ratio
+    >>> print([round(float(x), 4) for x in snr_ratio([0.0, 20.0, 6.0])])
+    [1.0, 10.0, 1.9953]
+    """
     xp, (s,) = _arrays.arrays(snr, names=("snr",))
     return _arrays.result(_amplitude(s, xp))
 
@@ -144,6 +151,15 @@ def ratio_n50(ratio: Any) -> Any:
     ----------
     ratio : array_like
         R >= 0 (+inf allowed).
+
+    Examples
+    --------
+    Table 3.5's 50 % points at the region anchors (0.5 cycles at R = 10, 1.0 at 1, 2.5 at
+    0.33), and between them ``0.5 · (10/R)^log10(2)``:
+
+    >>> from targetacq.noise import ratio_n50
+    >>> print([round(float(x), 4) for x in ratio_n50([10.0, 1.0, 0.33, 3.0])])
+    [0.5, 1.0, 2.5, 0.7184]
     """
     xp, (r,) = _arrays.arrays(ratio, names=("ratio",))
     _arrays.require_nonnegative("ratio", r, xp)

@@ -204,6 +204,14 @@ def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     """Wien's approximation, Eq. (6.13): ``M_λ ≈ 2π h c² / λ⁵ · exp(−hc / (λ k T))``.
 
     Valid where ``hc/λ ≫ kT``. Units as :func:`spectral_exitance`.
+
+    Examples
+    --------
+    At 10 µm and 300 K, ``hc/(λkT) ≈ 4.8``: Wien's form is 0.8 % below Planck's (Eq. (6.2)).
+
+    >>> from targetacq.radiometry import spectral_exitance, wien_spectral_exitance
+    >>> print(f"{wien_spectral_exitance(10e-6, 300.0) / spectral_exitance(10e-6, 300.0):.4f}")
+    0.9917
     """
     xp, (lam, t) = _arrays.arrays(wavelength, temperature, names=("wavelength", "temperature"))
     _arrays.require_positive("wavelength", lam, xp, "m")
@@ -330,6 +338,17 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
         T [K], >= 0.
     band : (float, float) or str
         As in :func:`band_exitance`.
+
+    Examples
+    --------
+    About 1.98 W m⁻² K⁻¹ in 8–12 µm at 300 K (a central difference of :func:`band_exitance` over
+    ±0.01 K gives the same to 1e-9):
+
+    >>> from targetacq.radiometry import band_exitance, band_exitance_derivative
+    >>> print(f"{band_exitance_derivative(300.0, 'lwir'):.4f}")
+    1.9783
+    >>> print(f"{(band_exitance(300.01, 'lwir') - band_exitance(299.99, 'lwir')) / 0.02:.4f}")
+    1.9783
     """
     low, high = band_limits(band)
     xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
@@ -363,7 +382,14 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
 
 
 def stefan_boltzmann_exitance(temperature: Any) -> Any:
-    """Total exitance of a blackbody, ``M = σ T⁴``, Eq. (6.1) [W/m²]; T [K] >= 0."""
+    """Total exitance of a blackbody, ``M = σ T⁴``, Eq. (6.1) [W/m²]; T [K] >= 0.
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import stefan_boltzmann_exitance
+    >>> print(f"{stefan_boltzmann_exitance(300.0):.2f}")
+    459.30
+    """
     xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_nonnegative("temperature", t, xp, "K")
     return _arrays.result(STEFAN_BOLTZMANN * t**4)
@@ -381,6 +407,14 @@ def peak_wavelength(temperature: Any) -> Any:
     -------
     array_like
         λ_peak [m]; 300 K → 9.659 µm.
+
+    Examples
+    --------
+    Wien's displacement law at 300 K: ``2.8978e-3 / 300`` m, in the 8–12 µm band.
+
+    >>> from targetacq.radiometry import peak_wavelength
+    >>> print(f"{peak_wavelength(300.0) * 1e6:.3f} um")
+    9.659 um
     """
     xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_positive("temperature", t, xp, "K")
@@ -388,7 +422,14 @@ def peak_wavelength(temperature: Any) -> Any:
 
 
 def emissivity(exitance: Any, blackbody_exitance: Any) -> Any:
-    """Emissivity ``ε = M / M_blackbody``, Eq. (6.4); both [W/m²], the second > 0."""
+    """Emissivity ``ε = M / M_blackbody``, Eq. (6.4); both [W/m²], the second > 0.
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import emissivity
+    >>> print(f"{emissivity(400.0, 459.3):.4f}")
+    0.8709
+    """
     xp, (m, mb) = _arrays.arrays(
         exitance, blackbody_exitance, names=("exitance", "blackbody_exitance")
     )
@@ -408,6 +449,14 @@ def emissivity_from_reflectance(reflectance: Any, transmittance: Any = 0.0) -> A
         r in [0, 1].
     transmittance : array_like, optional
         t in [0, 1]; 0 for an opaque body (then ``ε = 1 − r``).
+
+    Examples
+    --------
+    Opaque with r = 0.2, then with 10 % transmitted as well:
+
+    >>> from targetacq.radiometry import emissivity_from_reflectance
+    >>> print(f"{emissivity_from_reflectance(0.2):.2f} {emissivity_from_reflectance(0.2, 0.1):.2f}")
+    0.80 0.70
     """
     xp, (r, tr) = _arrays.arrays(reflectance, transmittance, names=("reflectance", "transmittance"))
     _arrays.require_unit_interval("reflectance", r, xp)
@@ -448,6 +497,14 @@ def material_reflectance(material: str, band: Any, bound: str = "nominal") -> fl
     ------
     ValueError
         Unknown material, band or bound, or a cell the table leaves empty (ice, visible).
+
+    Examples
+    --------
+    Olive paint in 8–12 µm, printed 17–23 % in Table 6.1:
+
+    >>> from targetacq.radiometry import material_reflectance
+    >>> print([material_reflectance("olive-paint", "lwir", b) for b in ("low", "nominal", "high")])
+    [0.17, 0.2, 0.23]
     """
     if material not in MATERIALS:
         raise ValueError(f"unknown material {material!r}; materials: {', '.join(MATERIALS)}")
@@ -464,6 +521,12 @@ def material_emissivity(material: str, band: Any, bound: str = "nominal") -> flo
     """Emissivity ``1 − r`` of an opaque Table 6.1 material (Kirchhoff, Eq. (6.5)).
 
     ``bound`` refers to the reflectance: "low" reflectance gives the high emissivity.
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import material_emissivity
+    >>> print(f"{material_emissivity('olive-paint', 'lwir'):.2f}")
+    0.80
     """
     return 1.0 - material_reflectance(material, band, bound)
 
@@ -477,6 +540,12 @@ def reflected_exitance(reflectance: Any, irradiance: Any) -> Any:
         r in [0, 1].
     irradiance : array_like
         E on the surface [W/m²], >= 0 (e.g. sunlight in the band).
+
+    Examples
+    --------
+    >>> from targetacq.radiometry import reflected_exitance
+    >>> print(f"{reflected_exitance(0.3, 1000.0):.1f}")
+    300.0
     """
     xp, (r, e) = _arrays.arrays(reflectance, irradiance, names=("reflectance", "irradiance"))
     _arrays.require_unit_interval("reflectance", r, xp)
@@ -493,6 +562,13 @@ def lambert_intensity(intensity: Any, angle: Any) -> Any:
         Intensity along the surface normal [W/sr].
     angle : array_like
         φ, angle between the normal and the line of sight [rad], in [0, π/2].
+
+    Examples
+    --------
+    >>> import math
+    >>> from targetacq.radiometry import lambert_intensity
+    >>> print(f"{lambert_intensity(10.0, math.radians(60.0)):.4f}")
+    5.0000
     """
     xp, (i, phi) = _arrays.arrays(intensity, angle, names=("intensity", "angle"))
     _arrays.require_nonnegative("angle", phi, xp, "rad")
@@ -524,6 +600,18 @@ def irradiance_at_sensor(
         θ [rad]; cos⁴: 30° → 0.5625, 10° → 0.9406.
     lens : bool
         Eq. (6.17) when True, (6.16) when False.
+
+    Examples
+    --------
+    10 W/sr at 100 m on axis, then 30° off axis through a lens (``cos⁴ 30° = 0.5625``,
+    Eq. (6.17)):
+
+    >>> import math
+    >>> from targetacq.radiometry import irradiance_at_sensor
+    >>> print(f"{irradiance_at_sensor(10.0, 100.0):.4e}")
+    1.0000e-03
+    >>> print(f"{irradiance_at_sensor(10.0, 100.0, off_axis_angle=math.radians(30.0)):.4e}")
+    5.6250e-04
     """
     xp, (i, r, phi, theta) = _arrays.arrays(
         intensity,
@@ -561,6 +649,14 @@ def target_signal(emissivity: Any, exitance: Any, range: Any, off_axis_angle: An
     -------
     array_like
         o_max [W/m² per m²].
+
+    Examples
+    --------
+    ε = 0.9 and 120.95 W/m² (8–12 µm at 300 K) at 1 km on axis: ``0.9 · 120.95 / 1000²``.
+
+    >>> from targetacq.radiometry import target_signal
+    >>> print(f"{target_signal(0.9, 120.95, 1000.0):.4e}")
+    1.0886e-04
     """
     xp, (eps, m, r, theta) = _arrays.arrays(
         emissivity,
@@ -598,6 +694,15 @@ def diurnal_temperature(hour: Any, mean: Any, amplitude: Any, peak_hour: Any = 1
     -------
     array_like
         T [K].
+
+    Examples
+    --------
+    A mean of 290 K and an amplitude of 5 K: the maximum at 14:00, the minimum twelve hours
+    later, the mean six hours before the maximum:
+
+    >>> from targetacq.radiometry import diurnal_temperature
+    >>> print([round(float(t), 6) for t in diurnal_temperature([14.0, 2.0, 8.0], 290.0, 5.0)])
+    [295.0, 285.0, 290.0]
     """
     xp, (h, m, a, p) = _arrays.arrays(
         hour, mean, amplitude, peak_hour, names=("hour", "mean", "amplitude", "peak_hour")
@@ -624,6 +729,14 @@ def quantisation_step(bits: int, span: Any) -> Any:
         Bits per sample, >= 1.
     span : array_like
         Signal span covered by the levels (same unit as the contrast), > 0.
+
+    Examples
+    --------
+    A 14-bit detector over a span of 100 (``100 / 16383``), an 8-bit one over 255:
+
+    >>> from targetacq.radiometry import quantisation_step
+    >>> print(f"{quantisation_step(14, 100.0):.6f} {quantisation_step(8, 255.0):.1f}")
+    0.006104 1.0
     """
     if not isinstance(bits, int) or isinstance(bits, bool) or bits < 1:
         raise ValueError(f"bits must be an integer >= 1, got {bits!r}")

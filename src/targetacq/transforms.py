@@ -461,6 +461,15 @@ def clutter_n50(scr: Any) -> Any:
     -------
     array_like
         N50 [cycles] of the Schmieder–Weathersby detection curve with Johnson's scaling.
+
+    Examples
+    --------
+    Table 3.5's 50 % points at the anchors — 0.5 (low clutter, SCR ≥ 10), 1.0 (SCR 1), 2.5
+    (SCR 0.33) — the log-SCR blend between them, and the continuation below 0.33:
+
+    >>> from targetacq.transforms import clutter_n50
+    >>> print([round(float(x), 4) for x in clutter_n50([20.0, 10.0, 1.0, 0.33, 0.1])])
+    [0.5, 0.5, 1.0, 2.5, 6.7063]
     """
     xp, (s,) = _arrays.arrays(scr, names=("scr",))
     _arrays.require_nonnegative("scr", s, xp)

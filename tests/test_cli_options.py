@@ -23,3 +23,75 @@ def test_command_lists_every_range_case_option(command):
     click_command = typer.main.get_command(app).commands[command]
     flags = {flag for param in click_command.params for flag in param.opts}
     assert {spec.flag for spec in RANGE_CASE_OPTIONS} | {"--example"} <= flags
+
+
+# --- the quantity type and the registry completions come from the option table ---------------
+
+
+def test_every_quantity_kind_in_the_table_is_a_unit_kind():
+    from targetacq.units import DIMENSIONS
+
+    kinds = {spec.quantity for spec in RANGE_CASE_OPTIONS if spec.quantity is not None}
+    assert kinds and kinds <= set(DIMENSIONS)
+
+
+def test_quantity_options_show_their_kind_and_take_lists_in_help(capsys):
+    from targetacq.cli import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["dri", "--help"])
+    out = capsys.readouterr().out
+    assert exit_.value.code == 0
+    assert "LENGTH[,...]" in out and "ANGLE[,...]" in out and "TEMPERATURE[,...]" in out
+
+
+@pytest.mark.parametrize(
+    ("value", "wanted"),
+    [
+        ("17kg", "'17kg' is not a length"),
+        ("17", "needs a unit"),
+        ("nan", "finite"),
+        ("12um,abc", "cannot read 'abc' as a length"),
+    ],
+)
+def test_a_bad_quantity_fails_at_parse_time_naming_the_option(capsys, value, wanted):
+    from targetacq.cli import main
+
+    with pytest.raises(SystemExit) as exit_:
+        main(["dri", "--example", "--pitch", value])
+    err = capsys.readouterr().err
+    assert exit_.value.code == 2
+    assert err.startswith("targetacq: error: ") and err.count("\n") == 1
+    assert "'--pitch'" in err and wanted in err
+
+
+def test_the_quantity_text_reaches_the_command_unchanged():
+    from targetacq.cli.options import Quantity
+
+    assert Quantity("temperature")("32degC,305 K") == "32degC,305 K"
+    assert Quantity("temperature difference", lists=False).metavar == "TEMPERATURE_DIFFERENCE"
+    with pytest.raises(ValueError, match="kind must be one of"):
+        Quantity("mass")
+
+
+def test_options_with_choices_complete_the_registry_names():
+    from targetacq.criteria import CRITERIA
+
+    dri = typer.main.get_command(app).commands["dri"]
+    criterion = next(p for p in dri.params if "--criterion" in p.opts)
+    ctx = dri.make_context("dri", [], resilient_parsing=True)
+    offered = [item.value for item in criterion.shell_complete(ctx, "jo")]
+    assert offered == [name for name in CRITERIA if name.startswith("jo")]
+    assert offered and all(name.startswith("johnson") for name in offered)
+    listed = [item.value for item in criterion.shell_complete(ctx, "nvtherm,jo")]
+    assert listed == ["nvtherm," + name for name in offered]
+
+
+def test_obscurant_completion_offers_the_levels_after_a_colon():
+    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
+    from targetacq.cli.options import complete_names
+
+    complete = complete_names(OBSCURANTS, levels=EXTINCTION_LEVELS)
+    name = OBSCURANTS[0]
+    assert complete(name + ":") == [f"{name}:{level}" for level in EXTINCTION_LEVELS]
+    assert complete("no-such-obscurant:") == []

@@ -53,12 +53,17 @@ SENSOR, TARGET, SCENE, PATH, NOISE, MODEL = (
 
 @dataclass(frozen=True)
 class OptionSpec:
-    """One range-case option: its keyword name, Python type, help text and ``--help`` panel."""
+    """One range-case option: its keyword name, Python type, help text and ``--help`` panel;
+    the kind of quantity or the registry of names it takes, if any."""
 
     name: str
     kind: type
     help: str
     panel: str
+    quantity: str | None = None
+    """The kind of quantity of each value (a key of :data:`targetacq.units.DIMENSIONS`), if any."""
+    choices: Any = None
+    """The registry whose names the option takes (its keys are the choices), if any."""
 
     @property
     def flag(self) -> str:
@@ -70,10 +75,10 @@ def _names(registry: Any) -> str:
 
 
 RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
-    OptionSpec("pitch", str, "Pixel pitch, e.g. 17um.", SENSOR),
-    OptionSpec("focal_length", str, "Focal length, e.g. 75mm.", SENSOR),
-    OptionSpec("ifov", str, "Pixel IFOV, e.g. 0.227mrad.", SENSOR),
-    OptionSpec("hfov", str, "Horizontal field of view, e.g. 12deg.", SENSOR),
+    OptionSpec("pitch", str, "Pixel pitch, e.g. 17um.", SENSOR, quantity="length"),
+    OptionSpec("focal_length", str, "Focal length, e.g. 75mm.", SENSOR, quantity="length"),
+    OptionSpec("ifov", str, "Pixel IFOV, e.g. 0.227mrad.", SENSOR, quantity="angle"),
+    OptionSpec("hfov", str, "Horizontal field of view, e.g. 12deg.", SENSOR, quantity="angle"),
     OptionSpec("pixels", int, "Pixels across --hfov, e.g. 640.", SENSOR),
     OptionSpec(
         "projection",
@@ -82,6 +87,7 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         f"{_names(FIELD_OF_VIEW_PROJECTIONS)} (default angular: HFOV / pixels, datasheets; "
         "rectilinear: 2 tan(HFOV/2) / pixels).",
         SENSOR,
+        choices=FIELD_OF_VIEW_PROJECTIONS,
     ),
     OptionSpec(
         "pixel_density",
@@ -89,34 +95,83 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         f"EN 62676-4 pixel density from --hfov: {_names(PIXEL_DENSITY_DEFINITIONS)} (default "
         "plane: scene width 2R tan(HFOV/2); arc: R · HFOV).",
         SENSOR,
+        choices=PIXEL_DENSITY_DEFINITIONS,
     ),
-    OptionSpec("aperture", str, "Lens aperture diameter for diffraction, e.g. 75mm.", SENSOR),
+    OptionSpec(
+        "aperture",
+        str,
+        "Lens aperture diameter for diffraction, e.g. 75mm.",
+        SENSOR,
+        quantity="length",
+    ),
     OptionSpec("f_number", float, "Lens F-number: aperture = focal length / F#.", SENSOR),
-    OptionSpec("wavelength", str, "Wavelength for diffraction, e.g. 10um.", SENSOR),
-    OptionSpec("blur", str, "Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.", SENSOR),
-    OptionSpec("critical_dimension", str, "Target critical dimension, e.g. 2.3m.", TARGET),
+    OptionSpec(
+        "wavelength", str, "Wavelength for diffraction, e.g. 10um.", SENSOR, quantity="length"
+    ),
+    OptionSpec(
+        "blur",
+        str,
+        "Angular std. dev. of a Gaussian optics blur, e.g. 0.05mrad.",
+        SENSOR,
+        quantity="angle",
+    ),
+    OptionSpec(
+        "critical_dimension",
+        str,
+        "Target critical dimension, e.g. 2.3m.",
+        TARGET,
+        quantity="length",
+    ),
     OptionSpec(
         "target",
         str,
         f"Named target: {_names(TARGETS)} (sets the critical dimension).",
         TARGET,
+        choices=TARGETS,
     ),
-    OptionSpec("criterion", str, f"Criteria set: {_names(CRITERIA)} (default johnson).", MODEL),
+    OptionSpec(
+        "criterion",
+        str,
+        f"Criteria set: {_names(CRITERIA)} (default johnson).",
+        MODEL,
+        choices=CRITERIA,
+    ),
     OptionSpec(
         "n50", str, "User-defined N50 cycles for detection,recognition,identification.", MODEL
     ),
-    OptionSpec("transform", str, f"Transform: {_names(TRANSFORMS)} (default ttpf).", MODEL),
-    OptionSpec("bound", str, f"c2nveo bound: {_names(C2NVEO_BOUNDS)}.", MODEL),
+    OptionSpec(
+        "transform",
+        str,
+        f"Transform: {_names(TRANSFORMS)} (default ttpf).",
+        MODEL,
+        choices=TRANSFORMS,
+    ),
+    OptionSpec(
+        "bound", str, f"c2nveo bound: {_names(C2NVEO_BOUNDS)}.", MODEL, choices=C2NVEO_BOUNDS
+    ),
     OptionSpec("scr", float, "Signal-to-clutter ratio (schmieder-weathersby).", SCENE),
     OptionSpec(
         "clutter",
         str,
         f"Clutter region (schmieder-weathersby): {_names(CLUTTER_REGIONS)}.",
         SCENE,
+        choices=CLUTTER_REGIONS,
     ),
-    OptionSpec("band", str, f"Sensor band: {_names(BANDS)} or e.g. 8-12um.", SENSOR),
-    OptionSpec("target_temperature", str, "Target temperature, e.g. 305K or 32degC.", SCENE),
-    OptionSpec("background_temperature", str, "Background temperature, e.g. 295K.", SCENE),
+    OptionSpec("band", str, f"Sensor band: {_names(BANDS)} or e.g. 8-12um.", SENSOR, choices=BANDS),
+    OptionSpec(
+        "target_temperature",
+        str,
+        "Target temperature, e.g. 305K or 32degC.",
+        SCENE,
+        quantity="temperature",
+    ),
+    OptionSpec(
+        "background_temperature",
+        str,
+        "Background temperature, e.g. 295K.",
+        SCENE,
+        quantity="temperature",
+    ),
     OptionSpec("emissivity", float, "Target emissivity in [0, 1] (default 1).", SCENE),
     OptionSpec(
         "background_emissivity", float, "Background emissivity in [0, 1] (default 1).", SCENE
@@ -126,30 +181,61 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         str,
         "Background temperature spread (clutter), e.g. 2K; gives the SCR.",
         SCENE,
+        quantity="temperature difference",
     ),
-    OptionSpec("extinction", str, "Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.", PATH),
     OptionSpec(
-        "obscurant", str, f"Table 7.1 obscurant[:low|nominal|high]: {_names(OBSCURANTS)}.", PATH
+        "extinction",
+        str,
+        "Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.",
+        PATH,
+        quantity="extinction",
     ),
-    OptionSpec("visibility", str, "Visibility (visible band), e.g. 7.5km.", PATH),
+    OptionSpec(
+        "obscurant",
+        str,
+        f"Table 7.1 obscurant[:low|nominal|high]: {_names(OBSCURANTS)}.",
+        PATH,
+        choices=OBSCURANTS,
+    ),
+    OptionSpec(
+        "visibility", str, "Visibility (visible band), e.g. 7.5km.", PATH, quantity="length"
+    ),
     OptionSpec(
         "visibility_convention",
         str,
         f"Visibility convention: {_names(VISIBILITY_CONVENTIONS)}.",
         PATH,
+        choices=VISIBILITY_CONVENTIONS,
     ),
     OptionSpec(
-        "noise_model", str, f"Noise model: {_names(NOISE_MODELS)} (default variance-sum).", NOISE
+        "noise_model",
+        str,
+        f"Noise model: {_names(NOISE_MODELS)} (default variance-sum).",
+        NOISE,
+        choices=NOISE_MODELS,
     ),
-    OptionSpec("netd", str, "Thermal camera's NETD, e.g. 50mK (needs --delta-t).", NOISE),
+    OptionSpec(
+        "netd",
+        str,
+        "Thermal camera's NETD, e.g. 50mK (needs --delta-t).",
+        NOISE,
+        quantity="temperature difference",
+    ),
     OptionSpec(
         "netd_temperature",
         str,
         "Temperature at which the NETD is quoted, to turn the target and background "
         "temperatures into a ΔT (default 300K).",
         NOISE,
+        quantity="temperature",
     ),
-    OptionSpec("delta_t", str, "Target-background temperature difference, e.g. 2K.", NOISE),
+    OptionSpec(
+        "delta_t",
+        str,
+        "Target-background temperature difference, e.g. 2K.",
+        NOISE,
+        quantity="temperature difference",
+    ),
     OptionSpec("nec", float, "TV camera's noise-equivalent contrast, e.g. 0.01.", NOISE),
     OptionSpec("contrast", float, "Target contrast for --nec, e.g. 0.3.", NOISE),
     OptionSpec(
@@ -157,6 +243,7 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         str,
         "Area of the target as seen, for its pixels (default: dimension²).",
         NOISE,
+        quantity="area",
     ),
     OptionSpec(
         "mrtd",
@@ -169,6 +256,7 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         str,
         f"Acquisition semantics: {_names(ACQUISITION_SEMANTICS)} (default nested).",
         MODEL,
+        choices=ACQUISITION_SEMANTICS,
     ),
     OptionSpec(
         "probability",

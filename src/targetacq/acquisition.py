@@ -492,6 +492,15 @@ class Acquisition:
         ``identification <= recognition <= detection``.
     semantics : str
         :data:`ACQUISITION_SEMANTICS`.
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> acq = ta.acquisition_probabilities(4.0)
+    >>> print(f"{acq.detection:.4f} {acq.recognition:.4f} {acq.identification:.4f}")
+    0.9995 0.5000 0.1862
+    >>> acq.semantics
+    'nested'
     """
 
     detection: Any

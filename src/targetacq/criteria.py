@@ -50,6 +50,15 @@ class Criterion:
         What the thresholds are.
     source : str
         Where the numbers come from.
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> mine = ta.Criterion("mine", {"detection": 0.75, "recognition": 3.0})
+    >>> mine.n50("recognition")
+    3.0
+    >>> ta.CRITERIA["en62676-4"].gives_probabilities  # pixel densities: ranges only
+    False
     """
 
     name: str

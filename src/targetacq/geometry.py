@@ -239,6 +239,15 @@ def positions_at(times: Any, waypoint_times: Any, waypoint_positions: Any) -> An
     -------
     numpy.ndarray
         (n_t, 3) [m].
+
+    Examples
+    --------
+    Halfway between two waypoints 10 s apart, and held at the last one after it:
+
+    >>> from targetacq.geometry import positions_at
+    >>> path = positions_at([0.0, 5.0, 20.0], [0.0, 10.0], [[0.0, 0.0, 100.0], [100.0, 0.0, 100.0]])
+    >>> print(path.round(6).tolist())
+    [[0.0, 0.0, 100.0], [50.0, 0.0, 100.0], [100.0, 0.0, 100.0]]
     """
     import numpy as np
 
@@ -249,7 +258,18 @@ def positions_at(times: Any, waypoint_times: Any, waypoint_positions: Any) -> An
 
 
 def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, default: float) -> Any:
-    """Direction of motion (from north, clockwise) [rad] along a path; ``default`` where still."""
+    """Direction of motion (from north, clockwise) [rad] along a path; ``default`` where still.
+
+    Examples
+    --------
+    Moving east is a heading of 90°:
+
+    >>> import math
+    >>> from targetacq.geometry import heading_along
+    >>> heading = heading_along([5.0], [0.0, 10.0], [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]], 0.0)
+    >>> print(round(math.degrees(float(heading[0])), 6))
+    90.0
+    """
     import numpy as np
 
     t = np.asarray(times, dtype=float)
@@ -345,6 +365,19 @@ def box_extents_seen(
     -------
     range, horizontal, vertical : array_like
         Slant range [m] and the sides of the outline [m].
+
+    Examples
+    --------
+    A 7 × 2.5 × 3 m truck heading north, seen from the west (its side) and from the south (its
+    back):
+
+    >>> from targetacq.geometry import box_extents_seen
+    >>> r, horizontal, vertical = box_extents_seen([[1000.0, 0.0, 0.0]], 0.0, 7.0, 2.5, 3.0)
+    >>> print(round(float(r[0]), 6), round(float(horizontal[0]), 6), round(float(vertical[0]), 6))
+    1000.0 7.0 3.0
+    >>> r, horizontal, vertical = box_extents_seen([[0.0, 1000.0, 0.0]], 0.0, 7.0, 2.5, 3.0)
+    >>> print(round(float(horizontal[0]), 6), round(float(vertical[0]), 6))
+    2.5 3.0
     """
     _xp, (los,) = _arrays.arrays(line_of_sight, names=("line_of_sight",))
     return box_outline(los[..., 0], los[..., 1], los[..., 2], heading, length, width, height)
@@ -428,6 +461,15 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
     -------
     ahead, right, up : array_like
         [m].
+
+    Examples
+    --------
+    A sensor looking east: a point 10 m north of the boresight is 10 m to its left (``right``
+    is south), one 5 m higher is 5 m up.
+
+    >>> from targetacq.geometry import view_offsets
+    >>> [round(float(c), 6) for c in view_offsets(100.0, 10.0, 5.0, (1.0, 0.0, 0.0))]
+    [100.0, -10.0, 5.0]
     """
     xp, (x, y, z, fx, fy, fz) = _arrays.arrays(
         x, y, z, *forward, names=("x", "y", "z", "forward east", "forward north", "forward up")
@@ -469,6 +511,18 @@ def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any,
     -------
     array_like of bool
         False where a component is NaN.
+
+    Examples
+    --------
+    A sensor looking east with an 8° × 6° field of view: straight ahead is in view, 5.7° to
+    the side (``atan(10/100)``) is not, nor is anything behind.
+
+    >>> import math
+    >>> from targetacq.geometry import in_field_of_view
+    >>> half = (math.tan(math.radians(4.0)), math.tan(math.radians(3.0)))
+    >>> sight = [[100.0, 0.0, 0.0], [100.0, 10.0, 0.0], [-100.0, 0.0, 0.0]]
+    >>> in_field_of_view(sight, [1.0, 0.0, 0.0], half).tolist()
+    [True, False, False]
     """
     _, (los, f) = _arrays.arrays(line_of_sight, forward, names=("line_of_sight", "forward"))
     return within_field_of_view(

@@ -79,6 +79,8 @@ api_modules = [
     "targetacq.acquisition",
     "targetacq.fusion",
     "targetacq.ranges",
+    "targetacq.design",
+    "targetacq.targets",
     "targetacq.scene",
     "targetacq.search",
     "targetacq.sampling",
@@ -103,6 +105,7 @@ api_modules = [
     "targetacq.registry",
     "targetacq.constants",
     "targetacq.plots",
+    "targetacq.report",
 ]
 
 sphinx_gallery_conf = {

@@ -56,6 +56,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.noise import NOISE_MODELS
     from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
     from targetacq.sensors import SENSOR_TYPES
+    from targetacq.targets import TARGETS
     from targetacq.transforms import CLUTTER_REGIONS, TRANSFORMS
 
     expected = {
@@ -63,6 +64,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.transforms.TRANSFORMS": TRANSFORMS,
         "targetacq.noise.NOISE_MODELS": NOISE_MODELS,
         "targetacq.sensors.SENSOR_TYPES": SENSOR_TYPES,
+        "targetacq.targets.TARGETS": TARGETS,
         "targetacq.bands.BANDS": BANDS,
         "targetacq.atmosphere.OBSCURANTS": OBSCURANTS,
         "targetacq.atmosphere.EXTINCTION_LEVELS": EXTINCTION_LEVELS,

@@ -233,6 +233,40 @@ def _projections() -> RegistryTable:
     )
 
 
+def _targets() -> RegistryTable:
+    from targetacq.targets import TARGETS
+
+    sources = {t.source for t in TARGETS.values()}
+    shared = len(sources) == 1
+    rows = tuple(
+        (
+            name,
+            _number(t.critical_dimension),
+            f"{_number(t.height)} × {_number(t.width)}",
+            t.description,
+            *(() if shared else (t.source,)),
+        )
+        for name, t in TARGETS.items()
+    )
+    intro = _attr_doc("targetacq.targets", "TARGETS")
+    if shared:
+        intro += " Source: " + _cell(next(iter(sources)))
+    return RegistryTable(
+        "targets",
+        "Named targets",
+        "targetacq.targets.TARGETS",
+        (
+            "name",
+            "critical dimension [m]",
+            "outline height × width [m]",
+            "what it is",
+            *(() if shared else ("source",)),
+        ),
+        rows,
+        intro,
+    )
+
+
 def _clutter_regions() -> RegistryTable:
     from targetacq.tables import load_table
     from targetacq.transforms import CLUTTER_REGIONS
@@ -260,6 +294,7 @@ _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _transforms,
     _noise_models,
     _sensor_types,
+    _targets,
     _bands,
     _obscurants,
     _levels,

@@ -405,7 +405,7 @@ def _results():
 
 def test_results_json_is_strict_and_tells_infinity_from_nan(tmp_path):
     _results().write(tmp_path / "rows.json")
-    rows = strict_json((tmp_path / "rows.json").read_text(encoding="utf-8"))
+    rows = strict_json((tmp_path / "rows.json").read_text(encoding="utf-8"))["rows"]
     by_key = {(row["target"], row["time"]): row for row in rows}
     assert [by_key[k]["snr"] for k in [("a", 0.0), ("a", 1.0), ("b", 0.0), ("b", 1.0)]] == [
         "inf",

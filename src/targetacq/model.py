@@ -39,14 +39,13 @@ import numpy as np
 from targetacq import _arrays, core
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluate import footprint_scr
-from targetacq.outputs import json_records, output_path, write_atomically
+from targetacq.datasets import OUTPUT_FORMATS, Output, annotate, provenance, write_output
 from targetacq.registry import lookup
 from targetacq.scenario import Scenario
 
-__all__ = ["STEPS", "ModelChain", "Results", "evaluate"]
+__all__ = ["OUTPUT_FORMATS", "STEPS", "ModelChain", "Results", "evaluate"]
 
 _TASKS = ("detection", "recognition", "identification")
-OUTPUT_FORMATS = ("csv", "json", "parquet")
 
 
 @dataclass(frozen=True)
@@ -59,7 +58,10 @@ class Results:
         Dims ``(sensor, target, time)`` for the per-sensor variables (range [m],
         critical_dimension [m], cycles, in_view, transmittance, snr [dB], detection,
         recognition, identification); ``(sensor, target)`` for contrast and scr;
-        ``(target, time)`` for the fused probabilities ``fused_<task>``.
+        ``(target, time)`` for the fused probabilities ``fused_<task>``. Every variable and
+        coordinate has CF ``units`` (but the text names) and ``long_name``; ``attrs`` hold the
+        provenance (:func:`targetacq.datasets.provenance`): package version, model choices and
+        ``scenario_sha256``, the SHA-256 of the scenario as validated (its canonical JSON).
     """
 
     dataset: Any
@@ -77,27 +79,27 @@ class Results:
         fused = ds[[f"fused_{t}" for t in _TASKS]].to_dataframe().reset_index()
         return frame.merge(pairs, on=["sensor", "target"]).merge(fused, on=["target", "time"])
 
-    def write(self, path: str | Path) -> Path:
-        """Write the table as CSV, JSON (records) or Parquet, by suffix; atomically, so a failed
-        write leaves nothing half-written (:func:`targetacq.outputs.write_atomically`).
+    def write(self, path: str | Path, meta: Mapping[str, Any] | None = None) -> Path:
+        """Write the results by suffix (:data:`targetacq.datasets.OUTPUT_FORMATS`): the
+        dataset as netCDF (.nc) or Zarr (.zarr), or the table of :meth:`to_dataframe` as CSV,
+        JSON (``{"meta": ..., "rows": [...]}``) or Parquet; atomically, so a failed write leaves
+        nothing half-written, with the user's umask.
 
-        JSON is strict: NaN is ``null``, ±inf the strings ``"inf"`` and ``"-inf"``
-        (:func:`targetacq.outputs.json_records`).
+        Units, long names and provenance (the dataset's ``attrs``, updated with ``meta``) go in
+        every format but CSV, which is the plain table. JSON is strict: NaN is ``null``, ±inf
+        the strings ``"inf"`` and ``"-inf"`` (:func:`targetacq.outputs.json_records`).
 
         Raises
         ------
         ValueError
-            If the suffix is not .csv, .json or .parquet, or (``OutputError``) the file cannot
-            be written: the message names the file and the reason.
+            If the suffix is not one of .csv, .json, .parquet, .nc or .zarr, or
+            (``OutputError``) the file cannot be written: the message names the file and the
+            reason.
         """
-        out, kind = output_path(path, OUTPUT_FORMATS, "output")
-        frame = self.to_dataframe()
-        writers = {
-            "csv": lambda p: frame.to_csv(p, index=False),
-            "json": lambda p: p.write_text(json_records(frame), encoding="utf-8"),
-            "parquet": lambda p: frame.to_parquet(p, index=False),
-        }
-        return write_atomically(out, writers[kind])
+        output = Output(
+            self.dataset, {**self.dataset.attrs, **(meta or {})}, table=self.to_dataframe
+        )
+        return write_output(output, path)
 
 
 def _positions(
@@ -263,17 +265,24 @@ class ModelChain:
             scr = np.full(self.contrast.shape, np.inf) if self.scr is None else self.scr
             variables["scr"] = (("sensor", "target"), scr[:, targets])
         ds = xr.Dataset(variables, coords=coords)
-        units = {
-            "range": "m",
-            "critical_dimension": "m",
-            "snr": "dB",
-            "time": "s",
-            "contrast": "W/m2",
-            "cycles": "cycles",
-        }
-        for name, unit in units.items():
-            ds[name].attrs["units"] = unit
+        annotate(ds, kind="model")
+        ds.attrs.update(self.provenance())
         return ds
+
+    def provenance(self) -> dict[str, Any]:
+        """The provenance of this chain's results: version, model choices (the steps replaced
+        too) and the SHA-256 of the scenario's canonical JSON."""
+        import hashlib
+
+        choices = dataclasses.asdict(self.compiled.scene.choices)
+        choices["criteria"] = dict(
+            zip(self.target_names, (c.name for c in self.compiled.criteria), strict=True)
+        )
+        choices["steps_replaced"] = sorted(n for n, f in self.steps.items() if f is not STEPS[n])
+        meta = provenance(choices, what=f"targetacq evaluate: {self.scenario.name or 'scenario'}")
+        text = self.scenario.model_dump_json()
+        meta["scenario_sha256"] = hashlib.sha256(text.encode()).hexdigest()
+        return meta
 
     def range_cases(self, time: float | None = None) -> dict[str, RangeCase]:
         """Every sensor–target pair as a :class:`targetacq.core.cases.RangeCase`, for

@@ -38,10 +38,11 @@ import json
 import math
 import os
 import secrets
+import shutil
 import socket
 import stat
 import zlib
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -54,6 +55,7 @@ __all__ = [
     "json_value",
     "output_path",
     "write_atomically",
+    "write_directory_atomically",
 ]
 
 
@@ -64,9 +66,13 @@ class OutputError(ValueError):
         super().__init__(f"cannot write {str(path)!r}: {reason}")
 
 
-def output_path(path: str | Path, formats: Sequence[str], what: str) -> tuple[Path, str]:
+def output_path(
+    path: str | Path, formats: Collection[str], what: str, *, directories: Collection[str] = ()
+) -> tuple[Path, str]:
     """Check an output file name before any work: its suffix is one of ``formats``, it is not a
-    folder, and its folder exists and is writable.
+    folder (unless its format is one of ``directories``, written as a folder, and the folder
+    there is a previous output of that format: a Zarr store), and its folder exists and is
+    writable.
 
     Returns
     -------
@@ -86,7 +92,10 @@ def output_path(path: str | Path, formats: Sequence[str], what: str) -> tuple[Pa
         allowed = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} or {names[-1]}"
         raise ValueError(f"{what} must end in {allowed}; got {str(out)!r}")
     target = _resolved(out)
-    _check_replaceable(out, target)
+    if kind in directories:
+        _check_replaceable_folder(out, target)
+    else:
+        _check_replaceable(out, target)
     if not target.parent.is_dir():
         raise ValueError(f"the folder of {str(out)!r} does not exist")
     if not os.access(target.parent, os.W_OK | os.X_OK):
@@ -135,6 +144,45 @@ def write_atomically(out: Path, write: Callable[[Path], object]) -> Path:
         if isinstance(error, OSError):
             raise OutputError(out, _reason(error)) from error
         raise
+    return out
+
+
+def write_directory_atomically(out: Path, write: Callable[[Path], object]) -> Path:
+    """Call ``write(temporary_folder)``, then rename the folder onto ``out`` (a Zarr store).
+
+    The temporary folder is made next to the target with mode ``0o777`` less the umask (0755
+    under umask 022), as ``mkdir`` would, and the files in it get the umask's mode too. A
+    previous store at ``out`` is renamed aside, the new one renamed in, and the old one removed:
+    a reader sees the old store or the new one, never half of one.
+
+    Raises
+    ------
+    OutputError
+        If the folder cannot be written (any ``OSError``); nothing is left behind.
+    """
+    target = _resolved(out)
+    _check_replaceable_folder(out, target)
+    _remove_stale_temporaries(target)
+    temporary = target.with_name(f"{_temporary_prefix(target)}{os.getpid()}-{_random()}")
+    old = None
+    try:
+        os.mkdir(temporary, 0o777)
+        write(temporary)
+        if target.is_dir():
+            old = target.with_name(f"{_temporary_prefix(target)}{os.getpid()}-{_random()}")
+            os.rename(target, old)
+        os.rename(temporary, target)
+    except BaseException as error:
+        shutil.rmtree(temporary, ignore_errors=True)
+        if old is not None and not target.exists():
+            os.rename(old, target)
+            old = None
+        if isinstance(error, OSError):
+            raise OutputError(out, _reason(error)) from error
+        raise
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
     return out
 
 
@@ -226,6 +274,18 @@ def _check_replaceable(out: Path, target: Path) -> None:
         raise OutputError(out, "it is not a regular file (a device, a pipe or a socket)")
 
 
+def _check_replaceable_folder(out: Path, target: Path) -> None:
+    """Refuse a file, or a folder that is not a Zarr store, at a folder output's path."""
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        return
+    if not stat.S_ISDIR(mode):
+        raise OutputError(out, "it exists and is not a folder")
+    if not any((target / name).exists() for name in (".zgroup", "zarr.json")):
+        raise OutputError(out, "it is a folder that is not a Zarr store")
+
+
 def _temporary_prefix(target: Path) -> str:
     name = os.fsdecode(os.fsencode(target.name)[:_NAME_BYTES])
     return f".{name}{_TEMPORARY_MARK}{_HOST}-"
@@ -265,7 +325,10 @@ def _remove_stale_temporaries(target: Path) -> None:
         if pid.isdigit() and not _running(int(pid)):
             # Another run may be cleaning up too; the write itself reports a folder's problem.
             with contextlib.suppress(OSError):
-                Path(entry.path).unlink(missing_ok=True)
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path)
+                else:
+                    Path(entry.path).unlink(missing_ok=True)
 
 
 def _running(pid: int) -> bool:

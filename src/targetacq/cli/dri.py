@@ -22,7 +22,7 @@ from targetacq.cli import (
 )
 from targetacq.cli.options import range_case_options
 from targetacq.outputs import json_text
-from targetacq.services.options import typed_options
+from targetacq.services.options import option_lists, typed_options
 from targetacq.services.range_case import (
     dri_report,
     option_band,
@@ -39,8 +39,20 @@ def dri(
     case_options: dict[str, Any],
     output_format: FormatOption = "table",
 ) -> None:
-    """Ranges at which each task (detection, recognition, identification) reaches a probability."""
+    """Ranges at which each task (detection, recognition, identification) reaches a probability.
+
+    Any option may take a comma-separated list: then `dri` prints the ranges of every
+    combination, as `targetacq sweep` does (same keys in JSON and CSV).
+
+    Example: targetacq dri --pitch 17um --focal-length 50mm,75mm --critical-dimension 2.3m
+    """
     option_choice(output_format, FORMATS, "--format")
+    if option_lists(case_options):
+        from targetacq.cli.sweep import render_sweep, run_sweep
+
+        ds = run_sweep(case_options, progress=False)
+        typer.echo(render_sweep(ds, output_format), nl=False)
+        return
     setup = range_setup(**typed_options(case_options, "dri"), default_probability="0.5")
     typer.echo(_render(dri_report(setup), output_format), nl=False)
 

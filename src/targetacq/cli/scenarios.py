@@ -19,8 +19,9 @@ from targetacq.cli import (
     app,
 )
 from targetacq.core.compile import check_runnable
+from targetacq.datasets import DIRECTORY_FORMATS, OUTPUT_FORMATS, sha256_file
 from targetacq.limits import check_seed
-from targetacq.model import OUTPUT_FORMATS, ModelChain
+from targetacq.model import ModelChain
 from targetacq.outputs import output_path
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
 from targetacq.search import check_simulation_size
@@ -78,19 +79,26 @@ def validate(scenario: Annotated[str, typer.Argument(metavar="SCENARIO")]) -> No
 def evaluate(
     scenario: ScenarioArgument = None,
     out: Annotated[
-        str | None, typer.Option(help="Write every sensor-target-time row: .csv, .json, .parquet.")
+        str | None,
+        typer.Option(
+            help="Write every sensor-target-time row: .csv, .json, .parquet, .nc (netCDF) or "
+            ".zarr (units and provenance in all but CSV)."
+        ),
     ] = None,
     output_format: FormatOption = "table",
 ) -> None:
     """Evaluate all sensors x targets x times of a scenario; print the peak fused
-    probabilities per target (and write the full table with --out)."""
+    probabilities per target (and write the full table with --out).
+
+    Example: targetacq evaluate examples/two_sensors_fused.toml --out results.nc
+    """
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
-        output_path(out, OUTPUT_FORMATS, "output")  # before any work
+        output_path(out, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)  # before work
     loaded, source = _scenario_path(scenario)
     results = _chain(loaded, source).evaluate()
     if out is not None:
-        results.write(out)
+        results.write(out, {"scenario_file": source, "scenario_file_sha256": sha256_file(source)})
     ds = results.dataset
     rows = []
     for target in ds["target"].values:
@@ -134,10 +142,23 @@ def simulate(
     ] = 0,
     runs: Annotated[int, typer.Option(help="Independent runs.")] = 1000,
     output_format: FormatOption = "table",
+    out: Annotated[
+        str | None,
+        typer.Option(
+            help="Write the summary per target and task: .csv, .json, .parquet; .nc or .zarr "
+            "also hold every run's first times (units and provenance, with the seed, in all but "
+            "CSV)."
+        ),
+    ] = None,
 ) -> None:
     """Random acquisition over time (field-of-view search model): per target, the fraction of
-    runs with a detection / recognition / identification and the distribution of its first time."""
+    runs with a detection / recognition / identification and the distribution of its first time.
+
+    Example: targetacq simulate examples/two_sensors_fused.toml --runs 200 --out sim.parquet
+    """
     option_choice(output_format, FORMATS, "--format")
+    if out is not None:
+        output_path(out, OUTPUT_FORMATS, "--out", directories=DIRECTORY_FORMATS)  # before work
     t_total = parse_quantity(duration, "time", "--duration")
     dt = parse_quantity(step, "time", "--step")
     if not t_total > 0 or not dt > 0:
@@ -169,6 +190,8 @@ def simulate(
             progress=lambda n: bar.advance(task, n),
         )
     summary = result.summary()
+    if out is not None:
+        _write_simulation(out, chain, result, summary, scenario, seed, dt)
     if output_format == "table":
         lines = [
             f"{runs} runs, {t_total:g} s in steps of {dt:g} s, seed {seed}; first times over "
@@ -185,6 +208,34 @@ def simulate(
     else:
         rows = [dict(r) for r in summary.to_dict(orient="records")]
         typer.echo(_render_rows(rows, output_format), nl=False)
+
+
+def _write_simulation(
+    out: str, chain: ModelChain, result: Any, summary: Any, source: str, seed: int, step: float
+) -> None:
+    """The summary (and, for .nc/.zarr, every run's fused first times) with provenance."""
+    import xarray as xr
+
+    from targetacq.datasets import Output, annotate, write_output
+
+    tasks = list(result.fused)
+    by = summary.set_index(["target", "task"])
+    ds = xr.Dataset.from_dataframe(by).reindex(target=result.targets, task=tasks)
+    first = np.stack([result.fused[task] for task in tasks], axis=-1)  # run, target, task
+    ds["first_time"] = (("run", "target", "task"), first)
+    ds = ds.assign_coords(run=np.arange(first.shape[0]))
+    annotate(ds)
+    meta = chain.provenance()
+    meta.update(
+        title=f"targetacq simulate: {chain.scenario.name or 'scenario'}",
+        seed=int(seed),
+        runs=int(first.shape[0]),
+        duration_s=float(result.duration),
+        step_s=float(step),
+        scenario_file=source,
+        scenario_file_sha256=sha256_file(source),
+    )
+    write_output(Output(ds, meta, table=lambda: summary), out)
 
 
 def _stderr_console() -> Any:

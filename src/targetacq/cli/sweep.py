@@ -1,0 +1,217 @@
+"""The `sweep` command: DRI ranges over the product of option lists (a trade study)."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from targetacq.cli import FORMATS, FormatOption, _csv, app
+from targetacq.cli.options import range_case_options
+from targetacq.outputs import json_text, output_path, write_atomically
+from targetacq.services.range_case import option_choice, option_quantity
+
+# xarray, dask and matplotlib are imported by the command when it runs, not when the CLI starts.
+
+
+@app.command()
+@range_case_options
+def sweep(
+    case_options: dict[str, Any],
+    output_format: FormatOption = "table",
+    out: Annotated[
+        str | None,
+        typer.Option(
+            help="Write the sweep: .nc (netCDF), .zarr, .csv, .parquet or .json (units and "
+            "provenance in all but CSV)."
+        ),
+    ] = None,
+    figure: Annotated[
+        str | None,
+        typer.Option(help="Draw the ranges against the first swept option: a .png file."),
+    ] = None,
+    range_: Annotated[
+        str | None,
+        typer.Option(
+            "--range",
+            help="Give the probabilities at these ranges instead, e.g. 500m,1km,2km.",
+        ),
+    ] = None,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            help="Workers of a local Dask cluster (default: serial up to "
+            "1,000 points, else one per CPU)."
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(help="Address of an existing Dask scheduler, e.g. tcp://host:8786."),
+    ] = None,
+    chunk_size: Annotated[
+        int | None, typer.Option(help="Points per block of work on Dask.")
+    ] = None,
+    progress: Annotated[
+        bool | None,
+        typer.Option(
+            "--progress/--no-progress",
+            help="Progress bar on stderr (default: when stderr is a terminal).",
+        ),
+    ] = None,
+) -> None:
+    """Ranges (or probabilities at ranges) over every combination of the options given as
+    comma-separated lists: a trade study. Each number equals that of a single `targetacq dri`
+    run with those values. Large sweeps run on Dask.
+
+    Example: targetacq sweep --pitch 12um --focal-length 35mm,50mm,75mm
+    --critical-dimension 0.75m,2.3m --band lwir --obscurant none,fog:low --probability 0.5,0.9
+    """
+    from targetacq.datasets import DIRECTORY_FORMATS, OUTPUT_FORMATS
+
+    option_choice(output_format, FORMATS, "--format")
+    if out is not None:
+        output_path(out, OUTPUT_FORMATS, "--out", directories=DIRECTORY_FORMATS)
+    if figure is not None:
+        output_path(figure, ("png",), "--figure")
+    if workers is not None and workers < 1:
+        raise ValueError(f"--workers must be >= 1; got {workers}")
+    if chunk_size is not None and chunk_size < 1:
+        raise ValueError(f"--chunk-size must be >= 1; got {chunk_size}")
+    grid = None
+    if range_ is not None:
+        grid = [option_quantity(part, "length", "--range") for part in range_.split(",")]
+    ds = run_sweep(
+        case_options,
+        ranges=grid,
+        scheduler=scheduler,
+        workers=workers,
+        chunk_size=chunk_size,
+        progress=sys.stderr.isatty() if progress is None else progress,
+    )
+    if out is not None:
+        write_sweep(ds, out)
+    if figure is not None:
+        write_figure(ds, figure)
+    typer.echo(render_sweep(ds, output_format), nl=False)
+
+
+def run_sweep(case_options: dict[str, Any], **kwargs: Any) -> Any:
+    """:func:`targetacq.studies.sweep` with a missing Dask reported as a one-line error."""
+    from targetacq.studies import sweep as sweep_
+
+    try:
+        return sweep_(case_options, **kwargs)
+    except ModuleNotFoundError as error:
+        raise ValueError(str(error)) from None
+
+
+def _output(ds: Any) -> Any:
+    import pandas as pd
+
+    from targetacq.datasets import Output
+    from targetacq.studies import sweep_rows
+
+    at_ranges = "probability" in ds.data_vars
+    columns = {}
+    if not at_ranges:
+        columns["range_m"] = {"units": "m", "long_name": ds["range"].attrs["long_name"]}
+    else:
+        columns["range_m"] = {"units": "m", "long_name": "slant range"}
+    return Output(
+        ds,
+        dict(ds.attrs),
+        table=lambda: pd.DataFrame(sweep_rows(ds)),
+        columns=columns,
+    )
+
+
+def write_sweep(ds: Any, out: str) -> Path:
+    """Write a sweep by the suffix of ``out`` (:data:`targetacq.datasets.OUTPUT_FORMATS`)."""
+    from targetacq.datasets import write_output
+
+    return write_output(_output(ds), out)
+
+
+def render_sweep(ds: Any, output_format: str) -> str:
+    """A sweep as a table, JSON (``{"meta": ..., "ranges": [rows]}``) or CSV text."""
+    from targetacq.studies import sweep_rows
+
+    rows = sweep_rows(ds)
+    if output_format == "json":
+        return json_text({"meta": dict(ds.attrs), "ranges": rows}) + "\n"
+    if output_format == "csv":
+        return _csv(rows)
+    at_ranges = "probability" in ds.data_vars
+    keys = list(rows[0])
+    value_key = "probability" if at_ranges else "range_m"
+    shown = [k for k in keys if k not in ("reached", value_key)]
+    widths = {k: max(len(k), *(len(_cell(row[k])) for row in rows)) for k in shown}
+    title = "P" if at_ranges else "range [m]"
+    header = "  ".join(f"{k:<{widths[k]}}" for k in shown) + f"  {title:>12}"
+    lines = [header, "-" * len(header)]
+    for row in rows:
+        value = row[value_key]
+        if at_ranges:
+            text = "-" if value is None else f"{value:.4f}"
+        elif value is None:
+            text = "not reached"
+        elif math.isinf(value):
+            text = "any"
+        else:
+            text = f"{value:,.0f}"
+        lines.append("  ".join(f"{_cell(row[k]):<{widths[k]}}" for k in shown) + f"  {text:>12}")
+    return "\n".join(lines) + "\n"
+
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def write_figure(ds: Any, path: str) -> Path:
+    """Ranges against the first swept option (or, at ranges, probabilities against range), one
+    line per task and combination of the other swept options; a PNG written atomically."""
+    import numpy as np
+    from matplotlib.figure import Figure
+
+    at_ranges = "probability" in ds.data_vars
+    variable = ds["probability" if at_ranges else "range"]
+    swept = [d for d in variable.dims if d not in ("task", "probability", "range")]
+    if at_ranges:
+        x_dim = "range"
+    elif swept:
+        x_dim = swept[0]
+    else:
+        x_dim = "probability"
+    others = [d for d in variable.dims if d != x_dim]
+    si = [name for name in ds.coords if ds[name].dims == (x_dim,) and name != x_dim]
+    x_values = ds[si[0]].values if si else ds[x_dim].values
+    numeric = np.issubdtype(np.asarray(x_values).dtype, np.number)
+    positions = np.asarray(x_values, dtype=float) if numeric else np.arange(len(x_values))
+    fig = Figure(figsize=(8.0, 5.6), dpi=100, layout="constrained")
+    ax = fig.add_subplot()
+    stacked = variable.transpose(*others, x_dim)
+    for index in np.ndindex(*stacked.shape[:-1]):
+        label = ", ".join(
+            f"{dim}={_cell(ds[dim].values[i].item())}" if dim != "task" else str(ds[dim].values[i])
+            for dim, i in zip(others, index, strict=True)
+        )
+        ax.plot(positions, stacked.values[index], marker="o", label=label)
+    x_label = f"{si[0]} [{ds[si[0]].attrs.get('units', '')}]" if si else x_dim
+    if x_dim == "range":
+        x_label = "range [m]"
+    ax.set_xlabel(x_label)
+    if not numeric:
+        ax.set_xticks(positions, [str(v) for v in x_values])
+    ax.set_ylabel("probability" if at_ranges else "range [m] (at the probability)")
+    ax.set_title(str(ds.attrs.get("title", "targetacq sweep")))
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    out, _ = output_path(path, ("png",), "--figure")
+    return write_atomically(out, lambda p: fig.savefig(p, format="png"))

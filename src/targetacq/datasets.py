@@ -1,0 +1,348 @@
+"""Result datasets people can trust later: units, names and provenance, and one set of writers.
+
+Every result targetacq writes (a sweep, a scenario's evaluation, a simulation's summary) is an
+:class:`Output`: an xarray Dataset whose variables and coordinates carry CF-style ``units`` and
+``long_name`` attributes (:func:`annotate`), the rows of its table, and a provenance record
+(:func:`provenance`): the package version, the model choices, the seed where there is one, and a
+SHA-256 of the scenario file or of the options that made it.
+
+:data:`OUTPUT_FORMATS` maps a file suffix to its writer, for every ``--out`` of the command line:
+
+``.nc``
+    netCDF-4 (``netCDF4``): units and long names as variable attributes, provenance as global
+    attributes (nested values as JSON text).
+``.zarr``
+    a Zarr (format 2) folder, attributes as for netCDF; written to a temporary folder next to
+    the target and renamed (:func:`targetacq.outputs.write_directory_atomically`).
+``.parquet``
+    the table; units and long names in each column's field metadata, provenance in the schema
+    metadata under the key ``targetacq`` (JSON).
+``.json``
+    ``{"meta": {...provenance, "variables": {column: {units, long_name}}}, "rows": [...]}``,
+    strict JSON (:func:`targetacq.outputs.json_records`).
+``.csv``
+    the plain table, one header line and one line per row: no metadata. Provenance and units
+    are in the other formats.
+
+Every file is written atomically and with the user's umask (mode 0644 under umask 022).
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from targetacq.outputs import (
+    json_records,
+    json_text,
+    output_path,
+    write_atomically,
+    write_directory_atomically,
+)
+
+__all__ = [
+    "DIRECTORY_FORMATS",
+    "OUTPUT_FORMATS",
+    "Output",
+    "annotate",
+    "options_sha256",
+    "provenance",
+    "sha256_file",
+    "write_output",
+]
+
+ATTRIBUTES: dict[str, tuple[str | None, str]] = {
+    # ModelChain results
+    "sensor": (None, "sensor name"),
+    "target": (None, "target name"),
+    "time": ("s", "time since the scenario's start"),
+    "critical_dimension": ("m", "critical dimension of the target as seen from the sensor"),
+    "cycles": ("1", "resolvable cycles across the critical dimension"),
+    "in_view": ("1", "target in the sensor's field of view and line of sight (boolean)"),
+    "transmittance": ("1", "atmospheric transmittance of the path"),
+    "snr": ("dB", "signal-to-noise ratio of the path (Eq. 7.7)"),
+    "detection": ("1", "probability of detection"),
+    "recognition": ("1", "probability of recognition"),
+    "identification": ("1", "probability of identification"),
+    "fused_detection": ("1", "sensor-level fused probability of detection"),
+    "fused_recognition": ("1", "sensor-level fused probability of recognition"),
+    "fused_identification": ("1", "sensor-level fused probability of identification"),
+    "contrast": ("W m-2", "target-background exitance contrast in the sensor's band"),
+    "scr": ("1", "signal-to-clutter ratio"),
+    # sweeps
+    "task": (None, "acquisition task"),
+    "probability": ("1", "probability of the task"),
+    # simulations
+    "run": ("1", "index of the simulated run"),
+    "runs": ("1", "number of simulated runs"),
+    "first_time": ("s", "first time of the task over all sensors (inf: never within the run)"),
+    "fraction": ("1", "fraction of runs in which the task happened"),
+    "t10_s": ("s", "10th percentile over runs of the first time of the task"),
+    "t50_s": ("s", "median over runs of the first time of the task"),
+    "t90_s": ("s", "90th percentile over runs of the first time of the task"),
+    "mean_s": ("s", "mean over runs of the first time of the task"),
+}
+"""Variable or coordinate name → (CF units, long name); units None for text (no units)."""
+
+_RANGE = {
+    "model": ("m", "slant range from the sensor to the target"),
+    "sweep": ("m", "range at which the task reaches the probability (NaN: never reached)"),
+    "sweep_at": ("m", "slant range"),
+}
+
+
+@dataclass(frozen=True)
+class Output:
+    """A result ready to write.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Annotated (:func:`annotate`): every variable and coordinate has ``long_name``, and
+        ``units`` unless it is text.
+    meta : dict
+        Provenance (:func:`provenance`), JSON-serialisable.
+    table : callable, optional
+        Returns the rows as a pandas DataFrame for .csv, .parquet and .json (default: the
+        dataset's ``to_dataframe().reset_index()``).
+    columns : mapping, optional
+        Units and long name of the table's columns that are not variables of the dataset.
+    """
+
+    dataset: Any
+    meta: dict[str, Any]
+    table: Callable[[], Any] | None = field(default=None)
+    columns: Mapping[str, Mapping[str, str]] = field(default_factory=dict)
+
+    def frame(self) -> Any:
+        if self.table is not None:
+            return self.table()
+        return self.dataset.to_dataframe().reset_index()
+
+    def variables(self, columns: Any) -> dict[str, dict[str, str]]:
+        """Units and long name of each column that the dataset describes."""
+        out: dict[str, dict[str, str]] = {}
+        for name in columns:
+            if name in self.columns:
+                out[str(name)] = dict(self.columns[name])
+            elif name in self.dataset.variables:
+                attrs = self.dataset[name].attrs
+                out[str(name)] = {k: str(attrs[k]) for k in ("units", "long_name") if k in attrs}
+        return out
+
+
+def annotate(
+    dataset: Any, extra: Mapping[str, tuple[str | None, str]] | None = None, *, kind: str = ""
+) -> Any:
+    """Set ``units`` and ``long_name`` on every variable and coordinate of ``dataset`` (in place).
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+    extra : mapping, optional
+        Name → (units or None for text, long name), before the built-in table.
+    kind : {"model", "sweep", "sweep_at"}
+        Which meaning ``range`` has.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``dataset``.
+
+    Raises
+    ------
+    ValueError
+        If a variable or coordinate has no known units and long name.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    >>> ds["snr"].attrs["units"], ds["time"].attrs["units"]
+    ('dB', 's')
+    """
+    table = {**ATTRIBUTES, **({"range": _RANGE[kind]} if kind in _RANGE else {}), **(extra or {})}
+    for name in dataset.variables:
+        if name not in table:
+            raise ValueError(f"no units and long_name known for the variable {name!r}")
+        units, long_name = table[str(name)]
+        attrs = dataset[name].attrs
+        attrs["long_name"] = long_name
+        if units is not None:
+            attrs["units"] = units
+    return dataset
+
+
+def sha256_file(path: str | Path) -> str:
+    """SHA-256 of a file's bytes, as hex.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.NamedTemporaryFile(delete=False) as f:
+    ...     _ = f.write(b"abc")
+    >>> sha256_file(f.name)[:16]
+    'ba7816bf8f01cfea'
+    >>> os.unlink(f.name)
+    """
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def options_sha256(options: Mapping[str, Any]) -> str:
+    """SHA-256 of options as canonical JSON (keys sorted, no spaces; None values left out).
+
+    Examples
+    --------
+    >>> options_sha256({"pitch": "12um", "blur": None}) == options_sha256({"pitch": "12um"})
+    True
+    """
+    given = {str(k): v for k, v in options.items() if v is not None and v is not False}
+    text = json.dumps(given, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def provenance(
+    model: Mapping[str, Any],
+    *,
+    seed: int | None = None,
+    scenario: str | Path | None = None,
+    options: Mapping[str, Any] | None = None,
+    what: str = "",
+) -> dict[str, Any]:
+    """The provenance of a result: package, version, model choices, seed, and a hash.
+
+    Parameters
+    ----------
+    model : mapping
+        The model choices (criterion, transform, noise model, semantics, ...).
+    seed : int, optional
+        The random seed, for a simulation.
+    scenario : path, optional
+        The scenario file: its SHA-256 is recorded as ``scenario_sha256``.
+    options : mapping, optional
+        The options of a sweep: recorded, and their SHA-256 as ``options_sha256``.
+    what : str
+        A title for the result.
+
+    Examples
+    --------
+    >>> meta = provenance({"criterion": "johnson"}, seed=7)
+    >>> meta["software"], meta["seed"], meta["model"]
+    ('targetacq', 7, {'criterion': 'johnson'})
+    """
+    from targetacq import __version__
+
+    meta: dict[str, Any] = {
+        "title": what,
+        "software": "targetacq",
+        "version": __version__,
+        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "model": dict(model),
+        "references": "Sonesson (2004), LiTH-ISY-EX-3428, Linköping University",
+    }
+    if seed is not None:
+        meta["seed"] = int(seed)
+    if scenario is not None:
+        meta["scenario"] = str(scenario)
+        meta["scenario_sha256"] = sha256_file(scenario)
+    if options is not None:
+        meta["options"] = {str(k): v for k, v in options.items() if v is not None}
+        meta["options_sha256"] = options_sha256(options)
+    return meta
+
+
+def _global_attributes(meta: Mapping[str, Any]) -> dict[str, Any]:
+    """Provenance as netCDF/Zarr global attributes: text and numbers; the rest as JSON text."""
+    out: dict[str, Any] = {}
+    for key, value in meta.items():
+        in_int64 = isinstance(value, int) and -(2**63) <= value < 2**63  # a seed may not be
+        if (in_int64 and not isinstance(value, bool)) or isinstance(value, str | float):
+            out[key] = value
+        else:
+            out[key] = json.dumps(value, sort_keys=True, default=str)
+    return out
+
+
+def _with_meta(output: Output) -> Any:
+    ds = output.dataset.copy()
+    ds.attrs = {"Conventions": "CF-1.10", **_global_attributes(output.meta)}
+    for name in ds.variables:
+        if ds[name].dtype == bool:
+            ds[name] = ds[name].astype("i1")
+            ds[name].attrs.update(output.dataset[name].attrs)
+    return ds
+
+
+def _write_netcdf(output: Output, path: Path) -> None:
+    _with_meta(output).to_netcdf(path, engine="netcdf4")
+
+
+def _write_zarr(output: Output, path: Path) -> None:
+    _with_meta(output).to_zarr(path, mode="w", zarr_format=2, consolidated=True)
+
+
+def _write_csv(output: Output, path: Path) -> None:
+    output.frame().to_csv(path, index=False)
+
+
+def _write_parquet(output: Output, path: Path) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    frame = output.frame()
+    table = pa.Table.from_pandas(frame, preserve_index=False)
+    described = output.variables(frame.columns)
+    fields = [
+        f.with_metadata({k.encode(): v.encode() for k, v in described.get(f.name, {}).items()})
+        for f in table.schema
+    ]
+    schema = pa.schema(fields, metadata=table.schema.metadata)
+    table = table.cast(schema).replace_schema_metadata(
+        {**(table.schema.metadata or {}), b"targetacq": json_text(output.meta, None).encode()}
+    )
+    pq.write_table(table, path)
+
+
+def _write_json(output: Output, path: Path) -> None:
+    frame = output.frame()
+    meta = {**output.meta, "variables": output.variables(frame.columns)}
+    text = '{"meta": ' + json_text(meta, 1) + ',\n"rows": ' + json_records(frame) + "}\n"
+    path.write_text(text, encoding="utf-8")
+
+
+OUTPUT_FORMATS: dict[str, Callable[[Output, Path], None]] = {
+    "csv": _write_csv,
+    "json": _write_json,
+    "parquet": _write_parquet,
+    "nc": _write_netcdf,
+    "zarr": _write_zarr,
+}
+"""File suffix (without the dot) → writer ``(output, path)``; see the module docstring."""
+
+DIRECTORY_FORMATS = ("zarr",)
+"""The formats written as a folder."""
+
+
+def write_output(output: Output, path: str | Path) -> Path:
+    """Write ``output`` by the suffix of ``path`` (:data:`OUTPUT_FORMATS`), atomically.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not one of :data:`OUTPUT_FORMATS`, or (``OutputError``) the file
+        cannot be written: the message names the file and the reason.
+    """
+    out, kind = output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)
+    writer = OUTPUT_FORMATS[kind]
+    if kind in DIRECTORY_FORMATS:
+        return write_directory_atomically(out, lambda p: writer(output, p))
+    return write_atomically(out, lambda p: writer(output, p))

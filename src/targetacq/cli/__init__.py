@@ -291,4 +291,4 @@ def _signals_handled() -> Iterator[None]:
 
 
 # The commands register themselves on `app` when their modules are imported.
-from targetacq.cli import design, dri, figures, images, scenarios, validation  # noqa: E402, F401
+from targetacq.cli import design, dri, figures, images, scenarios, sweep, validation  # noqa: E402, F401

@@ -1041,7 +1041,7 @@ cli(
     ["plot", "atmosphere", "--out", "{tmp}/a.png", "--level", "extreme"],
     ["level"],
 )
-cli("report-out-suffix", "unknown", ["report", "--out", "{tmp}/r.pdf", *SENSOR], ["r.pdf"])
+cli("report-out-suffix", "unknown", ["report", "--out", "{tmp}/r.docx", *SENSOR], ["r.docx"])
 cli("evaluate-out-suffix", "unknown", ["evaluate", "--out", "{tmp}/x.xlsx"], ["x.xlsx"])
 cli("evaluate-format-unknown", "unknown", ["evaluate", "--format", "yaml"], ["format"])
 cli(

@@ -1,14 +1,22 @@
 """Figures are real images with the plotted data in them (colours read back), not pixel hashes."""
 
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
 from matplotlib import colors
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from PIL import Image
 
 from targetacq import plots
+from targetacq.fusion import fuse
+from targetacq.model import ModelChain
 from targetacq.ranges import range_performance
+from targetacq.scenario import load_scenario
+from targetacq.search import simulate
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
 
 
 def _colour_pixels(path, hex_colour, tolerance=12):
@@ -33,7 +41,7 @@ def test_curves_png_has_every_task_colour(tmp_path, performance):
     )
     with Image.open(out) as image:
         assert image.format == "PNG"
-        assert image.size == (800, 500)  # 8 x 5 in at 100 dpi
+        assert image.size == (800, 560)  # 8 x 5.6 in at 100 dpi (two legend rows below)
     for colour in plots.TASK_COLOURS.values():
         assert _colour_pixels(out, colour) > 300, colour  # a drawn curve, not a legend swatch
 
@@ -41,7 +49,7 @@ def test_curves_png_has_every_task_colour(tmp_path, performance):
 def test_transforms_png_has_tables_and_ttpf(tmp_path):
     out = plots.save_figure(plots.plot_transforms("johnson"), tmp_path / "t.png")
     with Image.open(out) as image:
-        assert image.size == (1100, 460)
+        assert image.size == (1100, 540)
     for colour in (*plots.TASK_COLOURS.values(), *plots.REGION_COLOURS.values()):
         assert _colour_pixels(out, colour) > 300, colour
 
@@ -88,3 +96,97 @@ def test_bad_case_keys_say_what_was_meant():
         range_performance(
             [100.0, 200.0], {"x": {"critical_dimension": 2.3, "ifov": 1e-4}}, [0.5, 1.0]
         )
+
+
+@pytest.fixture(scope="module")
+def fused_chain():
+    return ModelChain(load_scenario(EXAMPLES / "two_sensors_fused.toml"))
+
+
+def _lines(ax):
+    return {line.get_label(): np.asarray(line.get_ydata(), dtype=float) for line in ax.lines}
+
+
+def test_timeline_fused_curve_is_fuse_of_the_drawn_sensor_curves(fused_chain):
+    dataset = fused_chain.evaluate().dataset
+    fig = plots.plot_timeline(dataset, title="fused")
+    sensors = list(dataset["sensor"].values)
+    assert sensors == ["tv", "thermal"]
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    assert [ax.get_title(loc="left") for ax in axes] == ["truck", "soldier"]
+    checked = 0
+    for ax in axes:
+        drawn = _lines(ax)
+        for task in plots.TASK_COLOURS:
+            per_sensor = np.stack([drawn[f"{task} — {s}"] for s in sensors])
+            np.testing.assert_allclose(drawn[f"{task} — fused"], fuse(per_sensor, axis=0))
+            checked += 1
+    assert checked == 6
+    # Not trivially equal: fusing helps somewhere (the truck's detection by two sensors).
+    truck = _lines(axes[0])
+    assert np.max(truck["detection — fused"] - truck["detection — tv"]) > 0.01
+
+
+def test_timeline_of_one_sensor_has_no_fused_curve():
+    chain = ModelChain(load_scenario(EXAMPLES / "uav_haze.toml"))
+    fig = plots.plot_timeline(chain.evaluate().dataset)
+    labels = {line.get_label() for ax in fig.axes for line in ax.lines}
+    assert not any("fused" in label for label in labels)
+    assert "fused" not in fig.get_suptitle()
+
+
+def test_first_times_cdf_ends_at_the_share_of_runs_that_got_there(fused_chain):
+    result = simulate(fused_chain, duration=60.0, step=0.5, runs=200, seed=3)
+    fig = plots.plot_first_times(result)
+    summary = result.summary().set_index(["target", "task"])
+    axes = [ax for ax in fig.axes if ax.get_visible()]
+    assert len(axes) == 2
+    for ax, target in zip(axes, result.targets, strict=True):
+        drawn = _lines(ax)
+        for task in plots.TASK_COLOURS:
+            curve = drawn[task]
+            assert np.all(np.diff(curve) >= 0)  # a CDF
+            assert curve[-1] == pytest.approx(summary.loc[(target, task), "fraction"])
+    assert summary["fraction"].max() > 0.5  # something was acquired
+
+
+def _overlaps(a, b):
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+def _legends_off_the_data(fig):
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes if ax.get_legend()]
+    assert legends
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        for ax in fig.axes:
+            if ax.get_visible():
+                assert not _overlaps(box, ax.get_window_extent(renderer)), ax.get_title()
+    return len(legends)
+
+
+def test_legends_are_outside_every_axes(performance, fused_chain):
+    dataset = fused_chain.evaluate().dataset
+    result = simulate(fused_chain, duration=60.0, step=1.0, runs=20, seed=1)
+    figures = [
+        plots.plot_range_performance(performance),
+        plots.plot_transforms("johnson"),
+        plots.plot_atmosphere("mwir", 5e3),
+        plots.plot_timeline(dataset),
+        plots.plot_first_times(result),
+    ]
+    assert [_legends_off_the_data(fig) for fig in figures] == [1, 2, 1, 1, 1]
+
+
+def test_several_cases_get_distinct_line_styles(performance):
+    fig = plots.plot_range_performance(performance, labels={"clear": "A", "haze": "B"})
+    ax = fig.axes[0]
+    styles = {
+        line.get_label(): line.get_linestyle() for line in ax.lines if line.get_label()[0] != "_"
+    }
+    assert styles["detection — A"] != styles["detection — B"]
+    texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert {"A", "B", "detection", "DRI range"} <= set(texts)

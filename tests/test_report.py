@@ -1,13 +1,61 @@
 """The HTML report: content, self-containment, and rendering in a real headless browser."""
 
+import base64
+import io
 import re
 from html.parser import HTMLParser
 from pathlib import Path
 
+import numpy as np
 import pytest
+from PIL import Image
 
 from browser import BROWSER, screenshot, shows_figures
 from targetacq.cli import main
+from targetacq.cli.figures import _performance
+from targetacq.core.cases import RangeCase
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+# 2 targets × 2 weathers: four cases in one report.
+MULTI_ARGS = [
+    "report",
+    "--pitch",
+    "12um",
+    "--focal-length",
+    "50mm",
+    "--critical-dimension",
+    "0.75m,2.3m",
+    "--band",
+    "lwir",
+    "--obscurant",
+    "haze:high,fog:low",
+]
+MULTI_LABELS = [
+    "critical dimension 0.75 m, haze:high",
+    "critical dimension 0.75 m, fog:low",
+    "critical dimension 2.3 m, haze:high",
+    "critical dimension 2.3 m, fog:low",
+]
+
+
+def _run(args, capsys=None):
+    with pytest.raises(SystemExit) as done:
+        main(args)
+    return done.value.code
+
+
+def _headings(page):
+    return [re.sub(r"<.*?>", "", h) for h in re.findall(r"<h[12]>(.*?)</h[12]>", page)]
+
+
+def _images(page):
+    """The embedded figures, decoded."""
+    found = re.findall(r"<img alt='[^']*' src='data:image/png;base64,([^']+)'>", page)
+    return [
+        np.asarray(Image.open(io.BytesIO(base64.b64decode(src))).convert("RGB")) for src in found
+    ]
+
 
 REPORT_ARGS = [
     "report",
@@ -88,4 +136,127 @@ def test_report_of_a_scenario(tmp_path):
     for case in ("tv → truck", "thermal → soldier"):
         assert case in page
     assert "Table 7.1 haze" in page
-    assert page.count("data:image/png;base64,") == 3
+    # Both bands in use (the TV's visible, the thermal camera's LWIR), the timeline (fused: two
+    # sensors) and the simulated first times.
+    headings = _headings(page)
+    for heading in (
+        "Atmosphere, visible band",
+        "Atmosphere, lwir band",
+        "Timeline",
+        "Simulated first times",
+    ):
+        assert heading in headings
+    assert page.count("data:image/png;base64,") == 6
+    assert "HFOV × VFOV" in page and "critical dimension" in page
+    assert "seed 0" in page
+    assert "MODEL.md" not in page
+    assert "A Probabilistic Approach to Conceptual Sensor Modeling" in page
+    assert "https://www.diva-portal.org/smash/get/diva2:20633/FULLTEXT01.pdf" in page
+
+
+@pytest.fixture(scope="module")
+def multi_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("multi") / "report.html"
+    assert _run([*MULTI_ARGS, "--out", str(out)]) == 0
+    return out
+
+
+def test_several_cases_in_one_report(multi_report):
+    page = multi_report.read_text()
+    table = page[page.index("<h2>DRI ranges [m]</h2>") :]
+    table = table[: table.index("</table>")]
+    for label in MULTI_LABELS:
+        # One row per task and case in the one DRI table.
+        assert (
+            len(
+                re.findall(
+                    rf"<td>{re.escape(label)}</td><td>(detection|recognition|identification)</td>",
+                    table,
+                )
+            )
+            == 3
+        )
+    headings = _headings(page)
+    assert headings[1:3] == ["Cases", "Sensor"]
+    assert headings[-3:] == ["Range performance", "Transforms", "Atmosphere, lwir band"]
+    assert "field of view" in page
+    # Each case's critical dimension is printed.
+    for size in ("0.75 m", "2.3 m"):
+        assert f"critical dimension {size}" in page
+    images = _images(page)
+    assert len(images) == 3
+    for image in images:  # every figure drawn: dark text and coloured curves on white
+        assert np.mean(image.sum(axis=-1) < 300) > 0.002
+        assert np.mean(image.std(axis=-1) > 40) > 0.002
+
+
+def test_scenario_report_takes_probabilities(tmp_path):
+    out = tmp_path / "r.html"
+    args = ["report", str(EXAMPLES / "uav_haze.toml"), "--probability", "0.5,0.9"]
+    assert _run([*args, "--max-range", "2km", "--title", "UAV", "--out", str(out)]) == 0
+    page = out.read_text()
+    header = re.search(r"<tr><th>case</th><th>task</th>(.*?)</tr>", page).group(1)
+    assert header == "<th>50%</th><th>90%</th>"
+    assert "<h1>UAV</h1>" in page
+    assert "stop at 2 km (--max-range 2km)" in page  # P(detection) is still high at 2 km
+
+
+def test_scenario_report_refuses_sensor_options(tmp_path, capsys):
+    args = ["report", str(EXAMPLES / "uav_haze.toml"), "--pitch", "12um"]
+    assert _run([*args, "--out", str(tmp_path / "r.html")]) == 2
+    err = capsys.readouterr().err
+    assert "--pitch" in err and "--probability, --max-range and --title" in err
+
+
+def test_curves_go_on_until_every_task_is_below_2_percent():
+    cases = {
+        "clear": RangeCase(2.3, 2e-4),
+        "haze": RangeCase(2.3, 2e-4, extinction=0.4e-3, scr=3.0),
+        "person": RangeCase(0.75, 2.4e-4, extinction=1e-3),
+    }
+    performance, note = _performance(cases, None, [0.5, 0.9])
+    last = performance.curves.isel(range=-1)
+    for task in ("detection", "recognition", "identification"):
+        assert float(last[task].max()) < 0.02, task
+    # ... and not absurdly far: somewhere in the last tenth a task is still above 2 %.
+    tail = performance.curves.isel(range=slice(-60, None))
+    assert float(tail["detection"].max()) > 0.005
+    assert "below 2%" in note
+    _, note = _performance(cases, "2km", [0.5])
+    assert "stop at 2 km (--max-range 2km)" in note and "P(detection)" in note
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no Chromium installed (.ci/run installs Debian's)")
+def test_several_cases_render_in_headless_chromium(multi_report, tmp_path):
+    image = screenshot(multi_report, tmp_path, 5200)
+    assert shows_figures(image)
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no Chromium installed (.ci/run installs Debian's)")
+def test_pdf_report_has_the_sections_and_figures_of_the_html(multi_report, tmp_path):
+    from pypdf import PdfReader
+
+    pdf = tmp_path / "report.pdf"
+    assert _run([*MULTI_ARGS, "--out", str(pdf)]) == 0
+    assert pdf.read_bytes().startswith(b"%PDF")
+    reader = PdfReader(pdf)
+    text = re.sub(r"\s+", " ", " ".join(page.extract_text() for page in reader.pages))
+    headings = _headings(multi_report.read_text())
+    assert len(headings) == 10
+    position = 0
+    for heading in headings:  # every heading, in the HTML's order
+        found = text.find(heading.replace("&amp;", "&"), position)
+        assert found >= 0, heading
+        position = found
+    images = [image for page in reader.pages for image in page.images]
+    assert len(images) == len(_images(multi_report.read_text()))
+
+
+def test_pdf_without_a_browser_says_what_to_install(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("TARGETACQ_BROWSER", str(tmp_path / "no-such-browser"))
+    out = tmp_path / "report.pdf"
+    assert _run([*MULTI_ARGS, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0
+    assert "chromium package" in err
+    assert not out.exists()

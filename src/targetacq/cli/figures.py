@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+import re
+import textwrap
+from collections.abc import Mapping, Sequence
 from typing import Annotated, Any
 
 import typer
@@ -23,9 +25,10 @@ from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import output_path
 from targetacq.scenario import load_scenario
-from targetacq.services.options import typed_options
+from targetacq.services.options import option_product, typed_options
 from targetacq.services.range_case import (
     RangeSetup,
+    _probabilities,
     option_band,
     option_choice,
     option_criterion,
@@ -50,7 +53,29 @@ def _given(case_options: dict[str, Any]) -> set[str]:
     return {name for name, value in case_options.items() if value not in (None, False)}
 
 
-def _title(setup: RangeSetup) -> str:
+_SOURCES = (
+    "Sonesson, M. (2004), A Probabilistic Approach to Conceptual Sensor Modeling, Master's thesis "
+    "LiTH-ISY-EX-3428, Linköping University, "
+    "https://www.diva-portal.org/smash/get/diva2:20633/FULLTEXT01.pdf; errata and assumptions: "
+    "see the targetacq user guide"
+)
+
+_FLOOR = 0.02
+"""Automatic range axes extend until every task's probability is below this."""
+
+_MAX_AUTO_RANGE = 500e3
+"""The longest automatic range axis [m]; the caption says where curves stop above the floor."""
+
+_SIMULATION_RUNS, _SIMULATION_SEED, _SIMULATION_STEPS = 500, 0, 240
+"""Runs, seed and least number of time steps of a scenario report's simulated first times."""
+
+
+def _titled(heading: str, conditions: str) -> str:
+    """A figure title: the heading, then the conditions wrapped to the figure's width."""
+    return "\n".join([heading, textwrap.fill(conditions, 100)])
+
+
+def _sensor_text(setup: RangeSetup) -> str:
     sensor = setup.sensor
     if "pitch_m" in sensor:
         pitch_um, focal_mm = sensor["pitch_m"] * 1e6, sensor["focal_length_m"] * 1e3
@@ -59,29 +84,144 @@ def _title(setup: RangeSetup) -> str:
         optics_text = f"{math.degrees(sensor['hfov_rad']):.3g}° over {sensor['pixels']:.0f} pixels"
     else:
         optics_text = "IFOV given"
+    return f"IFOV {setup.case.ifov * 1e3:.4g} mrad ({optics_text})"
+
+
+def _title(setup: RangeSetup) -> str:
     return (
-        f"IFOV {setup.case.ifov * 1e3:.4g} mrad ({optics_text}) — target critical dimension "
-        f"{setup.case.critical_dimension:.3g} m"
+        f"{_sensor_text(setup)} — target critical dimension {setup.case.critical_dimension:.3g} m"
     )
 
 
+def _field_of_view(setup: RangeSetup) -> str:
+    """The field of view where the pixels are known, else the IFOV."""
+    sensor = setup.sensor
+    if "hfov_rad" in sensor:
+        return (
+            f"HFOV {math.degrees(sensor['hfov_rad']):.4g}° over {sensor['pixels']:.0f} pixels "
+            f"(IFOV {setup.case.ifov * 1e3:.4g} mrad; the vertical field needs the rows, not "
+            "given)"
+        )
+    return (
+        f"IFOV {setup.case.ifov * 1e3:.4g} mrad per pixel (no pixel count given, so no field "
+        "of view: give --hfov and --pixels)"
+    )
+
+
+def _conditions(setup: RangeSetup) -> dict[str, str]:
+    """Weather, clutter and criterion of a case, for titles."""
+    case = setup.case
+    if setup.path:
+        weather = f"{setup.path['source']} ({setup.path['extinction_np_per_km']:.3g} Np/km)"
+    else:
+        weather = "no atmosphere"
+    if case.region is not None:
+        clutter = f"{case.region} clutter"
+    elif case.scr is not None:
+        clutter = f"SCR {float(case.scr):.3g}"
+    else:
+        clutter = "no clutter"
+    return {"weather": weather, "clutter": clutter, "criterion": setup.criterion.name}
+
+
+def _shared_conditions(conditions: Sequence[Mapping[str, str]]) -> str:
+    """The conditions of all cases in one line: a value where they agree, "per case" where not."""
+    parts = []
+    for key in ("weather", "clutter", "criterion"):
+        values = list(dict.fromkeys(c[key] for c in conditions))
+        text = values[0] if len(values) == 1 else "per case"
+        parts.append(text if key == "clutter" else f"{key} {text}")
+    return "; ".join(parts)
+
+
+def _spaced(text: str) -> str:
+    """ "0.75m" → "0.75 m": a typed quantity with a space before its unit."""
+    found = re.fullmatch(r"\s*([-+]?[\d.]+(?:[eE][-+]?\d+)?)\s*([^\d\s].*)", text)
+    return f"{found.group(1)} {found.group(2)}" if found else text
+
+
+def _case_label(swept: Mapping[str, Any]) -> str:
+    """A case's label from its swept option values: "critical dimension 0.75 m, fog:low"."""
+    parts = []
+    for name, value in swept.items():
+        text = str(value)
+        if name == "obscurant":
+            parts.append("no obscurant" if text == "none" else text)
+        else:
+            parts.append(f"{name.replace('_', ' ')} {_spaced(text)}")
+    return ", ".join(parts)
+
+
 def _performance(
-    cases: Mapping[str, RangeCase], max_range: str | None, probabilities: list[float]
-) -> Any:
-    """Range performance of the cases on 400 ranges out to --max-range, or by default 1.3 times
-    the longest range at which any case's task reaches the smallest probability."""
+    cases: Mapping[str, RangeCase], max_range: str | None, probabilities: Sequence[float]
+) -> tuple[Any, str]:
+    """Range performance of the cases on 600 ranges, and a caption saying where they stop.
+
+    The range axis goes out to --max-range, or by default to where every task of every case is
+    below :data:`_FLOOR` (bounded by :data:`_MAX_AUTO_RANGE`).
+    """
     if max_range is not None:
         r_max = option_quantity(max_range, "length", "--max-range")
+        limit = f"--max-range {max_range}"
     else:
         reach = [
             float(r)
             for case in cases.values()
-            for r in ranges.case_ranges(case, min(probabilities)).values()
+            for p in (_FLOOR, min(probabilities))
+            for r in ranges.case_ranges(case, p).values()
         ]
-        finite = [r for r in reach if math.isfinite(r)]
-        r_max = 1.3 * max(finite) if finite else 10e3
-    grid = [r_max * (k + 1) / 400 for k in range(400)]
-    return ranges.range_performance(grid, cases, probabilities)
+        finite = [r for r in reach if math.isfinite(r) and r > 0]
+        r_max = min(1.05 * max(finite), _MAX_AUTO_RANGE) if finite else 10e3
+        limit = f"the automatic limit of {_MAX_AUTO_RANGE / 1e3:g} km"
+    grid = [r_max * (k + 1) / 600 for k in range(600)]
+    performance = ranges.range_performance(grid, cases, probabilities)
+    last = performance.curves.isel(range=-1)
+    above = [
+        f"P({task}) {float(last[task].sel(case=case)):.2f} for {case}"
+        for task in ("detection", "recognition", "identification")
+        if task in last
+        for case in [str(c) for c in last["case"].values]
+        if float(last[task].sel(case=case)) >= _FLOOR
+    ]
+    if above:
+        note = (
+            f"The curves stop at {r_max / 1e3:.4g} km ({limit}), where "
+            + ", ".join(above[:6])
+            + (" and more" if len(above) > 6 else "")
+            + f" (still at or above {_FLOOR:.0%})."
+        )
+    else:
+        note = (
+            f"The curves are drawn out to {r_max / 1e3:.4g} km, where every task's probability "
+            f"is below {_FLOOR:.0%}."
+        )
+    return performance, note + " Dots: the DRI ranges of the table."
+
+
+def _atmosphere_figures(
+    bands: Sequence[tuple[float, float]], r_max: float, level: str, conditions: str
+) -> dict[str, Any]:
+    """One Table 7.1 figure per band in use, headed by the band."""
+    from targetacq.bands import band_name
+    from targetacq.plots import plot_atmosphere
+
+    figures = {}
+    for band in dict.fromkeys(bands):
+        try:
+            name = band_name(band)
+        except ValueError:  # Table 7.1 has the named bands only
+            continue
+        figures[f"Atmosphere, {name} band"] = plot_atmosphere(
+            band,
+            r_max,
+            level,
+            title=_titled(
+                f"Atmosphere, Table 7.1 {level} extinction, {name} band "
+                f"({band[0] * 1e6:g}–{band[1] * 1e6:g} µm)",
+                f"this report: {conditions}",
+            ),
+        )
+    return figures
 
 
 @app.command()
@@ -102,7 +242,10 @@ def plot(
 ) -> None:
     """Draw a figure. `curves` takes every sensor, target and path option of `targetacq dri`
     (and --probability for the marked DRI points); `transforms` takes --criterion or --n50;
-    `atmosphere` takes --band."""
+    `atmosphere` takes --band.
+
+    Example: targetacq plot curves --example --out curves.png
+    """
     from targetacq.plots import (
         FIGURE_FORMATS,
         PLOT_KINDS,
@@ -133,8 +276,9 @@ def plot(
             raise ValueError(
                 f"plot curves needs a criterion with probabilities (not {setup.criterion.name})"
             )
-        performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
-        fig = plot_range_performance(performance, title=title or _title(setup))
+        performance, _ = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
+        conditions = _shared_conditions([_conditions(setup)])
+        fig = plot_range_performance(performance, title=title or _titled(_title(setup), conditions))
     elif kind == "transforms":
         crit = (
             option_criterion(params["n50"])
@@ -165,62 +309,180 @@ def report(
         typer.Argument(help="A scenario file: every sensor-target pair becomes a case."),
     ] = None,
     *,
-    out: Annotated[str, typer.Option(help="Output file, .html.")],
+    out: Annotated[str, typer.Option(help="Output file, .html or .pdf (PDF needs Chromium).")],
     max_range: Annotated[
-        str | None, typer.Option(help="Largest range of the curves, e.g. 8km (default: automatic).")
+        str | None,
+        typer.Option(
+            help="Largest range of the curves, e.g. 8km (default: until every task's P < 0.02)."
+        ),
     ] = None,
     title: Annotated[str | None, typer.Option(help="Report title.")] = None,
     case_options: dict[str, Any],
 ) -> None:
-    """Write a self-contained HTML report: inputs, model choices with sources, the DRI table at
-    50 / 80 / 95 % and the figures. Give a scenario file (every sensor-target pair becomes a
-    case), or every sensor, target and path option of `targetacq dri`."""
-    from targetacq.plots import plot_atmosphere, plot_range_performance, plot_transforms
-    from targetacq.report import render_report, write_report
+    """Write a self-contained report (HTML, or PDF printed by headless Chromium): inputs, model
+    choices with sources, the DRI table (at --probability, default 50 / 80 / 95 %) and the
+    figures. Give a scenario file (every sensor-target pair becomes a case; takes
+    --probability, --max-range and --title), or the sensor, target and path options of
+    `targetacq dri`, where any option may take a list (`--critical-dimension 0.75m,2.3m
+    --obscurant haze,fog:low`): one case per combination, all in one table and on shared
+    figures.
 
-    output_path(out, ("html", "htm"), "the report file")  # before any work
+    Example: targetacq report --example --critical-dimension 0.75m,2.3m --out r.html
+    """
+    from targetacq.report import REPORT_FORMATS, render_report, require_browser, write_report
+
+    _, kind = output_path(out, REPORT_FORMATS, "the report file")  # before any work
+    if kind == "pdf":
+        require_browser()
     given = _given(case_options)
     if scenario is not None:
-        if given:
-            unused = ", ".join("--" + name.replace("_", "-") for name in sorted(given))
-            raise ValueError(f"a scenario report takes no sensor or target options; got {unused}")
-        heading, performance, sections, figures = _scenario_report(scenario, max_range, title)
-        page = render_report(performance, sections, figures, title=heading, version=__version__)
-        typer.echo(f"wrote {write_report(out, page)}")
-        return
-    params = typed_options(case_options, "report")
-    setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
-    if not setup.criterion.gives_probabilities:
-        raise ValueError("the report needs a criterion with probabilities (not en62676-4)")
-    performance = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
-    heading = title or _title(setup)
-    figures = {"Range performance": plot_range_performance(performance, title=heading)}
-    figures["Transforms"] = plot_transforms(setup.criterion)
-    if setup.path and params["band"]:
-        figures["Atmosphere"] = plot_atmosphere(option_band(params["band"]))
+        unused = given - {"probability"}
+        if unused:
+            flags = ", ".join("--" + name.replace("_", "-") for name in sorted(unused))
+            raise ValueError(
+                f"a scenario report takes its sensors and targets from the file; it takes "
+                f"--probability, --max-range and --title only, got {flags}"
+            )
+        probability = case_options.get("probability") or _REPORT_PROBABILITIES
+        parts = _scenario_report(scenario, max_range, title, _probabilities(probability))
+    else:
+        parts = _range_case_report(case_options, max_range, title)
+    heading, performance, sections, figures, captions = parts
     page = render_report(
-        performance, _report_sections(setup), figures, title=heading, version=__version__
+        performance, sections, figures, title=heading, version=__version__, captions=captions
     )
-    written = write_report(out, page)
-    typer.echo(f"wrote {written}")
+    typer.echo(f"wrote {write_report(out, page)}")
 
 
-def _scenario_report(path: str, max_range: str | None, title: str | None) -> tuple[Any, ...]:
-    """Heading, range performance, sections and figures of a scenario's report."""
-    from targetacq.plots import plot_atmosphere, plot_range_performance, plot_transforms
+def _range_case_report(
+    case_options: dict[str, Any], max_range: str | None, title: str | None
+) -> tuple[Any, ...]:
+    """Heading, range performance, sections, figures and captions of a report of range cases:
+    one case per combination of the options given as lists."""
+    from targetacq.plots import plot_range_performance, plot_transforms
+
+    setups: dict[str, RangeSetup] = {}
+    bands: list[tuple[float, float]] = []
+    swept_names: list[str] = []
+    for swept, options in option_product(case_options):
+        setup = range_setup(**options, default_probability=_REPORT_PROBABILITIES)
+        if not setup.criterion.gives_probabilities:
+            raise ValueError(
+                f"the report needs a criterion with probabilities (not {setup.criterion.name})"
+            )
+        setups[_case_label(swept) or "this sensor"] = setup
+        swept_names = list(swept)
+        if setup.path and options.get("band"):
+            bands.append(option_band(options["band"]))
+    first = next(iter(setups.values()))
+    probabilities = first.probabilities
+    performance, note = _performance(
+        {label: s.case for label, s in setups.items()}, max_range, probabilities
+    )
+    conditions = _shared_conditions([_conditions(s) for s in setups.values()])
+    if title:
+        heading = title
+    elif len(setups) == 1:
+        heading = _title(first)
+    else:
+        sensors = {_sensor_text(s) for s in setups.values()}
+        sensor = sensors.pop() if len(sensors) == 1 else "several sensors"
+        heading = f"{sensor} — {len(setups)} cases over " + ", ".join(
+            name.replace("_", " ") for name in swept_names
+        )
+    captions = {"Range performance": note}
+    figures = {
+        "Range performance": plot_range_performance(performance, title=_titled(heading, conditions))
+    }
+    criteria = {s.criterion.name: s.criterion for s in setups.values()}
+    for name, crit in criteria.items():
+        key = "Transforms" if len(criteria) == 1 else f"Transforms, criterion {name}"
+        figures[key] = plot_transforms(
+            crit,
+            title=_titled(f"Resolution-to-probability transforms (criterion {name})", conditions),
+        )
+    r_max = float(performance.curves["range"].values[-1])
+    levels = {
+        s.path["source"].split(", ")[1]
+        for s in setups.values()
+        if s.path.get("source", "").startswith("Table 7.1")
+    }
+    level = levels.pop() if len(levels) == 1 else "nominal"
+    figures.update(_atmosphere_figures(bands, r_max, level, conditions))
+    sections = _merged_sections({label: _report_sections(s) for label, s in setups.items()})
+    if len(setups) > 1:
+        cases = {
+            label: f"critical dimension {s.case.critical_dimension:.4g} m; "
+            f"{_field_of_view(s)}; " + "; ".join(f"{k} {v}" for k, v in _conditions(s).items())
+            for label, s in setups.items()
+        }
+        sections = {"Cases": cases, **sections}
+    return heading, performance, sections, figures, captions
+
+
+def _merged_sections(
+    per_case: Mapping[str, Mapping[str, Mapping[str, str]]],
+) -> dict[str, dict[str, str]]:
+    """The sections of several cases as one: an item's value where the cases agree, else each
+    case's value after its label."""
+    merged: dict[str, dict[str, str]] = {}
+    for sections in per_case.values():
+        for heading, items in sections.items():
+            for item in items:
+                merged.setdefault(heading, {})[item] = ""
+    for heading, items in merged.items():
+        for item in items:
+            values = {
+                label: sections.get(heading, {}).get(item, "—")
+                for label, sections in per_case.items()
+            }
+            distinct = set(values.values())
+            items[item] = (
+                distinct.pop()
+                if len(distinct) == 1
+                else "; ".join(f"{label}: {value}" for label, value in values.items())
+            )
+    return merged
+
+
+def _scenario_report(
+    path: str, max_range: str | None, title: str | None, probabilities: list[float]
+) -> tuple[Any, ...]:
+    """Heading, range performance, sections, figures and captions of a scenario's report."""
+    from targetacq.plots import (
+        plot_first_times,
+        plot_range_performance,
+        plot_timeline,
+        plot_transforms,
+    )
+    from targetacq.search import simulate
 
     scenario = load_scenario(path)
     chain = ModelChain(scenario)
     cases = chain.range_cases()
-    performance = _performance(cases, max_range, [0.5, 0.8, 0.95])
+    performance, note = _performance(cases, max_range, probabilities)
     heading = title or (scenario.name or path)
     model = scenario.model
-    sensors = {
-        s.name: f"{s.type}, band {s.limits[0] * 1e6:g}–{s.limits[1] * 1e6:g} µm, IFOV "
-        f"{s.pixel_ifov * 1e3:.4g} mrad"
-        + (f", aperture {s.aperture * 1e3:g} mm" if s.aperture else "")
-        for s in scenario.sensors
-    }
+    atm = scenario.atmosphere
+    criteria = list(dict.fromkeys(c.name for c in chain.criteria))
+    conditions = (
+        f"weather {_atmosphere_text(atm)}; clutter {_clutter_text(scenario.background)}; "
+        f"criterion {', '.join(criteria)}"
+    )
+    sensors = {}
+    for s in scenario.sensors:
+        fov = s.field_of_view
+        field = (
+            f"HFOV × VFOV {math.degrees(fov[0]):.3g}° × {math.degrees(fov[1]):.3g}° "
+            f"({s.pixels[0]} × {s.pixels[1]} pixels)"
+            if fov is not None and s.pixels is not None
+            else "field of view: no pixel count given"
+        )
+        sensors[s.name] = (
+            f"{s.type}, band {s.limits[0] * 1e6:g}–{s.limits[1] * 1e6:g} µm, IFOV "
+            f"{s.pixel_ifov * 1e3:.4g} mrad, {field}"
+            + (f", aperture {s.aperture * 1e3:g} mm" if s.aperture else "")
+        )
     targets = {
         t.name: f"{' × '.join(f'{d:g}' for d in t.dimensions)} m, criterion "
         f"{chain.criteria[g].name}"
@@ -229,7 +491,11 @@ def _scenario_report(path: str, max_range: str | None, title: str | None) -> tup
         + (", hot spot" if t.hot_spot else "")
         for g, t in enumerate(scenario.targets)
     }
-    atm = scenario.atmosphere
+    case_items = {
+        label: f"critical dimension {case.critical_dimension:.3g} m (as seen at the start), "
+        f"IFOV {case.ifov * 1e3:.4g} mrad, criterion {get_criterion(case.criterion).name}"
+        for label, case in cases.items()
+    }
     sections = {
         "Scenario": {
             "file": path,
@@ -238,6 +504,7 @@ def _scenario_report(path: str, max_range: str | None, title: str | None) -> tup
         },
         "Sensors": sensors,
         "Targets": targets,
+        "Cases": case_items,
         "Background and path": {
             "clutter": _clutter_text(scenario.background),
             "atmosphere": _atmosphere_text(atm),
@@ -247,16 +514,78 @@ def _scenario_report(path: str, max_range: str | None, title: str | None) -> tup
         "Model choices and sources": {
             "transform": f"{model.transform}: {TRANSFORMS[model.transform].source}",
             "criteria": "; ".join(dict.fromkeys(f"{c.name} ({c.source})" for c in chain.criteria)),
+            "fusion": "sensor level, P = 1 − Π(1 − P_s) over the sensors (Eq. (8.4))",
             "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-            "sources": "Sonesson (2004), A Probabilistic Approach to Conceptual Sensor Modeling, "
-            "LiTH-ISY-EX-3428; errata and open points as in targetacq's MODEL.md",
+            "sources": _SOURCES,
         },
     }
-    figures = {"Range performance": plot_range_performance(performance, title=heading)}
-    figures["Transforms"] = plot_transforms(scenario.model.criterion)
-    if atm.obscurant is not None:
-        figures["Atmosphere"] = plot_atmosphere(scenario.sensors[0].limits)
-    return heading, performance, sections, figures
+    figures = {
+        "Range performance": plot_range_performance(
+            performance,
+            title=_titled(f"{heading}: range performance per sensor–target pair", conditions),
+        )
+    }
+    captions = {"Range performance": note}
+    figures["Transforms"] = plot_transforms(
+        scenario.model.criterion,
+        title=_titled(
+            f"Resolution-to-probability transforms (criterion {scenario.model.criterion})",
+            conditions,
+        ),
+    )
+    if atm.obscurant is not None or atm.extinction is not None or atm.visibility is not None:
+        _, _, level = (atm.obscurant or "").partition(":")
+        r_max = float(performance.curves["range"].values[-1])
+        figures.update(
+            _atmosphere_figures(
+                [s.limits for s in scenario.sensors], r_max, level or "nominal", conditions
+            )
+        )
+    dataset = chain.evaluate().dataset
+    several = len(chain.sensor_names) > 1
+    figures["Timeline"] = plot_timeline(
+        dataset,
+        title=_titled(
+            f"{heading}: probabilities over time, per sensor"
+            + (" and fused (Eq. (8.4))" if several else ""),
+            conditions,
+        ),
+    )
+    grid = scenario.time
+    duration = float(grid.stop - grid.start)
+    captions["Timeline"] = (
+        f"Each target's probabilities at the scenario's times ({grid.start:g} s to {grid.stop:g} s "
+        f"every {grid.step:g} s)"
+        + (
+            "; thin broken lines per sensor, thick solid lines fused over the sensors."
+            if several
+            else "."
+        )
+    )
+    if duration > 0:
+        step = min(float(grid.step), duration / _SIMULATION_STEPS)
+        result = simulate(
+            chain,
+            duration=duration,
+            step=step,
+            runs=_SIMULATION_RUNS,
+            seed=_SIMULATION_SEED,
+        )
+        figures["Simulated first times"] = plot_first_times(
+            result,
+            title=_titled(
+                f"{heading}: first times over {_SIMULATION_RUNS} simulated runs "
+                f"(seed {_SIMULATION_SEED}), fused over the sensors",
+                conditions,
+            ),
+        )
+        captions["Simulated first times"] = (
+            f"Share of {_SIMULATION_RUNS} runs (targetacq simulate, seed {_SIMULATION_SEED}, "
+            f"step {step:.3g} s) that have detected, recognised and identified each target by "
+            "each time; a curve ending below 1 means some runs never got there in the "
+            f"{duration:g} s simulated."
+        )
+    return heading, performance, sections, figures, captions
 
 
 def _clutter_text(background: Any) -> str:
@@ -287,6 +616,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
     crit = setup.criterion
     sensor = {
         "IFOV": f"{setup.case.ifov * 1e3:.4g} mrad",
+        "field of view": _field_of_view(setup),
         "resolvable cycle": f"{setup.cycle * 1e3:.4g} mrad "
         "(max of 2·IFOV and the optics, Eqs. (5.3), (5.2); Fig. 3.3)",
     }
@@ -346,8 +676,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         else "none given: detection uses the transform",
         "cycles on target": "N = (d / R) / cycle, small angle (Fig. 3.3)",
         "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-        "sources": "Sonesson (2004), A Probabilistic Approach to Conceptual Sensor Modeling, "
-        "LiTH-ISY-EX-3428; errata and open points as in targetacq's MODEL.md",
+        "sources": _SOURCES,
     }
     return {
         "Sensor": sensor,

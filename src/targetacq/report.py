@@ -29,8 +29,8 @@ __all__ = [
     "THESIS_CITATION",
     "find_browser",
     "print_to_pdf",
-    "require_browser",
     "render_report",
+    "require_browser",
     "write_report",
 ]
 

@@ -175,43 +175,57 @@ def _cell(value: Any) -> str:
 
 
 def write_figure(ds: Any, path: str) -> Path:
-    """Ranges against the first swept option (or, at ranges, probabilities against range), one
-    line per task and combination of the other swept options; a PNG written atomically."""
+    """Ranges against the first swept option (or, at ranges, probabilities against range): one
+    panel per task, one line per combination of the other swept options and probabilities (the
+    same colour in every panel), the legend below the panels; a PNG written atomically."""
     import numpy as np
     from matplotlib.figure import Figure
 
     at_ranges = "probability" in ds.data_vars
     variable = ds["probability" if at_ranges else "range"]
     swept = [d for d in variable.dims if d not in ("task", "probability", "range")]
-    if at_ranges:
-        x_dim = "range"
-    elif swept:
-        x_dim = swept[0]
-    else:
-        x_dim = "probability"
-    others = [d for d in variable.dims if d != x_dim]
+    x_dim = "range" if at_ranges else (swept[0] if swept else "probability")
+    others = [d for d in variable.dims if d not in (x_dim, "task")]
     si = [name for name in ds.coords if ds[name].dims == (x_dim,) and name != x_dim]
     x_values = ds[si[0]].values if si else ds[x_dim].values
     numeric = np.issubdtype(np.asarray(x_values).dtype, np.number)
     positions = np.asarray(x_values, dtype=float) if numeric else np.arange(len(x_values))
-    fig = Figure(figsize=(8.0, 5.6), dpi=100, layout="constrained")
-    ax = fig.add_subplot()
-    stacked = variable.transpose(*others, x_dim)
-    for index in np.ndindex(*stacked.shape[:-1]):
-        label = ", ".join(
-            f"{dim}={_cell(ds[dim].values[i].item())}" if dim != "task" else str(ds[dim].values[i])
-            for dim, i in zip(others, index, strict=True)
-        )
-        ax.plot(positions, stacked.values[index], marker="o", label=label)
-    x_label = f"{si[0]} [{ds[si[0]].attrs.get('units', '')}]" if si else x_dim
-    if x_dim == "range":
-        x_label = "range [m]"
-    ax.set_xlabel(x_label)
-    if not numeric:
-        ax.set_xticks(positions, [str(v) for v in x_values])
-    ax.set_ylabel("probability" if at_ranges else "range [m] (at the probability)")
-    ax.set_title(str(ds.attrs.get("title", "targetacq sweep")))
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    tasks = [str(t) for t in ds["task"].values]
+    columns = 2 if len(tasks) > 1 else 1
+    rows = math.ceil(len(tasks) / columns)
+    stacked = variable.transpose("task", *others, x_dim)
+    combinations = list(np.ndindex(*stacked.shape[1:-1]))
+    fig = Figure(
+        figsize=(9.0, 3.2 * rows + 0.25 * math.ceil(len(combinations) / 2) + 0.8),
+        dpi=100,
+        layout="constrained",
+    )
+    axes = fig.subplots(rows, columns, squeeze=False, sharex=True)
+    handles = []
+    for k, task in enumerate(tasks):
+        ax = axes[k // columns][k % columns]
+        for c, index in enumerate(combinations):
+            (line,) = ax.plot(
+                positions, stacked.values[(k, *index)], marker="o", markersize=3, color=f"C{c % 10}"
+            )
+            if k == 0:
+                label = ", ".join(
+                    f"{dim} {_cell(ds[dim].values[i].item())}"
+                    for dim, i in zip(others, index, strict=True)
+                )
+                line.set_label(label or task)
+                handles.append(line)
+        ax.set_title(task)
+        ax.grid(True, alpha=0.3)
+        ax.set_ylabel("P" if at_ranges else "range [m]")
+        if x_dim != "range" and (not numeric or len(x_values) <= 12):
+            ax.set_xticks(positions, [_cell(v) for v in ds[x_dim].values.tolist()])
+        if k // columns == rows - 1 or k + columns >= len(tasks):
+            ax.set_xlabel("range [m]" if at_ranges else x_dim.replace("_", " "))
+    for k in range(len(tasks), rows * columns):
+        axes[k // columns][k % columns].set_visible(False)
+    fig.suptitle(str(ds.attrs.get("title", "targetacq sweep")))
+    if len(handles) > 1:
+        fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize="small")
     out, _ = output_path(path, ("png",), "--figure")
     return write_atomically(out, lambda p: fig.savefig(p, format="png"))

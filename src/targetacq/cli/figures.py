@@ -125,11 +125,12 @@ def _conditions(setup: RangeSetup) -> dict[str, str]:
 
 
 def _shared_conditions(conditions: Sequence[Mapping[str, str]]) -> str:
-    """The conditions of all cases in one line: a value where they agree, "per case" where not."""
+    """The conditions of all cases in one line: a value where they agree, each case's where
+    not."""
     parts = []
     for key in ("weather", "clutter", "criterion"):
         values = list(dict.fromkeys(c[key] for c in conditions))
-        text = values[0] if len(values) == 1 else "per case"
+        text = values[0] if len(values) == 1 else "per case: " + " / ".join(values)
         parts.append(text if key == "clutter" else f"{key} {text}")
     return "; ".join(parts)
 
@@ -575,7 +576,7 @@ def _scenario_report(
             result,
             title=_titled(
                 f"{heading}: first times over {_SIMULATION_RUNS} simulated runs "
-                f"(seed {_SIMULATION_SEED}), fused over the sensors",
+                f"(seed {_SIMULATION_SEED})" + (", fused over the sensors" if several else ""),
                 conditions,
             ),
         )

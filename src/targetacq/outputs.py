@@ -20,6 +20,10 @@ then renamed onto the target.
 - **Symbolic links.** A link at the output path is written through: the link stays, and its
   target is replaced atomically (the temporary file is created next to the target). A folder,
   a device, a pipe or a socket at the path (or at the link's end) is refused, not replaced.
+- **Folders.** An output that is a folder (a Zarr store) is written to a temporary folder
+  next to the target (mode ``0o777`` less the umask) and renamed onto it
+  (:func:`write_directory_atomically`); a previous store there is renamed aside first and then
+  removed. A folder that is not a Zarr store is refused, not replaced.
 
 JSON
 ----

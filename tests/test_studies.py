@@ -282,3 +282,17 @@ def test_small_sweeps_run_serially_without_dask(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
     ds = sweep({"example": True, "focal_length": "35mm,50mm", "scr": "1,2,3"})
     assert ds["range"].shape[:2] == (2, 3) and not math.isnan(float(ds["range"].max()))
+
+
+def test_sweep_cli_on_an_existing_scheduler_by_address(capsys):
+    distributed = pytest.importorskip("distributed")
+    args = ["sweep", "--example", "--focal-length", "35mm,50mm,75mm", "--scr", "1,2"]
+    code, serial, err = run(capsys, *args, "--format", "csv")
+    assert code == 0, err
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
+        address = cluster.scheduler_address
+        code, on_dask, err = run(capsys, *args, "--format", "csv", "--scheduler", address)
+    assert code == 0, err
+    assert on_dask == serial

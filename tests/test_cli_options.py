@@ -5,9 +5,8 @@ from __future__ import annotations
 import inspect
 
 import pytest
-import typer.main
 
-from targetacq.cli import app
+from targetacq.cli import all_commands
 from targetacq.services.options import RANGE_CASE_OPTIONS, option_coverage
 from targetacq.services.range_case import range_setup
 
@@ -20,7 +19,7 @@ def test_every_range_setup_keyword_is_an_option():
 
 @pytest.mark.parametrize("command", ["dri", "plot", "report"])
 def test_command_lists_every_range_case_option(command):
-    click_command = typer.main.get_command(app).commands[command]
+    click_command = all_commands()[command]
     flags = {flag for param in click_command.params for flag in param.opts}
     assert {spec.flag for spec in RANGE_CASE_OPTIONS} | {"--example"} <= flags
 
@@ -66,7 +65,7 @@ def test_a_bad_quantity_fails_at_parse_time_naming_the_option(capsys, value, wan
 
 
 def test_the_quantity_text_reaches_the_command_unchanged():
-    from targetacq.cli.options import Quantity
+    from targetacq.cli.params import Quantity
 
     assert Quantity("temperature")("32degC,305 K") == "32degC,305 K"
     assert Quantity("temperature difference", lists=False).metavar == "TEMPERATURE_DIFFERENCE"
@@ -77,7 +76,7 @@ def test_the_quantity_text_reaches_the_command_unchanged():
 def test_options_with_choices_complete_the_registry_names():
     from targetacq.criteria import CRITERIA
 
-    dri = typer.main.get_command(app).commands["dri"]
+    dri = all_commands()["dri"]
     criterion = next(p for p in dri.params if "--criterion" in p.opts)
     ctx = dri.make_context("dri", [], resilient_parsing=True)
     offered = [item.value for item in criterion.shell_complete(ctx, "jo")]
@@ -89,7 +88,7 @@ def test_options_with_choices_complete_the_registry_names():
 
 def test_obscurant_completion_offers_the_levels_after_a_colon():
     from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
-    from targetacq.cli.options import complete_names
+    from targetacq.cli.params import complete_names
 
     complete = complete_names(OBSCURANTS, levels=EXTINCTION_LEVELS)
     name = OBSCURANTS[0]

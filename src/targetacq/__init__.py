@@ -43,6 +43,10 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "signal_to_clutter_ratio",
         "terrain_clutter",
     ),
+    "design": (
+        "required_focal_length",
+        "required_ifov",
+    ),
     "criteria": (
         "CRITERIA",
         "TASKS",
@@ -87,6 +91,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "scene_acquisition",
     ),
     "simulation": ("Simulation",),
+    "studies": ("sweep",),
     "transforms": (
         "TRANSFORMS",
         "c2nveo",
@@ -144,6 +149,8 @@ __all__ = [
     "projected_extents",
     "range_for_cycles",
     "range_for_pixel_density",
+    "required_focal_length",
+    "required_ifov",
     "resolvable_cycle_angle",
     "scene_acquisition",
     "schmieder_weathersby",
@@ -153,6 +160,7 @@ __all__ = [
     "snr_from_transmittance",
     "solid_angle",
     "spectral_exitance",
+    "sweep",
     "terrain_clutter",
     "transform",
     "transmittance",
@@ -187,6 +195,10 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
         TASKS,
         Criterion,
         get_criterion,
+    )
+    from targetacq.design import (
+        required_focal_length,
+        required_ifov,
     )
     from targetacq.fusion import (
         central_level_bounds,
@@ -229,6 +241,9 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
     )
     from targetacq.simulation import (
         Simulation,
+    )
+    from targetacq.studies import (
+        sweep,
     )
     from targetacq.transforms import (
         TRANSFORMS,

@@ -22,8 +22,19 @@ Failures, warnings and signals
   temporary output file; a file-size limit (SIGXFSZ) is ignored so that the write fails with
   "File too large" and is reported like any write failure.
 
-One module per group of commands: :mod:`.dri` (dri, atmosphere), :mod:`.figures` (plot,
-report), :mod:`.images` (clutter), :mod:`.scenarios` (validate, evaluate, simulate).
+Start-up
+--------
+One module per group of commands (:data:`COMMANDS`): :mod:`.dri` (dri, atmosphere),
+:mod:`.figures` (plot, report), :mod:`.images` (clutter), :mod:`.scenarios` (validate,
+evaluate, simulate), :mod:`.examples` (examples), ... A command's module, and the libraries it
+needs (NumPy, SciPy, ...), are imported only when that command runs, its help is asked for, or
+its options are completed: ``targetacq --help``, ``--version`` and the completion of command
+names import none of them (the list of commands shows each one's summary from
+:data:`COMMANDS`).
+
+Shell completion: ``targetacq --install-completion`` (bash, zsh, fish, PowerShell), or
+``targetacq --show-completion`` to see the script; commands, options and the names the options
+take (criteria, transforms, obscurants, bands, ...) complete from the registries.
 """
 
 from __future__ import annotations
@@ -31,6 +42,8 @@ from __future__ import annotations
 import csv
 import errno
 import functools
+import importlib
+import importlib.util
 import io
 import os
 import signal
@@ -38,57 +51,244 @@ import sys
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
+import typer.core
 import typer.main
 
-from targetacq.atmosphere import OBSCURANTS, VISIBILITY_CONVENTIONS
-from targetacq.bands import BANDS
-from targetacq.outputs import json_text
+from targetacq import __version__
 
-__all__ = ["app", "main"]
+if TYPE_CHECKING:
+    from typer import _click
+
+__all__ = ["COMMANDS", "all_commands", "app", "main"]
 
 FORMATS = ("table", "json", "csv")
+
+COMMANDS: dict[str, tuple[str, str]] = {
+    "dri": ("dri", "Ranges at which each task reaches a probability (DRI ranges)."),
+    "sweep": ("sweep", "Trade study: every combination of the options' lists of values."),
+    "design": ("design", "The focal length, pitch or IFOV that meets a range requirement."),
+    "atmosphere": ("dri", "Transmittance, SNR and Table 7.2 description of a path."),
+    "plot": ("figures", "Draw a figure: probability curves, transforms, atmosphere, ..."),
+    "report": ("figures", "Write a self-contained report of cases or of a scenario."),
+    "clutter": ("images", "Clutter, SCR, features and P(detection) of targets in an image."),
+    "validate": ("scenarios", "Check a scenario file without running it."),
+    "evaluate": ("scenarios", "Evaluate every sensor x target x time of a scenario."),
+    "simulate": ("scenarios", "Random search over time: who is found, and when."),
+    "validation": ("validation", "Write the validation page: published values vs the model's."),
+    "examples": ("examples", "List the bundled examples, or copy them into a folder."),
+}
+"""Command → (its module in ``targetacq.cli``, its summary in ``targetacq --help``), in the
+order listed. A command registers itself on :data:`app` when its module is imported; a test
+keeps this table equal to the commands the modules register."""
+
+
+class _LazyGroup(typer.core.TyperGroup):
+    """The root command: loads a command's module when the command is first needed.
+
+    While the root's own help is written, or command names are completed, a command not yet
+    loaded is stood for by its name and summary (:data:`COMMANDS`), so that neither imports
+    any command module."""
+
+    _summaries_only = False
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        for command in self.commands.values():  # those registered before the group was built
+            self._summarise(command)
+
+    @staticmethod
+    def _summarise(command: _click.Command) -> None:
+        if command.short_help is None and command.name in COMMANDS:
+            command.short_help = COMMANDS[command.name][1]
+
+    def list_commands(self, ctx: _click.Context) -> list[str]:
+        return list(dict.fromkeys([*_available(), *self.commands]))
+
+    def get_command(self, ctx: _click.Context, cmd_name: str) -> _click.Command | None:
+        if cmd_name not in self.commands:
+            if self._summaries_only and cmd_name in _available():
+                return typer.core.TyperCommand(cmd_name, short_help=COMMANDS[cmd_name][1])
+            _load(cmd_name if cmd_name in _available() else None)
+            self._add_registered()
+        return self.commands.get(cmd_name)
+
+    def _add_registered(self) -> None:
+        """Add the click commands of every command registered on :data:`app` since last time."""
+        short, markup = app.pretty_exceptions_short, app.rich_markup_mode
+        built: set[int] = self.__dict__.setdefault("_built", set())
+        for info in app.registered_commands:
+            if id(info) not in built:
+                built.add(id(info))
+                self._add_loaded(
+                    typer.main.get_command_from_info(
+                        info, pretty_exceptions_short=short, rich_markup_mode=markup
+                    )
+                )
+        for group in app.registered_groups:
+            if id(group) not in built:
+                built.add(id(group))
+                self._add_loaded(
+                    typer.main.get_group_from_info(
+                        group,
+                        pretty_exceptions_short=short,
+                        rich_markup_mode=markup,
+                        suggest_commands=app.suggest_commands,
+                    )
+                )
+
+    def _add_loaded(self, command: _click.Command) -> None:
+        if command.name and command.name not in self.commands:
+            self._summarise(command)
+            self.add_command(command)
+
+    def format_help(self, ctx: _click.Context, formatter: Any) -> None:
+        with self._summaries():
+            super().format_help(ctx, formatter)
+
+    def shell_complete(self, ctx: _click.Context, incomplete: str) -> list[Any]:
+        with self._summaries():
+            return super().shell_complete(ctx, incomplete)
+
+    @contextmanager
+    def _summaries(self) -> Iterator[None]:
+        self._summaries_only = True
+        try:
+            yield
+        finally:
+            self._summaries_only = False
+
+
+@functools.cache
+def _available() -> tuple[str, ...]:
+    """The commands of :data:`COMMANDS` whose module is in this installation."""
+    from importlib.util import find_spec
+
+    return tuple(n for n, (module, _) in COMMANDS.items() if find_spec(f"{__name__}.{module}"))
+
+
+def _load(command: str | None) -> None:
+    """Import the module of ``command`` (every command module for None: an unknown name)."""
+    if command is None:
+        _import_commands()
+    else:
+        importlib.import_module(f"{__name__}.{COMMANDS[command][0]}")
+
+
+def all_commands() -> dict[str, Any]:
+    """Every command of ``targetacq``: name → its click command (every module imported).
+
+    Examples
+    --------
+    >>> "dri" in all_commands()
+    True
+    """
+    group = _click_command()
+    _import_commands()
+    for name in _available():
+        _load(name)
+    group._add_registered()
+    return dict(group.commands)
+
 
 DEFAULT_EXAMPLE = "uav_haze.toml"
 
 app = typer.Typer(
-    add_completion=False,
+    cls=_LazyGroup,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     help="Probabilities and ranges of detection, recognition and identification for imaging "
-    "sensors (Sonesson 2004 conceptual sensor model).",
+    "sensors (Sonesson 2004 conceptual sensor model).\n\n"
+    "Example: targetacq dri --example",
 )
 
-# Options shared by several commands, defined once.
-BandOption = Annotated[
-    str | None, typer.Option(help=f"Sensor band: {', '.join(BANDS)} or e.g. 8-12um.")
+
+def _complete(names: Any, **kwargs: Any) -> Any:
+    from targetacq.cli.params import complete_names
+
+    return complete_names(names, **kwargs)
+
+
+FormatOption = Annotated[
+    str,
+    typer.Option(
+        "--format", help=f"Output: {', '.join(FORMATS)}.", autocompletion=_complete(FORMATS)
+    ),
 ]
 
-ExtinctionOption = Annotated[
-    str | None, typer.Option(help="Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.")
-]
+if TYPE_CHECKING:  # built by __getattr__ below
+    BandOption = Annotated[str | None, "--band"]
+    ExtinctionOption = Annotated[str | None, "--extinction"]
+    ObscurantOption = Annotated[str | None, "--obscurant"]
+    VisibilityOption = Annotated[str | None, "--visibility"]
+    ConventionOption = Annotated[str | None, "--visibility-convention"]
 
-ObscurantOption = Annotated[
-    str | None,
-    typer.Option(help=f"Table 7.1 obscurant[:low|nominal|high]: {', '.join(OBSCURANTS)}."),
-]
+_SHARED_OPTIONS = (
+    "BandOption",
+    "ExtinctionOption",
+    "ObscurantOption",
+    "VisibilityOption",
+    "ConventionOption",
+)
 
-VisibilityOption = Annotated[
-    str | None, typer.Option(help="Visibility (visible band), e.g. 7.5km.")
-]
 
-ConventionOption = Annotated[
-    str | None,
-    typer.Option(help=f"Visibility convention: {', '.join(VISIBILITY_CONVENTIONS)}."),
-]
+def __getattr__(name: str) -> Any:
+    """The option annotations shared by several commands, defined once: built on first use
+    (their help texts need the registries, which a command's module imports anyway)."""
+    if name not in _SHARED_OPTIONS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
+    from targetacq.bands import BANDS
+    from targetacq.cli.params import Quantity
 
-FormatOption = Annotated[str, typer.Option("--format", help=f"Output: {', '.join(FORMATS)}.")]
+    length, extinction = Quantity("length", lists=False), Quantity("extinction", lists=False)
+    options = {
+        "BandOption": typer.Option(
+            help=f"Sensor band: {', '.join(BANDS)} or e.g. 8-12um.",
+            autocompletion=_complete(BANDS, separator=None),
+        ),
+        "ExtinctionOption": typer.Option(
+            help="Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.",
+            parser=extinction,
+            metavar=extinction.metavar,
+        ),
+        "ObscurantOption": typer.Option(
+            help=f"Table 7.1 obscurant[:low|nominal|high]: {', '.join(OBSCURANTS)}.",
+            autocompletion=_complete(OBSCURANTS, separator=None, levels=EXTINCTION_LEVELS),
+        ),
+        "VisibilityOption": typer.Option(
+            help="Visibility (visible band), e.g. 7.5km.", parser=length, metavar=length.metavar
+        ),
+        "ConventionOption": typer.Option(
+            help=f"Visibility convention: {', '.join(VISIBILITY_CONVENTIONS)}.",
+            autocompletion=_complete(VISIBILITY_CONVENTIONS, separator=None),
+        ),
+    }
+    for key, option in options.items():
+        globals()[key] = Annotated[str | None, option]
+    return globals()[name]
+
+
+def _show_version(value: bool) -> None:
+    if value:
+        typer.echo(f"targetacq {__version__}")
+        raise typer.Exit()
 
 
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            callback=_show_version,
+            is_eager=True,
+            help="Print the version and exit.",
+        ),
+    ] = False,
+) -> None:
     """Probabilities and ranges of detection, recognition and identification."""
 
 
@@ -105,6 +305,8 @@ def _csv(rows: list[dict[str, Any]], fieldnames: list[str] | None = None) -> str
 
 def _render_rows(rows: list[dict[str, Any]], output_format: str) -> str:
     if output_format == "json":
+        from targetacq.outputs import json_text
+
         return json_text({"targets": rows}) + "\n"
     if output_format == "csv":
         return _csv(rows)
@@ -290,5 +492,11 @@ def _signals_handled() -> Iterator[None]:
             signal.signal(number, handler)
 
 
-# The commands register themselves on `app` when their modules are imported.
-from targetacq.cli import design, dri, figures, images, scenarios, sweep, validation  # noqa: E402, F401
+def _import_commands() -> None:
+    """Import every command module (each registers its commands on :data:`app`)."""
+    # The commands register themselves on `app` when their modules are imported.
+    from targetacq.cli import design, dri, figures, images, scenarios, sweep, validation  # noqa: F401
+
+    for module, _ in COMMANDS.values():
+        if importlib.util.find_spec(f"{__name__}.{module}"):
+            importlib.import_module(f"{__name__}.{module}")

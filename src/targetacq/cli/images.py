@@ -118,7 +118,10 @@ def clutter_command(
     output_format: FormatOption = "table",
 ) -> None:
     """Clutter, SCR (±), clutter region, signature features and P(detection) of targets in an
-    image (Schmieder–Weathersby cells, Eqs. (3.12)–(3.15); features (2.6)–(2.12))."""
+    image (Schmieder–Weathersby cells, Eqs. (3.12)–(3.15); features (2.6)–(2.12)).
+
+    Example: targetacq clutter frame16.tif --boxes targets.csv (targetacq examples copy all .)
+    """
     option_choice(output_format, FORMATS, "--format")
     all_boxes = [_parse_box(b) for b in box or []] + (_read_boxes(boxes) if boxes else [])
     if not all_boxes:

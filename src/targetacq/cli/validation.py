@@ -17,7 +17,10 @@ def validation_command(
 ) -> None:
     """Write the validation page: every published table the model reproduces (Sonesson 2004,
     and a vendor's DRI ranges), published value against model value with the residuals and
-    figures, as one self-contained HTML file."""
+    figures, as one self-contained HTML file.
+
+    Example: targetacq validation --out validation.html
+    """
     output_path(out, ("html", "htm"), "the validation page")  # before any work
     if Path(out).is_dir():
         raise ValueError(f"cannot write {out!r}: it is a folder")

@@ -2619,8 +2619,8 @@ def _evaluate_json_inf(tmp: Path, capsys: Any) -> None:
     """+inf in --out x.json (the SCR where no clutter is measured) is "inf", not null (NaN)."""
     out = tmp / "x.json"
     _ok(capsys, ["evaluate", str(FUSED), "--out", str(out)])
-    rows = json.loads(out.read_text(), parse_constant=lambda c: pytest.fail(f"{c}: not JSON"))
-    scr = [row["scr"] for row in rows]
+    document = json.loads(out.read_text(), parse_constant=lambda c: pytest.fail(f"{c}: not JSON"))
+    scr = [row["scr"] for row in document["rows"]]  # {"meta": provenance, "rows": [...]}
     assert scr and all(v == "inf" for v in scr), f"+inf written as {sorted(set(map(str, scr)))}"
 
 

@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: run test lint typecheck bench docs clean
+.PHONY: run test lint typecheck bench docs package clean
 
 $(BIN)/activate:
 	$(PYTHON) -m venv $(VENV)
@@ -39,7 +39,11 @@ test: $(VENV)/.installed-test lint typecheck
 
 # The documentation site, warnings as errors: build/docs/index.html.
 docs: $(VENV)/.installed-docs
-	$(BIN)/sphinx-build -W --keep-going -q -b html docs build/docs
+	$(BIN)/sphinx-build -E -W --keep-going -q -b html docs build/docs
+
+# The sdist and the wheel, installed into a fresh venv and run from outside the repository.
+package: $(VENV)/.installed-test
+	bash .ci/package
 
 bench: $(VENV)/.installed-test
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done

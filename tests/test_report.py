@@ -149,7 +149,7 @@ def test_report_of_a_scenario(tmp_path):
     assert page.count("data:image/png;base64,") == 6
     assert "HFOV × VFOV" in page and "critical dimension" in page
     assert "seed 0" in page
-    assert "MODEL.md" not in page
+    assert "errata and assumptions: see the targetacq user guide" in page
     assert "A Probabilistic Approach to Conceptual Sensor Modeling" in page
     assert "https://www.diva-portal.org/smash/get/diva2:20633/FULLTEXT01.pdf" in page
 

@@ -266,6 +266,7 @@ NOT_KERNELS = {
     "SceneAcquisition",
     "Simulation",
     "get_criterion",
+    "sweep",  # text options in, a Dataset out: NaN ranges are tested in test_studies
     "obscurant_extinction",  # names of Table 7.1
     "clutter_region",  # test_clutter_region_keeps_nan_as_no_region
     "transform",  # the registry below

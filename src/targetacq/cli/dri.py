@@ -69,7 +69,10 @@ def atmosphere_command(
     visibility_convention: ConventionOption = None,
     output_format: FormatOption = "table",
 ) -> None:
-    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path."""
+    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path.
+
+    Example: targetacq atmosphere --range 1km,2km,5km --band lwir --obscurant haze
+    """
     option_choice(output_format, FORMATS, "--format")
     lengths = [
         option_quantity(part, "length", "--range", zero_allowed=True) for part in range_.split(",")

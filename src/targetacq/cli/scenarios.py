@@ -57,7 +57,10 @@ ScenarioArgument = Annotated[
 def validate(scenario: Annotated[str, typer.Argument(metavar="SCENARIO")]) -> None:
     """Check a scenario file without running it: every check `evaluate` makes (the files it
     names, image boxes, terrain classes, the run's size). Every problem is one line on stderr
-    (exit status 2)."""
+    (exit status 2).
+
+    Example: targetacq validate examples/two_sensors_fused.toml
+    """
     try:
         loaded = load_scenario(scenario)
         problems = [f"{scenario}: {problem}" for problem in check_runnable(loaded)]

@@ -39,6 +39,25 @@ def test_version_prints_the_package_version(capsys):
     assert targetacq.__version__ == "0.1.0"
 
 
+# --- an example in every command's help --------------------------------------------------------
+
+
+def test_every_command_help_has_an_example(capsys):
+    missing = []
+    for name, command in all_commands().items():
+        for path, _ in _subcommands(command, (name,)):
+            code, out, _ = run(capsys, *path, "--help")
+            assert code == 0
+            lines = [line.strip(" │") for line in out.splitlines()]
+            examples = [line for line in lines if line.startswith("Example: targetacq ")]
+            if not examples:
+                missing.append(" ".join(path))
+    code, out, _ = run(capsys, "--help")
+    if "Example: targetacq " not in out:
+        missing.append("(targetacq itself)")
+    assert missing == [], f"commands whose --help has no 'Example: targetacq ...' line: {missing}"
+
+
 # --- the command table of the lazy root --------------------------------------------------------
 
 

@@ -267,6 +267,8 @@ NOT_KERNELS = {
     "Simulation",
     "get_criterion",
     "sweep",  # text options in, a Dataset out: NaN ranges are tested in test_studies
+    "required_ifov",  # solvers (bisection): test_design.py::test_nan_in_nan_out
+    "required_focal_length",
     "obscurant_extinction",  # names of Table 7.1
     "clutter_region",  # test_clutter_region_keeps_nan_as_no_region
     "transform",  # the registry below

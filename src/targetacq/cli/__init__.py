@@ -214,7 +214,9 @@ def _complete(names: Any, **kwargs: Any) -> Any:
 FormatOption = Annotated[
     str,
     typer.Option(
-        "--format", help=f"Output: {', '.join(FORMATS)}.", autocompletion=_complete(FORMATS)
+        "--format",
+        help=f"Output: {', '.join(FORMATS)}.",
+        autocompletion=_complete(FORMATS, separator=None),
     ),
 ]
 
@@ -243,7 +245,8 @@ def __getattr__(name: str) -> Any:
     from targetacq.bands import BANDS
     from targetacq.cli.params import Quantity
 
-    length, extinction = Quantity("length", lists=False), Quantity("extinction", lists=False)
+    length = Quantity("length", "--visibility", lists=False)
+    extinction = Quantity("extinction", "--extinction", lists=False)
     options = {
         "BandOption": typer.Option(
             help=f"Sensor band: {', '.join(BANDS)} or e.g. 8-12um.",

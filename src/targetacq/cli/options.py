@@ -40,7 +40,7 @@ def _parameter(spec: OptionSpec) -> inspect.Parameter:
     lists = LIST_SEPARATORS.get(spec.name, ",") == ","
     extra: dict[str, Any] = {}
     if spec.quantity is not None:
-        quantity = Quantity(spec.quantity, lists=lists)
+        quantity = Quantity(spec.quantity, spec.flag, lists=lists)
         extra.update(parser=quantity, metavar=quantity.metavar)
     if spec.choices is not None:
         levels = _obscurant_levels() if spec.name == "obscurant" else ()

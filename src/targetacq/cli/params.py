@@ -6,7 +6,7 @@ itself (a list of choices is never written twice).
 
 Examples
 --------
->>> Quantity("length")("35mm,50mm")
+>>> Quantity("length", "--focal-length")("35mm,50mm")
 '35mm,50mm'
 >>> complete_names(("johnson", "johnson-1958", "nvtherm"))("nvtherm,jo")
 ['nvtherm,johnson', 'nvtherm,johnson-1958']
@@ -21,7 +21,15 @@ import typer
 
 from targetacq.units import DIMENSIONS, parse_quantity
 
-__all__ = ["Quantity", "complete_names"]
+__all__ = ["Quantity", "QuantityError", "complete_names"]
+
+
+class QuantityError(typer.BadParameter):
+    """A quantity option's bad value: its message alone names the option and the value (no
+    ``Invalid value for ...`` prefix), as every other check of the option's value does."""
+
+    def format_message(self) -> str:
+        return self.message
 
 
 class Quantity:
@@ -30,30 +38,34 @@ class Quantity:
     Each item of a comma-separated list (a sweep's values) must parse with
     :func:`targetacq.units.parse_quantity` (a finite number with a unit of that kind) when the
     command line is parsed; the text is passed on unchanged, to be converted where it is used.
-    A bad item stops the command with one line naming the option and the item. (Typer takes a
-    parameter type as a ``parser`` callable and a ``metavar``: :attr:`metavar`.)
+    A bad item stops the command with one line naming the option and the item
+    (:class:`QuantityError`). Typer takes a parameter type as a ``parser`` callable and a
+    ``metavar``: :attr:`metavar`.
 
     Parameters
     ----------
     kind : str
         A key of :data:`targetacq.units.DIMENSIONS` (``"length"``, ``"angle"``, ...).
+    name : str
+        The option's name in error messages, e.g. ``"--pitch"``.
     lists : bool
         Whether the option takes a comma-separated list of values (default True).
 
     Examples
     --------
-    >>> Quantity("angle")("12deg"), Quantity("length").metavar
+    >>> Quantity("angle", "--hfov")("12deg"), Quantity("length", "--pitch").metavar
     ('12deg', 'LENGTH[,...]')
-    >>> Quantity("length")("35mm,50kg")  # doctest: +ELLIPSIS
+    >>> Quantity("length", "--pitch")("35mm,50kg")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    typer._click.exceptions.BadParameter: '50kg' is not a length (e.g. 17 um, 75 mm, ...
+    targetacq.cli.params.QuantityError: --pitch: '50kg' is not a length (e.g. 17 um, 75 mm, ...
     """
 
-    def __init__(self, kind: str, *, lists: bool = True) -> None:
+    def __init__(self, kind: str, name: str, *, lists: bool = True) -> None:
         if kind not in DIMENSIONS:
             raise ValueError(f"kind must be one of {', '.join(DIMENSIONS)}; got {kind!r}")
         self.kind = kind
+        self.name = name
         self.lists = lists
 
     @property
@@ -69,14 +81,13 @@ class Quantity:
             if not item.strip():
                 continue  # an empty item is reported with its list by services.options
             try:
-                parse_quantity(item.strip(), self.kind, item.strip())
+                parse_quantity(item.strip(), self.kind, self.name)
             except ValueError as error:
-                message = str(error).removeprefix(f"{item.strip()}: ")
-                raise typer.BadParameter(message) from None
+                raise QuantityError(str(error)) from None
         return text
 
     def __repr__(self) -> str:
-        return f"Quantity({self.kind!r})"
+        return f"Quantity({self.kind!r}, {self.name!r})"
 
 
 def complete_names(

@@ -340,6 +340,15 @@ def write_output(output: Output, path: str | Path) -> Path:
     ValueError
         If the suffix is not one of :data:`OUTPUT_FORMATS`, or (``OutputError``) the file
         cannot be written: the message names the file and the reason.
+    Examples
+    --------
+    >>> import json, tempfile, xarray as xr
+    >>> ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    >>> result = Output(ds, provenance({"noise_model": "variance-sum"}))
+    >>> out = write_output(result, f"{tempfile.mkdtemp()}/r.json")
+    >>> document = json.loads(out.read_text())
+    >>> document["meta"]["variables"]["snr"]["units"], document["rows"]
+    ('dB', [{'time': 0.0, 'snr': 3.0}])
     """
     out, kind = output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)
     writer = OUTPUT_FORMATS[kind]

@@ -163,6 +163,13 @@ def write_directory_atomically(out: Path, write: Callable[[Path], object]) -> Pa
     ------
     OutputError
         If the folder cannot be written (any ``OSError``); nothing is left behind.
+    Examples
+    --------
+    >>> import tempfile
+    >>> store = Path(tempfile.mkdtemp()) / "s.zarr"
+    >>> _ = write_directory_atomically(store, lambda p: (p / ".zgroup").write_text("{}"))
+    >>> sorted(q.name for q in store.iterdir())
+    ['.zgroup']
     """
     target = _resolved(out)
     _check_replaceable_folder(out, target)

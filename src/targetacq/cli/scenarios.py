@@ -207,6 +207,8 @@ def simulate(
                 f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}"
                 f"{row['t10_s']:>9.3g}{row['t50_s']:>9.3g}{row['t90_s']:>9.3g}"
             )
+        if out is not None:
+            lines += ["", f"wrote {out}"]
         typer.echo("\n".join(lines))
     else:
         rows = [dict(r) for r in summary.to_dict(orient="records")]

@@ -95,7 +95,11 @@ def sweep(
         write_sweep(ds, out)
     if figure is not None:
         write_figure(ds, figure)
-    typer.echo(render_sweep(ds, output_format), nl=False)
+    text = render_sweep(ds, output_format)
+    if output_format == "table":
+        written = [f"wrote {name}\n" for name in (out, figure) if name is not None]
+        text += "\n" + "".join(written) if written else ""
+    typer.echo(text, nl=False)
 
 
 def run_sweep(case_options: dict[str, Any], **kwargs: Any) -> Any:

@@ -8,7 +8,8 @@ touching this file. Each test runs in a temporary folder holding a copy of the r
   ...`` line of a ```` ```console ```` block (``\\`` continuations joined, ``#`` comments
   dropped), and every inline ```targetacq ...``` span of the prose (unless it has a placeholder
   such as ``NAME``); ``make ...`` lines are left to CI. Each must exit with status 0 under umask
-  022, and each file it writes (``--out``, ``--overlay``) must exist with mode 0644;
+  022, and each file it writes (``--out``, ``--overlay``, ``--figure``) must exist with mode
+  0644 (a Zarr folder 0755);
 - Python: the ```` ```python ```` blocks, in order, in one interpreter (they share names).
 """
 
@@ -37,7 +38,7 @@ README = ROOT / "README.md"
 EXAMPLES = ROOT / "examples"
 
 # Options naming a file the command writes.
-OUTPUT_OPTIONS = ("--out", "--overlay")
+OUTPUT_OPTIONS = ("--out", "--overlay", "--figure")
 SHELL_OPERATORS = {"|", "||", "&&", ";", ">", ">>", "<", "2>", "&"}
 PLACEHOLDER = re.compile(r"^[A-Z][A-Z0-9_]{1,}$")
 FENCE = re.compile(r"^```(\S*)\s*$")
@@ -249,9 +250,19 @@ def test_readme_command_runs_as_written(
     assert out.strip() or outputs(argv), f"{command}: printed nothing and wrote nothing"
     for name in outputs(argv):
         path = workdir / name
-        assert path.is_file() and path.stat().st_size > 0, f"{command}: no {name} written"
-        mode = stat.S_IMODE(path.stat().st_mode)
-        assert mode == 0o644, f"{command}: {name} has mode {mode:o} under umask 022, not 644"
+        if path.is_dir():  # a Zarr store: a folder of files
+            written = [p for p in path.rglob("*") if p.is_file()]
+            assert written, f"{command}: {name} is an empty folder"
+            expected = {path: 0o755, **dict.fromkeys(written, 0o644)}
+        else:
+            assert path.is_file() and path.stat().st_size > 0, f"{command}: no {name} written"
+            expected = {path: 0o644}
+        for item, want in expected.items():
+            mode = stat.S_IMODE(item.stat().st_mode)
+            assert mode == want, (
+                f"{command}: {item.relative_to(workdir)} has mode {mode:o} under umask 022, "
+                f"not {want:o}"
+            )
     if seconds > SLOW_SECONDS:  # worth knowing; not a failure
         print(f"slow README command ({seconds:.0f} s): {command}")
 

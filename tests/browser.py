@@ -6,6 +6,8 @@ import subprocess
 import numpy as np
 from PIL import Image
 
+from targetacq.report import HEADLESS_CHROMIUM_FLAGS
+
 BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
 
 DETECTION_BLUE = np.array([0x1F, 0x77, 0xB4])  # the detection curves' colour in the figures
@@ -17,14 +19,7 @@ def screenshot(page, tmp_path, height):
     subprocess.run(
         [
             BROWSER,
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
+            *HEADLESS_CHROMIUM_FLAGS,
             f"--user-data-dir={tmp_path / 'profile'}",
             f"--window-size=1200,{height}",
             f"--screenshot={shot}",

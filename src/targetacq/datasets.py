@@ -340,6 +340,7 @@ def write_output(output: Output, path: str | Path) -> Path:
     ValueError
         If the suffix is not one of :data:`OUTPUT_FORMATS`, or (``OutputError``) the file
         cannot be written: the message names the file and the reason.
+
     Examples
     --------
     >>> import json, tempfile, xarray as xr

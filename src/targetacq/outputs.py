@@ -163,6 +163,7 @@ def write_directory_atomically(out: Path, write: Callable[[Path], object]) -> Pa
     ------
     OutputError
         If the folder cannot be written (any ``OSError``); nothing is left behind.
+
     Examples
     --------
     >>> import tempfile

@@ -22,7 +22,9 @@ from targetacq.services.options import (
     RANGE_CASE_OPTIONS,
     option_lists,
     option_product,
+    split_list,
 )
+from targetacq.services.range_case import option_probabilities
 
 __all__ = ["SERIAL_LIMIT", "sweep", "sweep_rows"]
 
@@ -80,15 +82,6 @@ def _text_options(options: Mapping[str, Any]) -> dict[str, Any]:
             value = separator.join(texts)
         out[name] = value
     return out
-
-
-def _probabilities(text: str) -> list[float]:
-    parts = [part.strip() for part in text.split(",")]
-    if any(part == "" for part in parts):
-        raise ValueError(f"--probability: empty item in the list {text!r}")
-    if len(set(parts)) != len(parts):
-        raise ValueError(f"--probability: a value appears twice in the list {text!r}")
-    return [float(part) for part in parts]  # range_setup checks each is in (0, 1)
 
 
 def _point(
@@ -218,7 +211,9 @@ def sweep(
     lists = option_lists(text)
     product = option_product(text)
     points = [full for _, full in product]
-    probabilities = _probabilities(text["probability"] or default_probability)
+    probability_text = text["probability"] or default_probability
+    split_list("--probability", probability_text)  # a coordinate: no empty or repeated value
+    probabilities = option_probabilities(probability_text)
     # The first point checked here, before any cluster starts: most mistakes show at once.
     _point(dict(points[0]), grid, default_probability)
     blocks = _blocks(points, chunk_size, scheduler, workers)

@@ -28,10 +28,10 @@ from targetacq.scenario import load_scenario
 from targetacq.services.options import option_product, typed_options
 from targetacq.services.range_case import (
     RangeSetup,
-    _probabilities,
     option_band,
     option_choice,
     option_criterion,
+    option_probabilities,
     option_quantity,
     range_setup,
 )
@@ -53,12 +53,13 @@ def _given(case_options: dict[str, Any]) -> set[str]:
     return {name for name, value in case_options.items() if value not in (None, False)}
 
 
-_SOURCES = (
-    "Sonesson, M. (2004), A Probabilistic Approach to Conceptual Sensor Modeling, Master's thesis "
-    "LiTH-ISY-EX-3428, Linköping University, "
-    "https://www.diva-portal.org/smash/get/diva2:20633/FULLTEXT01.pdf; errata and assumptions: "
-    "see the targetacq user guide"
-)
+def _sources() -> str:
+    """The model's source as a report prints it: the thesis, and where our errata and
+    assumptions are written down (targetacq.report, with matplotlib, is imported on use)."""
+    from targetacq.report import THESIS_CITATION
+
+    return f"{THESIS_CITATION}; errata and assumptions: see the targetacq user guide"
+
 
 _FLOOR = 0.02
 """Automatic range axes extend until every task's probability is below this."""
@@ -345,7 +346,7 @@ def report(
                 f"--probability, --max-range and --title only, got {flags}"
             )
         probability = case_options.get("probability") or _REPORT_PROBABILITIES
-        parts = _scenario_report(scenario, max_range, title, _probabilities(probability))
+        parts = _scenario_report(scenario, max_range, title, option_probabilities(probability))
     else:
         parts = _range_case_report(case_options, max_range, title)
     heading, performance, sections, figures, captions = parts
@@ -517,7 +518,7 @@ def _scenario_report(
             "criteria": "; ".join(dict.fromkeys(f"{c.name} ({c.source})" for c in chain.criteria)),
             "fusion": "sensor level, P = 1 − Π(1 − P_s) over the sensors (Eq. (8.4))",
             "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-            "sources": _SOURCES,
+            "sources": _sources(),
         },
     }
     figures = {
@@ -677,7 +678,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         else "none given: detection uses the transform",
         "cycles on target": "N = (d / R) / cycle, small angle (Fig. 3.3)",
         "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-        "sources": _SOURCES,
+        "sources": _sources(),
     }
     return {
         "Sensor": sensor,

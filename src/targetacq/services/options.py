@@ -36,6 +36,7 @@ __all__ = [
     "option_coverage",
     "option_lists",
     "option_product",
+    "split_list",
     "typed_options",
 ]
 
@@ -330,14 +331,30 @@ def option_lists(case_options: dict[str, Any]) -> dict[str, list[Any]]:
         separator = LIST_SEPARATORS.get(name, ",")
         if separator is None or separator not in value:
             continue
-        parts = [part.strip() for part in value.split(separator)]
-        flag = _SPECS[name].flag
-        if any(part == "" for part in parts):
-            raise ValueError(f"{flag}: empty item in the list {value!r}")
-        if len(set(parts)) != len(parts):
-            raise ValueError(f"{flag}: a value appears twice in the list {value!r}")
+        parts = split_list(_SPECS[name].flag, value, separator)
         lists[name] = [_typed(name, part) for part in parts]
     return lists
+
+
+def split_list(flag: str, text: str, separator: str = ",") -> list[str]:
+    """The items of a list given as text, stripped of spaces.
+
+    Raises
+    ------
+    ValueError
+        If an item is empty or a value appears twice, naming ``flag``.
+
+    Examples
+    --------
+    >>> split_list("--probability", "0.5, 0.9")
+    ['0.5', '0.9']
+    """
+    parts = [part.strip() for part in text.split(separator)]
+    if any(part == "" for part in parts):
+        raise ValueError(f"{flag}: empty item in the list {text!r}")
+    if len(set(parts)) != len(parts):
+        raise ValueError(f"{flag}: a value appears twice in the list {text!r}")
+    return parts
 
 
 def option_product(case_options: dict[str, Any]) -> list[tuple[dict[str, Any], dict[str, Any]]]:

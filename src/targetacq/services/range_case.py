@@ -43,6 +43,7 @@ __all__ = [
     "option_choice",
     "option_criterion",
     "option_path",
+    "option_probabilities",
     "option_quantity",
     "range_setup",
 ]
@@ -115,7 +116,8 @@ def _number(value: float, option: str, valid: str) -> float:
     return value
 
 
-def _probabilities(text: str) -> list[float]:
+def option_probabilities(text: str) -> list[float]:
+    """The probabilities of ``--probability`` text (comma-separated), each in (0, 1)."""
     values = []
     for part in text.split(","):
         try:
@@ -609,7 +611,9 @@ def range_setup(
         sensor=sensor,
         path=path,
         scene=scene,
-        probabilities=_probabilities(default_probability if probability is None else probability),
+        probabilities=option_probabilities(
+            default_probability if probability is None else probability
+        ),
     )
 
 

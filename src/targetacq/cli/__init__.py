@@ -306,6 +306,15 @@ def _csv(rows: list[dict[str, Any]], fieldnames: list[str] | None = None) -> str
     return buffer.getvalue()
 
 
+def _model_line(report: dict[str, Any]) -> str:
+    """The first line of a dri or design table: the criterion, the transform and its options."""
+    return (
+        f"criterion {report['criterion']}"
+        + (f", transform {report['transform']}" if report["transform"] else "")
+        + "".join(f", {k} {v}" for k, v in report["options"].items())
+    )
+
+
 def _render_rows(rows: list[dict[str, Any]], output_format: str) -> str:
     if output_format == "json":
         from targetacq.outputs import json_text

@@ -14,7 +14,7 @@ from typing import Annotated, Any
 
 import typer
 
-from targetacq.cli import FORMATS, FormatOption, _csv, app
+from targetacq.cli import FORMATS, FormatOption, _csv, _model_line, app
 from targetacq.cli.options import range_case_options
 from targetacq.outputs import json_text
 from targetacq.services.options import typed_options
@@ -234,9 +234,7 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         "ifov": "",
     }[solve_for]
     lines = [
-        f"criterion {report['criterion']}"
-        + (f", transform {report['transform']}" if report["transform"] else "")
-        + "".join(f", {k} {v}" for k, v in report["options"].items()),
+        _model_line(report),
         f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
         + (f"; {given}" if given else ""),
     ]

@@ -18,6 +18,7 @@ from targetacq.cli import (
     ObscurantOption,
     VisibilityOption,
     _csv,
+    _model_line,
     app,
 )
 from targetacq.cli.options import range_case_options
@@ -125,9 +126,7 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     sensor = report["sensor"]
     limit = "sampling" if math.isclose(sensor["cycle_rad"], 2 * sensor["ifov_rad"]) else "optics"
     lines = [
-        f"criterion {report['criterion']}"
-        + (f", transform {report['transform']}" if report["transform"] else "")
-        + "".join(f", {k} {v}" for k, v in report["options"].items()),
+        _model_line(report),
         _fov_line(sensor) + f"IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
         f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
         f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"

@@ -50,9 +50,13 @@ __all__ = [
     "OUTPUT_FORMATS",
     "Output",
     "annotate",
+    "json_head",
     "options_sha256",
+    "parquet_schema",
     "provenance",
     "sha256_file",
+    "stored_dataset",
+    "write_by_suffix",
     "write_output",
 ]
 
@@ -272,7 +276,19 @@ def _global_attributes(meta: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
-def _with_meta(output: Output) -> Any:
+def stored_dataset(output: Output) -> Any:
+    """The dataset as the .nc and .zarr writers store it: a shallow copy of ``output.dataset``
+    with the provenance as global attributes (``Conventions`` first; nested values as JSON
+    text) and every boolean variable as ``int8`` (netCDF has no booleans), attributes kept.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = annotate(xr.Dataset({"in_view": ("time", [True])}, coords={"time": [0.0]}))
+    >>> stored = stored_dataset(Output(ds, {"model": {"criterion": "johnson"}}))
+    >>> stored["in_view"].dtype, stored.attrs["model"], stored["in_view"].attrs["units"]
+    (dtype('int8'), '{"criterion": "johnson"}', '1')
+    """
     ds = output.dataset.copy()
     ds.attrs = {"Conventions": "CF-1.10", **_global_attributes(output.meta)}
     for name in ds.variables:
@@ -282,12 +298,54 @@ def _with_meta(output: Output) -> Any:
     return ds
 
 
+def parquet_schema(output: Output, schema: Any) -> Any:
+    """The Parquet schema of ``output``'s table: ``schema`` (pyarrow, e.g. of
+    ``pyarrow.Table.from_pandas(output.frame())``) with each column's units and long name as
+    field metadata and the provenance as JSON under the schema metadata key ``targetacq``
+    (the schema's other metadata, pandas' own, kept).
+
+    Examples
+    --------
+    >>> import json, pyarrow as pa, xarray as xr
+    >>> ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    >>> schema = parquet_schema(Output(ds, {"version": "0"}), pa.schema([("snr", pa.float64())]))
+    >>> schema.field("snr").metadata[b"units"], json.loads(schema.metadata[b"targetacq"])
+    (b'dB', {'version': '0'})
+    """
+    import pyarrow as pa
+
+    described = output.variables(schema.names)
+    fields = [
+        f.with_metadata({k.encode(): v.encode() for k, v in described.get(f.name, {}).items()})
+        for f in schema
+    ]
+    meta = {**(schema.metadata or {}), b"targetacq": json_text(output.meta, None).encode()}
+    return pa.schema(fields, metadata=meta)
+
+
+def json_head(output: Output, columns: Any) -> str:
+    """The start of a .json result, up to its rows: ``{"meta": {...}, "rows": `` with the
+    provenance and the units and long name of ``columns``; the rows (a JSON list,
+    :func:`targetacq.outputs.json_records`) and ``}`` and a newline follow.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    >>> document = json.loads(json_head(Output(ds, {"version": "0"}), ["snr"]) + "[]}")
+    >>> document["meta"]["version"], document["meta"]["variables"]["snr"]["units"]
+    ('0', 'dB')
+    """
+    meta = {**output.meta, "variables": output.variables(columns)}
+    return '{"meta": ' + json_text(meta, 1) + ',\n"rows": '
+
+
 def _write_netcdf(output: Output, path: Path) -> None:
-    _with_meta(output).to_netcdf(path, engine="netcdf4")
+    stored_dataset(output).to_netcdf(path, engine="netcdf4")
 
 
 def _write_zarr(output: Output, path: Path) -> None:
-    _with_meta(output).to_zarr(path, mode="w", zarr_format=2, consolidated=True)
+    stored_dataset(output).to_zarr(path, mode="w", zarr_format=2, consolidated=True)
 
 
 def _write_csv(output: Output, path: Path) -> None:
@@ -298,24 +356,14 @@ def _write_parquet(output: Output, path: Path) -> None:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    frame = output.frame()
-    table = pa.Table.from_pandas(frame, preserve_index=False)
-    described = output.variables(frame.columns)
-    fields = [
-        f.with_metadata({k.encode(): v.encode() for k, v in described.get(f.name, {}).items()})
-        for f in table.schema
-    ]
-    schema = pa.schema(fields, metadata=table.schema.metadata)
-    table = table.cast(schema).replace_schema_metadata(
-        {**(table.schema.metadata or {}), b"targetacq": json_text(output.meta, None).encode()}
-    )
-    pq.write_table(table, path)
+    table = pa.Table.from_pandas(output.frame(), preserve_index=False)
+    schema = parquet_schema(output, table.schema)
+    pq.write_table(table.cast(schema).replace_schema_metadata(schema.metadata), path)
 
 
 def _write_json(output: Output, path: Path) -> None:
     frame = output.frame()
-    meta = {**output.meta, "variables": output.variables(frame.columns)}
-    text = '{"meta": ' + json_text(meta, 1) + ',\n"rows": ' + json_records(frame) + "}\n"
+    text = json_head(output, frame.columns) + json_records(frame) + "}\n"
     path.write_text(text, encoding="utf-8")
 
 
@@ -330,6 +378,43 @@ OUTPUT_FORMATS: dict[str, Callable[[Output, Path], None]] = {
 
 DIRECTORY_FORMATS = ("zarr",)
 """The formats written as a folder."""
+
+
+def write_by_suffix(path: str | Path, write: Callable[[Path, str], object]) -> Path:
+    """Check ``path`` (:func:`targetacq.outputs.output_path`, before any work), then call
+    ``write(temporary, format)`` and rename the temporary file onto ``path``, or the temporary
+    folder for :data:`DIRECTORY_FORMATS` (:func:`targetacq.outputs.write_atomically`,
+    :func:`targetacq.outputs.write_directory_atomically`).
+
+    Parameters
+    ----------
+    path : path
+        The output, ending in one of the suffixes of :data:`OUTPUT_FORMATS`.
+    write : callable
+        ``write(temporary_path, format)``, the format being the suffix without its dot.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If the suffix is not one of :data:`OUTPUT_FORMATS`, or (``OutputError``) the file
+        cannot be written: the message names the file and the reason.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> out = write_by_suffix(f"{tempfile.mkdtemp()}/r.csv", lambda p, kind: p.write_text(kind))
+    >>> out.read_text()
+    'csv'
+    """
+    out, kind = output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)
+    if kind in DIRECTORY_FORMATS:
+        return write_directory_atomically(out, lambda p: write(p, kind))
+    return write_atomically(out, lambda p: write(p, kind))
 
 
 def write_output(output: Output, path: str | Path) -> Path:
@@ -351,8 +436,4 @@ def write_output(output: Output, path: str | Path) -> Path:
     >>> document["meta"]["variables"]["snr"]["units"], document["rows"]
     ('dB', [{'time': 0.0, 'snr': 3.0}])
     """
-    out, kind = output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)
-    writer = OUTPUT_FORMATS[kind]
-    if kind in DIRECTORY_FORMATS:
-        return write_directory_atomically(out, lambda p: writer(output, p))
-    return write_atomically(out, lambda p: writer(output, p))
+    return write_by_suffix(path, lambda p, kind: OUTPUT_FORMATS[kind](output, p))

@@ -85,7 +85,7 @@ def evaluate(
         str | None,
         typer.Option(
             help="Write every sensor-target-time row: .csv, .json, .parquet, .nc (netCDF) or "
-            ".zarr (units and provenance in all but CSV)."
+            ".zarr (units and provenance in all but CSV), chunk by chunk as it is evaluated."
         ),
     ] = None,
     output_format: FormatOption = "table",
@@ -93,46 +93,99 @@ def evaluate(
     """Evaluate all sensors x targets x times of a scenario; print the peak fused
     probabilities per target (and write the full table with --out).
 
+    The run is evaluated and written chunk by chunk (a block of targets and times at a time;
+    a progress bar on stderr when it is a terminal), so its memory does not grow with its size.
+
     Example: targetacq evaluate examples/two_sensors_fused.toml --out results.nc
     """
+    from targetacq.streaming import chunk_sizes, write_chunks
+
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
         output_path(out, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)  # before work
     loaded, source = _scenario_path(scenario)
-    results = _chain(loaded, source).evaluate()
-    if out is not None:
-        results.write(out, {"scenario_file": source, "scenario_file_sha256": sha256_file(source)})
-    ds = results.dataset
+    chain = _chain(loaded, source)
+    n_sensors, n_targets = len(chain.sensor_names), len(chain.target_names)
+    times = np.asarray(loaded.time.times())
+    peaks = _Peaks(n_targets)
+    from rich.progress import Progress
+
+    with Progress(
+        transient=True, disable=not sys.stderr.isatty(), console=_stderr_console()
+    ) as bar:
+        task = bar.add_task("evaluating", total=n_sensors * n_targets * times.size)
+
+        def done(targets: slice, at: np.ndarray, arrays: dict[str, np.ndarray]) -> None:
+            peaks.add(targets, at, arrays)
+            bar.advance(task, n_sensors * (targets.stop - targets.start) * at.size)
+
+        if out is not None:
+            meta = {"scenario_file": source, "scenario_file_sha256": sha256_file(source)}
+            write_chunks(chain, out, times, meta=meta, on_chunk=done)
+        else:
+            per_target, per_time = chunk_sizes(n_sensors, n_targets, times.size)
+            for chunk in chain.evaluate_chunks(times, per_target, per_time):
+                done(*chunk)
     rows = []
-    for target in ds["target"].values:
+    for g, target in enumerate(chain.target_names):
         row: dict[str, Any] = {"target": str(target)}
-        for task in ("detection", "recognition", "identification"):
-            series = ds[f"fused_{task}"].sel(target=target).values
-            best = int(np.argmax(series))
-            row[f"peak_{task}"] = float(series[best])
-            row[f"at_{task}_s"] = float(ds["time"][best])
-        row["in_view_steps"] = int(ds["in_view"].sel(target=target).any("sensor").sum())
+        for name in _TASKS:
+            row[f"peak_{name}"] = float(peaks.value[name][g])
+            row[f"at_{name}_s"] = float(peaks.at[name][g])
+        row["in_view_steps"] = int(peaks.in_view_steps[g])
         rows.append(row)
     if output_format == "table":
         lines = [
             f"{loaded.name or 'scenario'}: {len(loaded.sensors)} sensor(s), "
-            f"{len(loaded.targets)} target(s), {ds.sizes['time']} time(s); peak fused "
+            f"{len(loaded.targets)} target(s), {times.size} time(s); peak fused "
             "probability over time (and when)",
             "",
             f"{'target':<16}{'detection':>18}{'recognition':>18}{'identification':>18}"
             f"{'in view':>9}",
         ]
         for row in rows:
-            cells = "".join(
-                f"{row[f'peak_{k}']:>9.3f} @{row[f'at_{k}_s']:>6.0f} s"
-                for k in ("detection", "recognition", "identification")
-            )
+            cells = "".join(f"{row[f'peak_{k}']:>9.3f} @{row[f'at_{k}_s']:>6.0f} s" for k in _TASKS)
             lines.append(f"{row['target']:<16}{cells}{row['in_view_steps']:>9}")
         if out is not None:
             lines += ["", f"wrote {out}"]
         typer.echo("\n".join(lines))
     else:
         typer.echo(_render_rows(rows, output_format), nl=False)
+
+
+_TASKS = ("detection", "recognition", "identification")
+
+
+class _Peaks:
+    """Per target, the peak of each fused probability over time and its time, and the steps
+    with the target in some sensor's view, gathered chunk by chunk (chunks of a block of
+    targets come in time order).
+
+    The peak is the one ``np.argmax`` finds over the whole series: the first maximum, or the
+    first NaN where there is one (a NaN wins, as in ``np.argmax``).
+    """
+
+    def __init__(self, n_targets: int) -> None:
+        self.value = {task: np.full(n_targets, np.nan) for task in _TASKS}
+        self.at = {task: np.full(n_targets, np.nan) for task in _TASKS}
+        self.in_view_steps = np.zeros(n_targets, dtype=np.int64)
+        self._seen = np.zeros(n_targets, dtype=bool)
+
+    def add(self, targets: slice, times: np.ndarray, arrays: dict[str, np.ndarray]) -> None:
+        if times.size == 0:
+            return
+        seen = self._seen[targets]
+        for task in _TASKS:
+            series = arrays[f"fused_{task}"]  # (targets, times)
+            best = np.argmax(series, axis=-1)
+            value = np.take_along_axis(series, best[:, None], axis=-1)[:, 0]
+            current = self.value[task][targets]
+            later = ~np.isnan(current) & (np.isnan(value) | (value > current))
+            take = ~seen | later
+            self.value[task][targets] = np.where(take, value, current)
+            self.at[task][targets] = np.where(take, times[best], self.at[task][targets])
+        self._seen[targets] = True
+        self.in_view_steps[targets] += arrays["in_view"].any(axis=0).sum(axis=-1)
 
 
 @app.command()

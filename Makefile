@@ -14,10 +14,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
-# Tests cover the optional backends too: JAX (the core under jit/grad), Gymnasium, Dask, and
-# the docs extension that renders the registries (Sphinx).
+# Tests cover the optional backends too: numba and JAX (the engines; the core under jit/grad),
+# Gymnasium, Dask, and the docs extension that renders the registries (Sphinx).
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test,jax,rl,sweep,docs]'
+	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs]'
 	touch $@
 
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/activate

@@ -51,7 +51,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from pydantic import ValidationError
 
-from targetacq import _arrays, core
+from targetacq import _arrays, core, engines
 from targetacq.core.evaluate import footprint_scr
 from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
@@ -183,6 +183,10 @@ class Simulation:
         Criterion, transform, noise model and the search time ``search_time`` [s].
     seed : int
         Seed of the random outcomes, >= 0.
+    engine : str
+        The compute engine for NumPy positions (:data:`targetacq.engines.ENGINES`: ``numpy``,
+        the default and reference, ``numba``, ``jax`` or ``auto``); JAX positions always go
+        through the array core in JAX.
 
     Attributes
     ----------
@@ -225,7 +229,9 @@ class Simulation:
         atmosphere: Any = None,
         model: Any = None,
         seed: int = 0,
+        engine: str = "numpy",
     ) -> None:
+        chosen = engines.get_engine(engine)
         sensors = [_record(s) for s in sensors]
         targets = [_record(t) for t in targets]
         for k, sensor in enumerate(sensors):
@@ -244,10 +250,12 @@ class Simulation:
             scenario = Scenario.model_validate(data)
         except ValidationError as error:
             raise ScenarioError(f"Simulation: {_located(error)}") from None
-        self._setup(scenario, seed)
+        self._setup(scenario, seed, chosen)
 
     @classmethod
-    def from_scenario(cls, scenario: Scenario | str | Path, seed: int = 0) -> Simulation:
+    def from_scenario(
+        cls, scenario: Scenario | str | Path, seed: int = 0, engine: str = "numpy"
+    ) -> Simulation:
         """A simulation of a scenario's sensors, targets, background, atmosphere and model.
 
         Parameters
@@ -258,22 +266,27 @@ class Simulation:
             (:func:`targetacq.core.scenario_positions` turns its scripted paths into them).
         seed : int
             >= 0.
+        engine : str
+            As for :class:`Simulation`.
 
         Returns
         -------
         Simulation
         """
+        chosen = engines.get_engine(engine)
         if not isinstance(scenario, Scenario):
             scenario = load_scenario(scenario)
         sim = cls.__new__(cls)
-        sim._setup(scenario, seed)
+        sim._setup(scenario, seed, chosen)
         return sim
 
-    def _setup(self, scenario: Scenario, seed: int) -> None:
+    def _setup(self, scenario: Scenario, seed: int, engine: engines.Engine) -> None:
         self.scenario = scenario
         self.compiled = core.compile_scenario(scenario)
         scene = self.compiled.scene
         self._scene = scene
+        self._bound = engine.bind(scene)
+        self.engine: str = self._bound.engine
         self._terrain = self.compiled.terrain
         self._jax_scene: Any = None
         self._signal = np.asarray(scene.signature.target)
@@ -368,8 +381,15 @@ class Simulation:
         )
 
     def _evaluate(self, s_pos: Any, t_pos: Any, head: Any, point: Any) -> tuple[Any, Any]:
+        on_host = isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray)
+        if on_host and self.engine != "numpy":
+            found = self._bound.factors(s_pos, t_pos, head, point)
+            if self._terrain is not None:
+                scr = footprint_scr(self._terrain, found.range, t_pos, self._signal, self._ifov)
+                found = dataclasses.replace(found, scr=scr)
+            return found, self._bound.probabilities(found)
         if self._terrain is None:
-            if isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray):
+            if on_host:
                 scene = self._scene
             else:  # JAX arrays (or tracers): the scene's arrays in JAX too, made once
                 if self._jax_scene is None:

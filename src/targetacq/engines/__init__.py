@@ -1,0 +1,221 @@
+"""Compute engines: the array core run by NumPy (the reference), numba or JAX.
+
+An engine evaluates the core of :mod:`targetacq.core.evaluate` — factors, then probabilities
+and their fusion — for a scene. :data:`ENGINES` is the registry; pick one by name with
+``engine=`` in :class:`targetacq.ModelChain`, :class:`targetacq.Simulation` and the commands
+that evaluate (``--engine``):
+
+``numpy`` (default)
+    :mod:`targetacq.core.evaluate` itself: the reference, always available.
+``numba``
+    The same pipeline compiled into two fused loops (:mod:`targetacq.engines.numba_engine`);
+    ``pip install 'targetacq[fast]'``. Equal to the NumPy engine to about 1e-15 relative on
+    the probabilities and exactly on the field of view; the transforms ``ttpf`` and ``c2nveo``
+    and every noise model, motion rule and semantics of the registries.
+``jax``
+    The core under ``jax.jit`` in float64, on JAX's default device (a GPU where JAX has one);
+    NumPy arrays in and out. ``pip install 'targetacq[jax]'``.
+``auto``
+    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``.
+
+Every engine takes NumPy positions and gives the records of the core
+(:class:`targetacq.core.Factors`, :class:`targetacq.core.Probabilities`) in NumPy arrays, so
+the steps that follow (terrain clutter, the draws of the step API, the writers) do not depend
+on the engine.
+
+Examples
+--------
+>>> from targetacq.engines import ENGINES, get_engine
+>>> sorted(ENGINES)
+['auto', 'jax', 'numba', 'numpy']
+>>> get_engine("numpy").name
+'numpy'
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Callable
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any, Protocol
+
+from targetacq.registry import lookup
+
+__all__ = ["ENGINES", "BoundEngine", "Engine", "bind", "engine_names", "get_engine"]
+
+
+class BoundEngine(Protocol):
+    """An engine bound to one scene: what :func:`bind` returns."""
+
+    engine: str
+    """The engine's name (``auto`` resolved)."""
+
+    def factors(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        scr: Any = None,
+    ) -> Any:
+        """:func:`targetacq.core.factors` of the scene."""
+
+    def probabilities(self, found: Any) -> Any:
+        """:func:`targetacq.core.probabilities` of the scene."""
+
+
+@dataclass(frozen=True)
+class Engine:
+    """A compute engine in the registry.
+
+    Attributes
+    ----------
+    name : str
+    bind : callable
+        ``bind(scene) -> BoundEngine``.
+    module : str or None
+        The optional package it needs (None: none).
+    extra : str or None
+        The extra that installs it (``pip install 'targetacq[extra]'``).
+    description : str
+    """
+
+    name: str
+    bind: Callable[[Any], BoundEngine]
+    module: str | None
+    extra: str | None
+    description: str
+
+    def available(self) -> bool:
+        """Whether the package it needs is installed."""
+        return self.module is None or importlib.util.find_spec(self.module) is not None
+
+
+class NumpyScene:
+    """A scene bound to the NumPy engine: the core's functions, as they are."""
+
+    engine = "numpy"
+
+    def __init__(self, scene: Any) -> None:
+        self.scene = scene
+
+    def factors(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        scr: Any = None,
+    ) -> Any:
+        from targetacq.core.evaluate import factors
+
+        return factors(self.scene, sensor_positions, target_positions, headings, pointing, scr)
+
+    def probabilities(self, found: Any) -> Any:
+        from targetacq.core.evaluate import probabilities
+
+        return probabilities(self.scene, found)
+
+
+def _bind_numpy(scene: Any) -> BoundEngine:
+    return NumpyScene(scene)
+
+
+def _bind_numba(scene: Any) -> BoundEngine:
+    from targetacq.engines.numba_engine import NumbaScene
+
+    return NumbaScene(scene)
+
+
+def _bind_jax(scene: Any) -> BoundEngine:
+    from targetacq.engines.jax_engine import JaxScene
+
+    return JaxScene(scene)
+
+
+def _bind_auto(scene: Any) -> BoundEngine:
+    if ENGINES["numba"].available():
+        from targetacq.engines.numba_engine import supported
+
+        if supported(scene) is None:
+            return _bind_numba(scene)
+    return NumpyScene(scene)
+
+
+ENGINES = MappingProxyType(
+    {
+        "numpy": Engine("numpy", _bind_numpy, None, None, "the array core in NumPy: the reference"),
+        "numba": Engine(
+            "numba",
+            _bind_numba,
+            "numba",
+            "fast",
+            "the core's pipeline compiled by numba into two fused loops",
+        ),
+        "jax": Engine(
+            "jax",
+            _bind_jax,
+            "jax",
+            "jax",
+            "the array core under jax.jit in float64, on JAX's default device",
+        ),
+        "auto": Engine(
+            "auto", _bind_auto, None, None, "numba where installed and able, else numpy"
+        ),
+    }
+)
+"""Compute engines by name (read-only)."""
+
+
+def engine_names() -> tuple[str, ...]:
+    """The registered engines' names, for choices (CLI, schema, docs)."""
+    return tuple(ENGINES)
+
+
+def get_engine(engine: str | Engine) -> Engine:
+    """Resolve an engine by name.
+
+    Raises
+    ------
+    ValueError
+        An unknown name (listing the valid ones), or an engine whose package is not installed
+        (saying which extra installs it).
+
+    Examples
+    --------
+    >>> from targetacq.engines import get_engine
+    >>> get_engine("numpy").available()
+    True
+    """
+    chosen = engine if isinstance(engine, Engine) else lookup(ENGINES, engine, "engine")
+    if not chosen.available():
+        raise ValueError(
+            f"engine {chosen.name!r} needs the package {chosen.module!r}: "
+            f"pip install 'targetacq[{chosen.extra}]' (or use engine='numpy')"
+        )
+    return chosen
+
+
+def bind(scene: Any, engine: str | Engine = "numpy") -> BoundEngine:
+    """The engine bound to a scene (:class:`targetacq.core.SceneArrays`).
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    engine : str or Engine
+        :data:`ENGINES`.
+
+    Returns
+    -------
+    BoundEngine
+        With ``factors(sensor_positions, target_positions, headings=None, pointing=None,
+        scr=None)`` and ``probabilities(factors)``, as :mod:`targetacq.core.evaluate`.
+
+    Raises
+    ------
+    ValueError
+        An unknown or unavailable engine, or a scene it cannot evaluate (the message says
+        which choice).
+    """
+    return get_engine(engine).bind(scene)

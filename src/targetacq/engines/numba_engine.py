@@ -1,0 +1,310 @@
+"""The numba engine: the core's pipeline compiled, two fused loops per evaluation.
+
+:class:`NumbaScene` holds what the kernels of :mod:`targetacq.engines.numba_kernels` need of a
+scene, made once when the engine is bound to it (the curves of the tables, the noise law's
+anchors, the model choices as codes, the per-sensor and per-target arrays). Each evaluation then
+prepares the positions (the boresight and the sensor frame per sensor and batch element, with the
+NumPy core's own functions, so that the field-of-view test is the same to the last bit) and runs
+
+1. :func:`~targetacq.engines.numba_kernels.factors_kernel`: range, outline, critical dimension,
+   cycles, field of view, optical depth with segments and clouds, transmittance, SNR;
+2. :func:`~targetacq.engines.numba_kernels.probabilities_kernel`: noise, the transforms,
+   detection in clutter, hot spots and motion, the semantics, the field of view and the
+   sensor-level fusion (8.4).
+
+Terrain maps work as with NumPy: :func:`targetacq.core.evaluate.footprint_scr` gives the SCR per
+pair between the two loops. NumPy arrays only.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from targetacq import _arrays, geometry, noise, transforms
+from targetacq.acquisition import _low_clutter_scale
+from targetacq.core.evaluate import Factors, Probabilities, boresight
+from targetacq.core.records import SceneArrays
+from targetacq.engines import numba_kernels as kernels
+
+__all__ = ["NumbaScene", "supported"]
+
+_NOISE_CODES = {
+    "variance-sum": kernels.NOISE_VARIANCE_SUM,
+    "clutter-analogue": kernels.NOISE_CLUTTER_ANALOGUE,
+    "none": kernels.NOISE_IGNORED,
+}
+_TRANSFORM_CODES = {"ttpf": kernels.TRANSFORM_TTPF, "c2nveo": kernels.TRANSFORM_TABLE}
+_MOTION_CODES = {"low-clutter": kernels.MOTION_LOW_CLUTTER, "always": kernels.MOTION_ALWAYS}
+_SEMANTICS_CODES = {
+    "nested": kernels.SEMANTICS_NESTED,
+    "conditional": kernels.SEMANTICS_CONDITIONAL,
+}
+_TASKS = ("detection", "recognition", "identification")
+
+
+def supported(scene: SceneArrays) -> str | None:
+    """Why the numba engine cannot evaluate ``scene`` (None if it can).
+
+    It compiles the built-in choices: the transforms ``ttpf`` and ``c2nveo``, every noise model,
+    motion rule and semantics of the registries. A transform, noise model, motion rule or
+    semantics given as an object of one's own runs on the NumPy engine only.
+    """
+    choices = scene.choices
+    for what, value, codes in (
+        ("transform", choices.transform, _TRANSFORM_CODES),
+        ("noise model", choices.noise_model, _NOISE_CODES),
+        ("motion rule", choices.motion, _MOTION_CODES),
+        ("semantics", choices.semantics, _SEMANTICS_CODES),
+    ):
+        if not isinstance(value, str) or value not in codes:
+            return (
+                f"the numba engine compiles the {what}s {', '.join(codes)}; got {value!r}: use "
+                f"engine='numpy' for it"
+            )
+    return None
+
+
+def _curve_arrays(curves: list[Any]) -> tuple[np.ndarray, np.ndarray]:
+    """(len(curves), 3, K) cycles, log cycles, probabilities (padded) and the point counts."""
+    size = max(len(c.cycles) for c in curves)
+    table = np.full((len(curves), 3, size), np.nan)
+    counts = np.zeros(len(curves), dtype=np.int64)
+    for k, c in enumerate(curves):
+        count = len(c.cycles)
+        table[k, 0, :count] = c.cycles
+        table[k, 1, :count] = [math.log(n) for n in c.cycles]
+        table[k, 2, :count] = c.probabilities
+        counts[k] = count
+    return table, counts
+
+
+def _float(value: Any) -> np.ndarray:
+    return np.ascontiguousarray(np.asarray(value, dtype=np.float64))
+
+
+class NumbaScene:
+    """A scene bound to the numba engine (see the module docstring).
+
+    Parameters
+    ----------
+    scene : SceneArrays
+        With NumPy arrays.
+
+    Raises
+    ------
+    ValueError
+        A choice the engine does not compile (:func:`supported`).
+    """
+
+    engine = "numba"
+
+    def __init__(self, scene: SceneArrays) -> None:
+        reason = supported(scene)
+        if reason is not None:
+            raise ValueError(reason)
+        self.scene = scene
+        sensors, targets, path, choices = scene.sensors, scene.targets, scene.path, scene.choices
+        self.sensor_arrays = (
+            _float(sensors.cycle),
+            _float(sensors.ifov),
+        )
+        self.half_tangents = _float(sensors.half_tangents)
+        self.extinction = _float(sensors.extinction)
+        self.segment_length = _float(path.segment_length).reshape(-1)
+        self.segment_extinction = _float(sensors.segment_extinction).reshape(
+            len(sensors.names), self.segment_length.size
+        )
+        n_c = np.asarray(path.cloud_radius).size
+        self.clouds = _float(
+            np.column_stack(
+                [
+                    np.asarray(path.cloud_center, dtype=float).reshape(n_c, 3),
+                    np.asarray(path.cloud_radius, dtype=float).reshape(n_c),
+                    np.asarray(path.cloud_extinction, dtype=float).reshape(n_c),
+                ]
+            ).reshape(n_c, 5)
+        )
+        self.noise_equivalent = _float(sensors.noise_equivalent)
+        self.contrast = _float(scene.signature.contrast)
+        self.dimensions = _float(targets.dimensions).reshape(-1, 3)
+        self.visible_fraction = _float(targets.visible_fraction)
+        self.heading = _float(targets.heading)
+        self.n50 = _float(targets.n50).reshape(-1, 3)
+        self.hot_spot = np.ascontiguousarray(np.asarray(targets.hot_spot, dtype=bool))
+        self.moving = np.ascontiguousarray(np.asarray(targets.moving, dtype=bool))
+        with_snr = path.attenuates or sensors.has_noise
+        region = choices.region
+        self.settings = np.array(
+            [
+                _NOISE_CODES[choices.noise_model] if with_snr else kernels.NOISE_NONE_GIVEN,
+                int(noise.get_noise_model(choices.noise_model).combines_with_clutter),
+                _TRANSFORM_CODES[choices.transform],
+                kernels.REGION_NONE if region is None else transforms.CLUTTER_REGIONS.index(region),
+                _MOTION_CODES[choices.motion],
+                _SEMANTICS_CODES[choices.semantics],
+                0,  # has_scr: set per evaluation
+            ],
+            dtype=np.int64,
+        )
+        low, medium, alpha = noise._ratio_anchors()
+        self.noise_anchors = np.array([noise.QUADRATURE_CONSTANT, low, medium, alpha])
+        sw_curves = transforms._sw_curves()
+        self.sw, self.sw_count = _curve_arrays([sw_curves[r] for r in transforms.CLUTTER_REGIONS])
+        scr_low, _, sw_alpha = transforms._sw_high_anchor()
+        self.sw_constants = np.array(
+            [transforms._sw_reference_n50(), scr_low, sw_alpha, _low_clutter_scale()]
+        )
+        if choices.transform == "c2nveo":
+            bound = dict(choices.options).get("bound", "nominal")
+            curves = transforms._c2nveo_curves()
+            self.tables, self.table_count = _curve_arrays([curves[t, bound] for t in _TASKS])
+            self.table_reference = np.array([transforms._c2nveo_reference_n50(t) for t in _TASKS])
+        else:  # unused by the TTPF: a placeholder of the same types
+            self.tables, self.table_count = self.sw, self.sw_count
+            self.table_reference = np.ones(3)
+
+    # -- evaluation --------------------------------------------------------------------------
+
+    def factors(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        scr: Any = None,
+    ) -> Factors:
+        """As :func:`targetacq.core.factors` of the bound scene."""
+        xp, (s_pos, t_pos) = _arrays.arrays(
+            sensor_positions,
+            target_positions,
+            names=("sensor_positions", "target_positions"),
+            broadcast=False,
+        )
+        if xp is not np and not (isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray)):
+            raise ValueError(
+                "the numba engine takes NumPy arrays; for JAX arrays use engine='jax' or "
+                "engine='numpy'"
+            )
+        s_pos, t_pos = np.asarray(s_pos, dtype=float), np.asarray(t_pos, dtype=float)
+        for name, value in (("sensor_positions", s_pos), ("target_positions", t_pos)):
+            _arrays.require_finite(name, value, np, "m")
+        n_s, n_g = self.contrast.shape
+        batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
+        size = math.prod(batch)
+        sensors = np.ascontiguousarray(np.broadcast_to(s_pos, (n_s, *batch, 3))).reshape(
+            n_s, size, 3
+        )
+        targets = np.ascontiguousarray(np.broadcast_to(t_pos, (n_g, *batch, 3))).reshape(
+            n_g, size, 3
+        )
+        if headings is None:
+            heading = np.broadcast_to(
+                self.heading.reshape((n_g,) + (1,) * len(batch)), (n_g, *batch)
+            )
+        else:
+            heading = np.broadcast_to(np.asarray(headings, dtype=float), (n_g, *batch))
+        _arrays.require_finite("heading", heading, np, "rad")
+        heading = heading.reshape(n_g, size)
+        forward, pointed = boresight(s_pos, self.scene.sensors, pointing)
+        axes = (
+            np.broadcast_to(forward[0], (n_s, *batch)),
+            np.broadcast_to(forward[1], (n_s, *batch)),
+            np.broadcast_to(forward[2], (n_s, *batch)),
+        )
+        east = geometry.view_offsets(1.0, 0.0, 0.0, axes)
+        north = geometry.view_offsets(0.0, 1.0, 0.0, axes)
+        up = geometry.view_offsets(0.0, 0.0, 1.0, axes)
+        frame = np.stack(
+            [east[0], north[0], up[0], east[1], north[1], east[2], north[2], up[2]], axis=-1
+        ).reshape(n_s, size, 8)
+        out = [np.empty((n_s, n_g, size)) for _ in range(6)]
+        in_view = np.empty((n_s, n_g, size), dtype=bool)
+        cycle, ifov = self.sensor_arrays
+        kernels.factors_kernel(
+            sensors,
+            targets,
+            np.sin(heading),
+            np.cos(heading),
+            self.dimensions,
+            self.visible_fraction,
+            cycle,
+            ifov,
+            np.ascontiguousarray(frame),
+            self.half_tangents,
+            np.ascontiguousarray(np.asarray(pointed, dtype=bool).reshape(n_s)),
+            self.extinction,
+            self.segment_length,
+            self.segment_extinction,
+            self.clouds,
+            self.noise_equivalent,
+            self.contrast,
+            bool(self.scene.sensors.has_noise),
+            out[0],
+            out[1],
+            out[2],
+            in_view,
+            out[3],
+            out[4],
+            out[5],
+        )
+        shape = (n_s, n_g, *batch)
+        rng, critical, cycles, depth, tau, snr = (a.reshape(shape) for a in out)
+        if scr is None and self.scene.signature.scr is not None:
+            scr = np.asarray(self.scene.signature.scr, dtype=float).reshape(
+                (n_s, n_g) + (1,) * len(batch)
+            )
+        return Factors(
+            range=rng,
+            critical_dimension=critical,
+            cycles=cycles,
+            in_view=in_view.reshape(shape),
+            optical_depth=depth,
+            transmittance=tau,
+            snr=snr,
+            scr=scr,
+        )
+
+    def probabilities(self, found: Factors) -> Probabilities:
+        """As :func:`targetacq.core.probabilities` of the bound scene."""
+        rng = np.asarray(found.range, dtype=float)
+        shape = rng.shape
+        n_s, n_g = shape[:2]
+        size = math.prod(shape[2:])
+        flat = (n_s, n_g, size)
+        settings = self.settings.copy()
+        if found.scr is None:
+            scr = np.zeros((1, 1, 1))
+            scr_flat = np.broadcast_to(scr, flat)
+        else:
+            settings[6] = 1
+            scr_flat = np.broadcast_to(np.asarray(found.scr, dtype=float), shape).reshape(flat)
+        out = [np.empty(flat) for _ in range(3)]
+        fused = np.empty((3, n_g, size))
+        kernels.probabilities_kernel(
+            np.asarray(found.cycles, dtype=float).reshape(flat),
+            np.asarray(found.snr, dtype=float).reshape(flat),
+            scr_flat,
+            np.asarray(found.in_view, dtype=bool).reshape(flat),
+            rng.reshape(flat),
+            self.n50,
+            self.hot_spot,
+            self.moving,
+            settings,
+            self.noise_anchors,
+            self.tables,
+            self.table_count,
+            self.table_reference,
+            self.sw,
+            self.sw_count,
+            self.sw_constants,
+            out[0],
+            out[1],
+            out[2],
+            fused,
+        )
+        tasks = [a.reshape(shape) for a in out]
+        together = [f.reshape((n_g, *shape[2:])) for f in fused]
+        return Probabilities(*tasks, *together)

@@ -4,8 +4,10 @@ A scenario built in Python (thermal cameras pointed down at random azimuths over
 random places, haze, clutter from a temperature spread) is stepped at 10 Hz while the targets
 drive; the median wall time of one ``Simulation.step`` is compared with the median of
 :func:`targetacq.core.evaluate` on the same pairs (the kernel a step calls once). Sizes
-(sensors × targets): 1 × 1, 20 × 500 and 100 × 10,000. One JSON line per size; arguments pick
-other sizes, e.g. ``bench_step.py 1x1 20x500``.
+(sensors × targets): 1 × 1, 20 × 500 and 100 × 10,000, with each available compute engine
+(``targetacq.engines``: numpy, numba). One JSON line per engine and size (``engine``,
+``sensors``, ``targets``, ``median_step_s``, ...); arguments pick other sizes, e.g.
+``bench_step.py 1x1 20x500``, and ``--engines numpy`` the engines.
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ SIZES = ((1, 1), (20, 500), (100, 10_000))
 RATE = 10.0  # steps per second
 
 
-def build(n_sensors: int, n_targets: int) -> tuple[Simulation, np.ndarray, np.ndarray, np.ndarray]:
+def build(
+    n_sensors: int, n_targets: int, engine: str = "numpy"
+) -> tuple[Simulation, np.ndarray, np.ndarray, np.ndarray]:
     """The simulation, sensor positions (n_s, 3), target positions (n_g, 3) and velocities."""
     rng = np.random.default_rng(1)
     sensors = [
@@ -59,6 +63,7 @@ def build(n_sensors: int, n_targets: int) -> tuple[Simulation, np.ndarray, np.nd
         background=Background(temperature=293.0, clutter_std=2.0),
         atmosphere=Atmosphere(obscurant="haze"),
         seed=1,
+        engine=engine,
     )
     sensor_pos = np.column_stack(
         [
@@ -85,9 +90,9 @@ def build(n_sensors: int, n_targets: int) -> tuple[Simulation, np.ndarray, np.nd
     return sim, sensor_pos, target_pos, velocity
 
 
-def measure(n_sensors: int, n_targets: int) -> dict[str, object]:
+def measure(n_sensors: int, n_targets: int, engine: str = "numpy") -> dict[str, object]:
     start = time.perf_counter()
-    sim, sensor_pos, target_pos, velocity = build(n_sensors, n_targets)
+    sim, sensor_pos, target_pos, velocity = build(n_sensors, n_targets, engine)
     setup = time.perf_counter() - start
     repeats = 5 if n_sensors * n_targets > 100_000 else 20 * REPEATS
     dt = 1.0 / RATE
@@ -95,13 +100,13 @@ def measure(n_sensors: int, n_targets: int) -> dict[str, object]:
     step_times, core_times, events = [], [], 0
     # The first two steps start the clock and the episodes; then each timed step is followed by
     # the core alone on the same positions, so that a busy machine slows both alike.
-    for k in range(repeats + 2):
+    for k in range(repeats + 3):
         t = k * dt
         positions = target_pos + velocity * t
         start = time.perf_counter()
         out = sim.step(t, dt, sensor_pos, positions)
         elapsed = time.perf_counter() - start
-        if k < 2:
+        if k < 3:  # the first steps compile (numba) and start the clock and the episodes
             continue
         step_times.append(elapsed)
         events += len(out.events)
@@ -111,11 +116,12 @@ def measure(n_sensors: int, n_targets: int) -> dict[str, object]:
     step_median, core_median = statistics.median(step_times), statistics.median(core_times)
     return {
         "benchmark": "step: Simulation.step against core.evaluate",
+        "engine": engine,
         "sensors": n_sensors,
         "targets": n_targets,
         "pairs": n_sensors * n_targets,
         "steps_timed": repeats,
-        "step_median_s": step_median,
+        "median_step_s": step_median,
         "core_median_s": core_median,
         "ratio_to_core": step_median / core_median,
         "step_overhead_s": statistics.median(
@@ -128,9 +134,18 @@ def measure(n_sensors: int, n_targets: int) -> dict[str, object]:
 
 
 def main() -> None:
-    sizes = [tuple(int(v) for v in a.split("x")) for a in sys.argv[1:]] or list(SIZES)
+    from targetacq.engines import ENGINES
+
+    args = sys.argv[1:]
+    engines = [e for e in ("numpy", "numba") if ENGINES[e].available()]
+    if "--engines" in args:
+        at = args.index("--engines")
+        engines = args[at + 1].split(",")
+        del args[at : at + 2]
+    sizes = [tuple(int(v) for v in a.split("x")) for a in args] or list(SIZES)
     for n_s, n_g in sizes:
-        print(json.dumps(measure(n_s, n_g)), flush=True)
+        for engine in engines:
+            print(json.dumps(measure(n_s, n_g, engine)), flush=True)
 
 
 if __name__ == "__main__":

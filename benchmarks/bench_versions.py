@@ -26,7 +26,7 @@ ROOT = HERE.parent
 def run(src: Path, size: list[str]) -> float:
     env = {**os.environ, "PYTHONPATH": str(src), "OMP_NUM_THREADS": "1"}
     out = subprocess.run(
-        [sys.executable, str(HERE / "bench_evaluate.py"), *size],
+        [sys.executable, str(HERE / "bench_evaluate.py"), *size, "numpy"],
         capture_output=True,
         text=True,
         env=env,

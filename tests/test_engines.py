@@ -255,3 +255,51 @@ def test_numba_agrees_on_drawn_scenarios(document: dict) -> None:
     assert_agree(
         ModelChain(scenario, engine="numba").compute(times), ModelChain(scenario).compute(times)
     )
+
+
+# -- the vectorisable exponential and logarithm ------------------------------------------------
+
+
+def test_simd_exp_log_match_numpy() -> None:
+    """A few units in the last place against NumPy over the whole double range, and the special
+    values as NumPy has them."""
+    from numba import njit
+
+    from targetacq.engines import _simd
+
+    @njit(error_model="numpy")
+    def apply(kind: int, values: np.ndarray) -> np.ndarray:
+        out = np.empty_like(values)
+        for k in range(values.size):
+            v = values[k]
+            out[k] = (
+                _simd.exp(v)
+                if kind == 0
+                else _simd.log(v)
+                if kind == 1
+                else _simd.expm1(v)
+                if kind == 2
+                else _simd.log10(v)
+            )
+        return out
+
+    rng = np.random.default_rng(11)
+    wide = rng.uniform(-745.0, 709.0, 200_000)
+    positive = np.exp(rng.uniform(-744.0, 709.0, 200_000))
+    small = rng.uniform(-1.0, 1.0, 50_000) * 10.0 ** rng.uniform(-300.0, 0.5, 50_000)
+    with np.errstate(all="ignore"):
+        for kind, values, reference in (
+            (0, wide, np.exp),
+            (1, positive, np.log),
+            (2, small, np.expm1),
+            (3, positive, np.log10),
+        ):
+            expected = reference(values)
+            normal = np.abs(expected) > 2.3e-308
+            got = apply(kind, values)
+            np.testing.assert_allclose(got[normal], expected[normal], rtol=1e-15, atol=0)
+        specials = np.array([0.0, -0.0, np.nan, np.inf, -np.inf, -1.0, 5e-324, 1e-310, 709.9])
+        for kind, reference in ((0, np.exp), (1, np.log), (2, np.expm1), (3, np.log10)):
+            np.testing.assert_allclose(
+                apply(kind, specials), reference(specials), rtol=1e-13, atol=0, equal_nan=True
+            )

@@ -133,6 +133,11 @@ class NumbaScene:
         self.visible_fraction = _float(targets.visible_fraction)
         self.heading = _float(targets.heading)
         self.n50 = _float(targets.n50).reshape(-1, 3)
+        low = self.n50[:, 0] * _low_clutter_scale()  # a moving target's, detection
+        with np.errstate(divide="ignore"):
+            self.log_n50 = np.ascontiguousarray(
+                np.column_stack([np.log(self.n50), low, np.log(low)])
+            )
         self.hot_spot = np.ascontiguousarray(np.asarray(targets.hot_spot, dtype=bool))
         self.moving = np.ascontiguousarray(np.asarray(targets.moving, dtype=bool))
         with_snr = path.attenuates or sensors.has_noise
@@ -290,6 +295,7 @@ class NumbaScene:
             np.asarray(found.in_view, dtype=bool).reshape(flat),
             rng.reshape(flat),
             self.n50,
+            self.log_n50,
             self.hot_spot,
             self.moving,
             settings,

@@ -215,7 +215,6 @@ def factors_kernel(
         for g in range(n_g):
             length, width, height = dimensions[g, 0], dimensions[g, 1], dimensions[g, 2]
             visible = visible_fraction[g]
-            rng_row, depth_row = out_range[s, g], out_depth[s, g]
             # 1. Geometry: range, outline, critical dimension, cycles, field of view.
             for b in range(n_b):
                 x = target_positions[g, b, 0] - sensor_positions[s, b, 0]
@@ -225,7 +224,7 @@ def factors_kernel(
                     x, y, z, sin_heading[g, b], cos_heading[g, b], length, width, height
                 )
                 critical = minimum(horizontal, vertical * visible)
-                rng_row[b] = rng
+                out_range[s, g, b] = rng
                 out_critical[s, g, b] = critical
                 out_cycles[s, g, b] = critical / (maximum(rng, 1e-9) * sensor_cycle)
                 area[b] = horizontal * vertical * visible
@@ -234,13 +233,15 @@ def factors_kernel(
                 up = x * frame[s, b, 5] + y * frame[s, b, 6] + z * frame[s, b, 7]
                 in_fov = ahead > 0.0 and abs(right) <= tan_h * ahead and abs(up) <= tan_v * ahead
                 out_in_view[s, g, b] = (in_fov or not pointed_s) and rng == rng
-                depth_row[b] = gamma * rng
+                out_depth[s, g, b] = gamma * rng
             # 2. The optical depth: segments laid from the sensor outward, then clouds.
             start = 0.0
             for j in range(segment_length.shape[0]):
                 stretch, more = segment_length[j], segment_extinction[s, j] - gamma
                 for b in range(n_b):
-                    depth_row[b] = depth_row[b] + more * clip(rng_row[b] - start, 0.0, stretch)
+                    out_depth[s, g, b] = out_depth[s, g, b] + more * clip(
+                        out_range[s, g, b] - start, 0.0, stretch
+                    )
                 start = start + stretch
             for c in range(clouds.shape[0]):
                 cx, cy, cz, radius, cloud = (
@@ -263,14 +264,14 @@ def factors_kernel(
                         cz,
                         radius,
                     )
-                    depth_row[b] = depth_row[b] + cloud * crossed
+                    out_depth[s, g, b] = out_depth[s, g, b] + cloud * crossed
             # 3. Transmittance and SNR (the path's, and the sensor's own added in variance).
             for b in range(n_b):
-                depth = depth_row[b]
+                depth = out_depth[s, g, b]
                 tau = _simd.exp(-depth)
                 snr = path_snr_vector(depth)
                 if has_noise:
-                    footprint = maximum(rng_row[b], 1e-9) * ifov[s]
+                    footprint = maximum(out_range[s, g, b], 1e-9) * ifov[s]
                     pixels = area[b] / (footprint * footprint)
                     own = sensor_snr_vector(contrast[s, g], noise_equivalent[s], tau, pixels)
                     snr = combined_snr_vector(snr, own)
@@ -440,6 +441,7 @@ def probabilities_kernel(
     in_view,  # (n_s, n_g, B) bool
     rng,  # (n_s, n_g, B)
     n50,  # (n_g, 3)
+    log_n50,  # (n_g, 5): ln N50 of the three tasks, the low-clutter N50 of motion, its ln
     hot_spot,  # (n_g,) bool
     moving,  # (n_g,) bool
     settings,  # int64 (7,): noise, combines, transform, region, motion, semantics, has_scr
@@ -472,11 +474,14 @@ def probabilities_kernel(
     for s in range(n_s):
         for g in range(n_g):
             d50, r50, i50 = n50[g, 0], n50[g, 1], n50[g, 2]
-            ld, lr, li = math.log(d50), math.log(r50), math.log(i50)
-            low50 = d50 * sw_constants[3]
+            ld, lr, li, low50, llow = (
+                log_n50[g, 0],
+                log_n50[g, 1],
+                log_n50[g, 2],
+                log_n50[g, 3],
+                log_n50[g, 4],
+            )
             hot, move = hot_spot[g], moving[g]
-            det_row, rec_row = out_detection[s, g], out_recognition[s, g]
-            ide_row = out_identification[s, g]
             # 1. The noisy N and the curves of the three tasks.
             if noise == NOISE_VARIANCE_SUM:
                 for b in range(n_b):
@@ -493,25 +498,25 @@ def probabilities_kernel(
                 for b in range(n_b):
                     n = noisy[b]
                     log_n = _simd.log(n)
-                    det_row[b] = ttpf_vector(n, log_n, d50, ld)
-                    rec_row[b] = ttpf_vector(n, log_n, r50, lr)
-                    ide_row[b] = ttpf_vector(n, log_n, i50, li)
+                    out_detection[s, g, b] = ttpf_vector(n, log_n, d50, ld)
+                    out_recognition[s, g, b] = ttpf_vector(n, log_n, r50, lr)
+                    out_identification[s, g, b] = ttpf_vector(n, log_n, i50, li)
             else:
                 for b in range(n_b):
                     n = noisy[b]
-                    det_row[b] = task_curve(
+                    out_detection[s, g, b] = task_curve(
                         n, 0.0, d50, ld, 0, transform, tables, table_count, table_reference
                     )
-                    rec_row[b] = task_curve(
+                    out_recognition[s, g, b] = task_curve(
                         n, 0.0, r50, lr, 1, transform, tables, table_count, table_reference
                     )
-                    ide_row[b] = task_curve(
+                    out_identification[s, g, b] = task_curve(
                         n, 0.0, i50, li, 2, transform, tables, table_count, table_reference
                     )
             # 2. Detection in clutter, of hot spots and of moving targets.
             if clutter or hot or move:
                 for b in range(n_b):
-                    n, n_noisy, det = cycles[s, g, b], noisy[b], det_row[b]
+                    n, n_noisy, det = cycles[s, g, b], noisy[b], out_detection[s, g, b]
                     fallback = det
                     if clutter:
                         c = scr[s, g, b] if has_scr else math.nan
@@ -536,7 +541,7 @@ def probabilities_kernel(
                                 n_noisy,
                                 math.log(n_noisy),
                                 low50,
-                                math.log(low50),
+                                llow,
                                 0,
                                 transform,
                                 tables,
@@ -544,10 +549,16 @@ def probabilities_kernel(
                                 table_reference,
                             )
                         special = go if special != special else maximum(special, go)
-                    det_row[b] = fallback if (special != special and n == n) else special
+                    out_detection[s, g, b] = (
+                        fallback if (special != special and n == n) else special
+                    )
             # 3. The semantics, the field of view, unknown geometry, and the misses.
             for b in range(n_b):
-                det, rec, ide = det_row[b], rec_row[b], ide_row[b]
+                det, rec, ide = (
+                    out_detection[s, g, b],
+                    out_recognition[s, g, b],
+                    out_identification[s, g, b],
+                )
                 if semantics == SEMANTICS_NESTED:
                     rec = minimum(rec, det)
                     ide = minimum(ide, rec)
@@ -562,7 +573,11 @@ def probabilities_kernel(
                 det = math.nan if unknown else det
                 rec = math.nan if unknown else rec
                 ide = math.nan if unknown else ide
-                det_row[b], rec_row[b], ide_row[b] = det, rec, ide
+                out_detection[s, g, b], out_recognition[s, g, b], out_identification[s, g, b] = (
+                    det,
+                    rec,
+                    ide,
+                )
                 out_fused[0, g, b] *= 1.0 - det
                 out_fused[1, g, b] *= 1.0 - rec
                 out_fused[2, g, b] *= 1.0 - ide

@@ -21,13 +21,50 @@ Where both ends lie below x = 2 the difference is taken between the two small-x 
 integrals directly, so no large constant cancels. Large x (short λT) is safe: ``e^{−n x}``
 underflows to zero, nothing overflows.
 
+These series are what :func:`band_exitance` evaluates for arrays of other namespaces (the
+array API, JAX under ``jit``) and for float32, and what :func:`band_exitance_derivative` uses.
+For float64 NumPy input (the common case), :func:`band_exitance` reads the same functions from
+tables instead, several times faster (benchmarks/bench_band_exitance.py), in chunks of 16384
+temperatures, each chunk taking only the branches its temperatures need:
+
+- Tables. ``Q`` on [0, 20) and ``S(x) = x⁻³ ∫_0^x t³/(e^t − 1) dt = (π⁴/15 − Q(x))/x³`` on
+  [0, 2), on intervals of width 1/64: in each, the degree-5 polynomial that interpolates the
+  function at the 6 Chebyshev points of the interval, evaluated by Horner in ``64x − ⌊64x⌋``.
+  The tables are built on the first call (about 40 ms) from the two series above, summed in
+  ``np.longdouble`` (80-bit on x86-64) with the Bernoulli numbers exact (``fractions``), well
+  past double precision. Chebyshev interpolation of degree 5 on an interval of half-width h
+  errs by at most ``h⁶ / (2⁵ 6!) · max |f⁽⁶⁾|``: with h = 1/128 and ``|f⁽⁶⁾| <~ |f|`` (``Q``
+  decays like ``x³ e^{−x}``), below 1e-17 relative. The tables are within 2.1e-16 (one unit
+  in the last place) of the 45-digit reference of the tests (in float64 long double, where the
+  platform has no wider one, within about 1e-15).
+- ``x >= 20``: two terms of the large-x series, ``e^{−x}[P(x) + e^{−x} P(2x)/16]`` with
+  ``P(y) = y³ + 3y² + 6y + 6`` (the third term is below 2e-18 relative at x = 20; from x = 37.5
+  on, the second is below 2⁻⁵⁴ of the first and is left out: the same rounded number).
+- Hot, ``x1 < 2`` (both edges on the small-x side): ``K T (c2/λ1)³ [S(x1) − (λ1/λ2)³ S(x2)]``,
+  which is ``K T⁴ ∫_{x2}^{x1}`` with ``T⁴ x³`` written as ``T (c2/λ)³``, finite up to T = inf.
+- Otherwise ``K T⁴ [Q(x2) − Q(x1)]`` with ``K T⁴ = (K^{1/4} T)⁴``; where ``e^{−x2}`` would be
+  subnormal (x2 >= 700) or ``(K^{1/4} T)⁴`` overflow (above 1e77 K), in logarithms:
+  ``exp(4 ln(K^{1/4} T) + ln Q(x2) + ln(1 − Q(x1)/Q(x2)))`` with ``ln Q(x) = ln P(x) − x``
+  there, so that a normal result keeps its precision when ``e^{−x}`` alone would underflow.
+- T = 0 gives 0, T = inf gives inf, NaN gives NaN.
+
+Accuracy of the NumPy path, against the 45-digit reference of
+``tests/test_band_exitance_accuracy.py`` (T from 1e-3 K to 1.7e308 K, the named bands and
+others): below 1e-12 relative everywhere the exitance is a normal number, about 1e-15 where
+both x are below 20, and at most about 2e-13 near the underflow (x ≈ 700), where the rounding
+of ``x = c2/(λT)`` itself, a relative error of order ``x · 2⁻⁵²`` in ``e^{−x}``, dominates (the
+series above have the same). The difference of two values of ``Q`` loses, as any evaluation of
+this closed form does, ``Q(x2)/(Q(x2) − Q(x1))`` of its precision: narrow bands less accurate.
+
 The visible band is sunlight reflected, ``M = r · E`` (§6.2), not emission.
 """
 
 from __future__ import annotations
 
+import decimal
 import functools
 import math
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -159,6 +196,269 @@ BAND_EXITANCE_METHODS = {"planck": _band_integral_planck, "wien": _band_integral
 """Ways to integrate the spectral exitance over a band: Planck (6.12) or Wien (6.13)."""
 
 
+# ---------------------------------------------------------------------------------------------
+# Fast NumPy path of band_exitance (method "planck", float64 arrays): tables of Q and S.
+# ---------------------------------------------------------------------------------------------
+
+_TABLE_STEPS = 64.0  # intervals per unit of x: interval i covers [i/64, (i+1)/64)
+_TABLE_DEGREE = 5
+_TABLE_END = 20.0  # Q is tabulated on [0, 20), S on [0, 2); beyond 20, two terms of the series
+_LOG_X = 700.0  # e^{-x} is subnormal above 708: from here on the exitance is taken in logarithms
+_KQ = _BAND_CONSTANT**0.25  # K T⁴ = (K^{1/4} T)⁴, which overflows only where K T⁴ does
+_HUGE_KQT = 1.0e76  # (K^{1/4} T)⁴ overflows above 1.16e77: in logarithms there as well
+_CHUNK = 16384
+_EXTENDED_PI = "3.14159265358979323846264338327950288419716939937510"
+
+
+@functools.cache
+def _exact_small_x_coefficients(count: int) -> list[Fraction]:
+    """``B_k / (k! (k + 3))`` for k < count, with the Bernoulli numbers exact (B_1 = −1/2)."""
+    bernoulli = [Fraction(1)]
+    for m in range(1, count):
+        total = sum((math.comb(m + 1, k) * bernoulli[k] for k in range(m)), Fraction(0))
+        bernoulli.append(-total / (m + 1))
+    return [b / (math.factorial(k) * (k + 3)) for k, b in enumerate(bernoulli)]
+
+
+def _extended(value: Fraction) -> Any:
+    """``value`` rounded to np.longdouble (from 30 significant digits)."""
+    digits = decimal.Context(prec=30).divide(value.numerator, value.denominator)
+    return np.longdouble(str(digits))
+
+
+def _s_extended(x: Any) -> Any:
+    """S(x) for 0 <= x <= 2 in np.longdouble: the Bernoulli series to order 47 (the terms fall
+    like ``2 (x/2π)^k``: below 1e-21 relative at x = 2)."""
+    acc = np.zeros_like(x)
+    for c in reversed(_exact_small_x_coefficients(48)):
+        acc = acc * x + _extended(c)
+    return acc
+
+
+def _q_extended(rows: Any) -> Any:
+    """Q(x) in np.longdouble for an (intervals, nodes) array sorted by interval: the small-x
+    series below x = 2, the large-x series with ⌈50/x⌉ terms (remainder below e^{-50}) above."""
+    q = np.empty_like(rows)
+    small = np.max(rows, axis=1) < _SMALL_X  # whole intervals: 2 is an interval boundary
+    x = rows[small]
+    q[small] = np.longdouble(_EXTENDED_PI) ** 4 / 15 - x**3 * _s_extended(x)
+    large = rows[~small]
+    decay = np.exp(-large)
+    power = np.ones_like(large)
+    acc = np.zeros_like(large)
+    starts = np.min(large, axis=1)  # increasing
+    for n in range(1, math.ceil(50.0 / _SMALL_X) + 1):
+        # The intervals that still need the n-th term (x < 50/(n − 1)): a prefix.
+        active = int(np.searchsorted(starts, 50.0 / (n - 1))) if n > 1 else len(starts)
+        power[:active] *= decay[:active]
+        y = n * large[:active]
+        acc[:active] += power[:active] * (((y + 3) * y + 6) * y + 6) / np.longdouble(n) ** 4
+    q[~small] = acc
+    return q
+
+
+def _chebyshev_table(function: Any, end: float) -> np.ndarray:
+    """Coefficients (in t = 64 x − i, Horner order) of the degree-5 Chebyshev interpolants of
+    ``function`` on the intervals [i/64, (i+1)/64) below ``end``, computed in np.longdouble."""
+    d = _TABLE_DEGREE
+    pi = np.longdouble(_EXTENDED_PI)
+    angles = pi * (np.arange(d + 1) + np.longdouble(0.5)) / (d + 1)
+    nodes = (1 + np.cos(angles)) / 2  # Chebyshev points of [0, 1]
+    starts = np.arange(round(end * _TABLE_STEPS), dtype=np.longdouble)
+    values = function((starts[:, None] + nodes[None, :]) / np.longdouble(_TABLE_STEPS))
+    # Chebyshev coefficients b_n = 2/(d+1) Σ_k f_k T_n(u_k) (b_0 halved), then the power basis
+    # of t through the shifted Chebyshev polynomials T_n(2t − 1) (integer coefficients).
+    chebyshev = np.cos(np.outer(np.arange(d + 1), angles))
+    b = values @ chebyshev.T * (np.longdouble(2) / (d + 1))
+    b[:, 0] /= 2
+    shifted = [[1], [-1, 2]]
+    for _ in range(2, d + 1):
+        nxt = [0] * (len(shifted[-1]) + 1)
+        for p, c in enumerate(shifted[-1]):
+            nxt[p] -= 2 * c
+            nxt[p + 1] += 4 * c
+        for p, c in enumerate(shifted[-2]):
+            nxt[p] -= c
+        shifted.append(nxt)
+    power_basis = np.zeros((d + 1, d + 1), dtype=np.longdouble)
+    for n, row in enumerate(shifted):
+        power_basis[n, : len(row)] = row
+    return np.ascontiguousarray((b @ power_basis).astype(np.float64))
+
+
+@functools.cache
+def _tables() -> tuple[np.ndarray, np.ndarray]:
+    """The tables of Q on [0, 20) and of S on [0, 2) (module docstring), built on first use."""
+    with np.errstate(all="ignore"):
+        q = _chebyshev_table(_q_extended, _TABLE_END)
+        s = _chebyshev_table(_s_extended, _SMALL_X)
+    q.flags.writeable = False
+    s.flags.writeable = False
+    return q, s
+
+
+@functools.cache
+def _split_tables() -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """Each table as its coefficients 0–3 and 4–5: rows of 32 and 16 bytes, which ``np.take``
+    copies by its fast paths (a 48-byte row goes through ``memmove``, 1.5 times slower)."""
+    return tuple(  # type: ignore[return-value]
+        (np.ascontiguousarray(table[:, :4]), np.ascontiguousarray(table[:, 4:]))
+        for table in _tables()
+    )
+
+
+def _tabulated(table: tuple[np.ndarray, np.ndarray], scaled: np.ndarray) -> np.ndarray:
+    """The table's polynomial of interval ⌊scaled⌋ at ``scaled − ⌊scaled⌋`` (0 <= scaled < rows),
+    by Horner; ``table`` from :func:`_split_tables`."""
+    index = scaled.astype(np.int32)
+    t = np.floor(scaled)
+    np.subtract(scaled, t, out=t)
+    low, high = table[0].take(index, axis=0), table[1].take(index, axis=0)
+    acc = high[:, 1] * t
+    acc += high[:, 0]
+    for k in range(3, -1, -1):
+        acc *= t
+        acc += low[:, k]
+    return acc
+
+
+def _p(y: Any) -> Any:
+    """``y³ + 3y² + 6y + 6``."""
+    return ((y + 3.0) * y + 6.0) * y + 6.0
+
+
+def _q_asymptotic(x: np.ndarray, x_min: float) -> np.ndarray:
+    """Q(x) for x >= 20 (``x_min`` the least): two terms of the large-x series (the third is
+    below 2e-18 relative). From x = 37.5 on the second is below 2^-54 of the first, so that the
+    sum rounds to the first: it is left out where no element is below 37.5 (the same numbers)."""
+    x = np.minimum(x, _X_CAP)
+    decay = np.negative(x)
+    np.exp(decay, out=decay)
+    value = x + 3.0  # x³ + 3x² + 6x + 6 by Horner, in place
+    value *= x
+    value += 6.0
+    value *= x
+    value += 6.0
+    if x_min < 37.5:
+        y = x * 2.0
+        second = y + 3.0
+        second *= y
+        second += 6.0
+        second *= y
+        second += 6.0
+        second *= decay
+        second *= 1.0 / 16.0
+        value += second
+    value *= decay
+    return value
+
+
+def _q_fast(scaled: np.ndarray, low: float, high: float) -> np.ndarray:
+    """Q(scaled / 64) for scaled >= 0 (inf allowed) whose least and greatest are low and high."""
+    end = _TABLE_END * _TABLE_STEPS
+    if high < end:
+        return _tabulated(_split_tables()[0], scaled)
+    x = scaled / _TABLE_STEPS
+    if low >= end:
+        return _q_asymptotic(x, low / _TABLE_STEPS)
+    inside = scaled < end
+    table = _tabulated(_split_tables()[0], np.where(inside, scaled, 0.0))
+    return np.where(inside, table, _q_asymptotic(np.maximum(x, _TABLE_END), _TABLE_END))
+
+
+def _log_q(x: np.ndarray) -> np.ndarray:
+    """ln Q(x) for x >= 0, also where Q underflows: ``−x + ln(x³ + 3x² + 6x + 6)`` from 700 on
+    (the second term of the series is e^{-700} times the first there)."""
+    x = np.minimum(x, _X_CAP)
+    inside = np.minimum(x, _LOG_X) * _TABLE_STEPS
+    direct = np.log(_q_fast(inside, float(np.min(inside)), float(np.max(inside))))
+    return np.where(x < _LOG_X, direct, np.log(_p(x)) - x)
+
+
+def _cool_chunk(
+    t: np.ndarray, t_min: float, t_max: float, u_short: float, u_long: float
+) -> np.ndarray:
+    """``K T⁴ [Q(x_long) − Q(x_short)]`` for 0 < T < inf (where x_short >= 2)."""
+    steps_short = u_short * _TABLE_STEPS  # x · 64 = (u · 64) / T, exactly 64 x
+    steps_long = u_long * _TABLE_STEPS
+    if u_long == 0.0:  # λ2 = inf: Q(0) = π⁴/15
+        integral = np.full_like(t, _Q0)
+    else:
+        integral = _q_fast(steps_long / t, steps_long / t_max, steps_long / t_min)
+    if not math.isinf(u_short):  # else λ1 = 0: Q(inf) = 0
+        integral -= _q_fast(steps_short / t, steps_short / t_max, steps_short / t_min)
+    power = t * _KQ
+    power *= power
+    power *= power
+    integral *= power
+    if u_long / t_min >= _LOG_X or _KQ * t_max > _HUGE_KQT:
+        far = (u_long / t >= _LOG_X) | (t * _KQ > _HUGE_KQT)
+        if bool(np.any(far)):
+            integral[far] = _cool_in_logs(t[far], u_short, u_long)
+    return integral
+
+
+def _cool_in_logs(t: np.ndarray, u_short: float, u_long: float) -> np.ndarray:
+    """``K T⁴ [Q(x_long) − Q(x_short)]`` as ``exp(4 ln(K^{1/4} T) + ln Q(x_long) + ln(1 − r))``
+    with ``r = Q(x_short)/Q(x_long)``: e^{-x} subnormal or (K^{1/4} T)⁴ overflowing."""
+    log_long = _log_q(u_long / t)
+    ratio = np.zeros_like(t) if math.isinf(u_short) else np.exp(_log_q(u_short / t) - log_long)
+    return np.exp(4.0 * np.log(t * _KQ) + log_long + np.log1p(-ratio))
+
+
+def _hot_chunk(t: np.ndarray, u_short: float, u_long: float, mixed: bool) -> np.ndarray:
+    """``K T u1³ [S(x_short) − (λ1/λ2)³ S(x_long)]`` for 0 < T < inf where x_short < 2 (in a
+    ``mixed`` chunk, the elements where it is not give numbers that are not used)."""
+    s_table = _split_tables()[1]
+    last = math.nextafter(_SMALL_X * _TABLE_STEPS, 0.0)
+    scaled = (u_short * _TABLE_STEPS) / t
+    short = _tabulated(s_table, np.minimum(scaled, last) if mixed else scaled)
+    if u_long > 0.0:
+        ratio = (u_long / u_short) ** 3
+        scaled = (u_long * _TABLE_STEPS) / t
+        long = _tabulated(s_table, np.minimum(scaled, last) if mixed else scaled)
+        long *= ratio
+        short -= long
+    short *= t
+    short *= _BAND_CONSTANT * (u_short * u_short * u_short)  # inf, not OverflowError
+    return short
+
+
+def _band_exitance_chunk(t: np.ndarray, low: float, high: float) -> np.ndarray:
+    """``band_exitance`` (method "planck") of a float64 chunk of T >= 0 or NaN."""
+    t_min, t_max = float(t.min()), float(t.max())
+    if not (t_min > 0.0 and t_max < math.inf):  # 0, inf or NaN: each is its own exitance
+        special = ~((t > 0.0) & (t < math.inf))
+        if bool(np.all(special)):
+            return t.copy()
+        regular = np.where(special, t[int(np.argmin(special))], t)
+        return np.where(special, t, _band_exitance_chunk(regular, low, high))
+    u_short = SECOND_RADIATION_CONSTANT / low if low > 0.0 else math.inf
+    u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
+    if u_short / t_max >= _SMALL_X:  # every element on the large-x side at λ1 (the usual case)
+        return _cool_chunk(t, t_min, t_max, u_short, u_long)
+    if u_short / t_min < _SMALL_X:  # hot: both edges on the small-x side
+        return _hot_chunk(t, u_short, u_long, mixed=False)
+    hot = u_short / t < _SMALL_X
+    return np.where(
+        hot,
+        _hot_chunk(t, u_short, u_long, mixed=True),
+        _cool_chunk(t, t_min, t_max, u_short, u_long),
+    )
+
+
+def _band_exitance_numpy(t: np.ndarray, low: float, high: float) -> np.ndarray:
+    """``band_exitance`` (method "planck") of a float64 NumPy array, in chunks of 16384."""
+    flat = t.reshape(-1)
+    out = np.empty(flat.shape)
+    with np.errstate(all="ignore"):
+        for start in range(0, flat.size, _CHUNK):
+            out[start : start + _CHUNK] = _band_exitance_chunk(
+                flat[start : start + _CHUNK], low, high
+            )
+    return out.reshape(t.shape)
+
+
 def spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     """Planck's spectral exitance of a blackbody, Eq. (6.2) in Sonesson (2004).
 
@@ -223,8 +523,10 @@ def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
 def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
     """Blackbody exitance in a spectral band, Eq. (6.12) (``method="wien"``: Eq. (6.13)).
 
-    Closed form by series (module docstring): accurate to about 1e-15 relative and costing a
-    few dozen array operations, whatever the number of temperatures.
+    Closed form (module docstring): for float64 NumPy input, tables of the series with a
+    relative error below 1e-12 for any T >= 0 (about 1e-15 for the thermal bands at ordinary
+    temperatures), about 20 ns a temperature; for other array namespaces and float32, the
+    series themselves (about 1e-15).
 
     Parameters
     ----------
@@ -261,6 +563,8 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
     low, high = band_limits(band)
     xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
     _arrays.require_nonnegative("temperature", t, xp, "K")
+    if method == "planck" and isinstance(t, (np.ndarray, np.generic)) and t.dtype == np.float64:
+        return _arrays.result(_band_exitance_numpy(np.asarray(t), low, high))
     integrate = BAND_EXITANCE_METHODS[method]
 
     def kernel(part: Any) -> Any:

@@ -338,3 +338,33 @@ def test_wien_method_against_its_closed_form():
             want = 2 * _pi() * k**4 / (h**3 * c**2) * Decimal(t) ** 4 * (tail(12e-6) - tail(8e-6))
             got = ta.band_exitance(t, "lwir", method="wien")
             assert got == pytest.approx(float(want), rel=RTOL)
+
+
+# ---------------------------------------------------------------------------------------------
+# The numba version (optional: the ``fast`` extra).
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("band", BANDS)
+def test_numba_version_agrees_with_numpy(band):
+    pytest.importorskip("numba")
+    from targetacq.engines.numba_radiometry import band_exitance_numba
+
+    low, high = band_limits(band)
+    temperatures = np.concatenate(
+        [
+            np.geomspace(1e-3, 1e5, 2001),
+            _switch_temperatures(low, high),
+            [0.0, math.nan, math.inf, 1e80, 1e300],
+        ]
+    )
+    np.testing.assert_allclose(
+        band_exitance_numba(temperatures, low, high),
+        ta.band_exitance(temperatures, band),
+        rtol=1e-12,
+        atol=RTOL * TINY,
+    )
+    assert band_exitance_numba(300.0, low, high) == pytest.approx(
+        ta.band_exitance(300.0, band), rel=1e-12
+    )
+    assert band_exitance_numba(temperatures.reshape(-1, 1)[:6], low, high).shape == (6, 1)

@@ -37,7 +37,14 @@ import numpy as np
 from targetacq import _arrays
 from targetacq import transforms as _transforms
 from targetacq.criteria import Criterion, get_criterion
-from targetacq.noise import NoiseModel, effective_scr, get_noise_model, noise_n50_factor
+from targetacq.noise import (
+    NoiseModel,
+    _effective_scr_of_ratio,
+    effective_scr,
+    get_noise_model,
+    noise_n50_factor,
+)
+from targetacq.noise import noise_ratio as _noise_ratio_of
 from targetacq.registry import lookup
 
 __all__ = [
@@ -58,12 +65,21 @@ __all__ = [
 _TASKS = ("detection", "recognition", "identification")
 
 
-def _noisy(n: Any, snr: Any, noise: NoiseModel | None, xp: Any) -> Any:
-    """N / f: multiplying every N50 by the noise factor f is dividing N by it (noise.py)."""
+def _noisy(n: Any, snr: Any, noise: NoiseModel | None, xp: Any, ratio: Any = None) -> Any:
+    """N / f: multiplying every N50 by the noise factor f is dividing N by it (noise.py).
+
+    ``ratio``, NumPy only, is the noise-to-signal amplitude ratio of ``snr``
+    (:func:`targetacq.noise.noise_ratio`): the built-in models take f from it directly.
+    """
     if noise is None:
         return n
-    factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(snr, xp, "snr"), noise), xp)
+    if ratio is not None and noise.ratio_factor is not None:
+        factor = noise.ratio_factor(ratio, np)
+    else:
+        factor = _arrays.as_float(noise_n50_factor(_arrays.as_float(snr, xp, "snr"), noise), xp)
     infinite = xp.isinf(factor)
+    if isinstance(factor, np.ndarray) and isinstance(n, np.ndarray) and not infinite.any():
+        return n / factor
     # No signal left (f = inf): nothing resolved, N = 0, whatever N (NaN stays NaN).
     nothing = xp.where(xp.isnan(n), n, xp.zeros_like(n))
     return xp.where(infinite, nothing, n / xp.where(infinite, 1.0, factor))
@@ -236,6 +252,7 @@ def _detection_in_clutter(
     transform: _transforms.Transform,
     options: Mapping[str, Any],
     xp: Any,
+    ratio: Any = None,
 ) -> Any:
     """P(detection) in clutter, of hot spots and of moving targets.
 
@@ -248,18 +265,26 @@ def _detection_in_clutter(
     - Moving targets: the motion rule (:data:`MOTION_RULES`) at the noisy N, whatever the
       clutter; a moving hot spot takes the better of the two.
 
-    ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``.
+    ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``; ``ratio``
+    (NumPy) the noise-to-signal amplitude ratio of ``snr`` (:func:`targetacq.noise.noise_ratio`).
     """
     out = None
     if scr is not None or region is not None:
         if noise is not None and noise.combines_with_clutter and scr is not None:
-            seen = _transforms.schmieder_weathersby(n, n50, scr=effective_scr(scr, snr))
+            if ratio is not None:  # NumPy, with the noise-to-signal ratio at hand
+                seen = _transforms._sw_probability(
+                    n, n50, _effective_scr_of_ratio(_arrays.as_float(scr, np), ratio, np), None, np
+                )
+            else:
+                seen = _transforms.schmieder_weathersby(n, n50, scr=effective_scr(scr, snr))
+        elif isinstance(n_noisy, np.ndarray) and (scr is None or isinstance(scr, np.ndarray)):
+            seen = _transforms._sw_probability(n_noisy, n50, scr, region, np)
         else:
             seen = _transforms.schmieder_weathersby(n_noisy, n50, scr=scr, region=region)
         out = xp.minimum(_arrays.as_float(seen, xp), uncluttered)
     special = None
     if hot_spot is not False:
-        hot = _arrays.as_float(_transforms.schmieder_weathersby(n_noisy, n50, hot_spot=True), xp)
+        hot = _arrays.as_float(_transforms._sw_probability(n_noisy, n50, None, "low", xp), xp)
         special = hot if hot_spot is True else xp.where(_flag(hot_spot, xp), hot, xp.nan)
     if moving is not False:
         go = motion.detection(n_noisy, n50, transform, options, xp)
@@ -293,6 +318,7 @@ def ordered_probabilities(
     noise: NoiseModel | None = None,
     motion: MotionRule | str = "low-clutter",
     semantics: Semantics | str = "nested",
+    noise_ratio: Any = None,
 ) -> tuple[Any, Any, Any]:
     """Probabilities of being detected, recognised and identified (no input checks).
 
@@ -320,13 +346,22 @@ def ordered_probabilities(
         How a moving target is detected (:data:`MOTION_RULES`).
     semantics : Semantics or str
         :data:`ACQUISITION_SEMANTICS`.
+    noise_ratio : numpy.ndarray, optional
+        The noise-to-signal amplitude ratio ``10^(−snr/20)``
+        (:func:`targetacq.noise.noise_ratio`), where the caller has it without the decibels (the
+        array core, from the optical depth); NumPy only. By default it is taken from ``snr``
+        once, for the noise factor and the effective SCR alike.
 
     Returns
     -------
     detection, recognition, identification : array
     """
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
-    n_noisy = _noisy(n, snr, noise, xp)
+    ratio = noise_ratio
+    numpy = isinstance(n, np.ndarray)
+    if ratio is None and noise is not None and numpy and isinstance(snr, np.ndarray):
+        ratio = _noise_ratio_of(snr)  # once: the noise factor and the effective SCR use it
+    n_noisy = _noisy(n, snr, noise, xp, ratio if numpy else None)
     scalar = all(isinstance(v, float) for v in n50)
     if transform.name == "ttpf" and isinstance(n_noisy, np.ndarray) and scalar:
         det, rec, ide = _ttpf_three_numpy(n_noisy, tuple(n50))  # the hot path, fused
@@ -351,6 +386,7 @@ def ordered_probabilities(
             transform=transform,
             options=options,
             xp=xp,
+            ratio=ratio if numpy else None,
         )
     xp, (det, rec, ide) = _arrays.arrays(det, rec, ide)
     return get_semantics(semantics).events(det, rec, ide, xp)
@@ -520,37 +556,39 @@ def _ttpf_three_numpy(n: np.ndarray, n50s: tuple[float, ...]) -> list[np.ndarray
     """TTPF for three N50s over a float64 NumPy array, fused and chunked to stay in cache.
 
     The same arithmetic as :func:`targetacq.transforms.ttpf` (logistic of ``E·ln x``), with
-    ``ln N`` taken once for the three tasks. Since the N50s increase with the task, the TTPF
+    ``ln N`` taken once for the three tasks and the tasks as the rows of one array (one call of
+    each operation per chunk for all three). Since the N50s increase with the task, the TTPF
     already gives ``P_id <= P_rec <= P_det`` here.
     """
     e0, e1, limit = _transforms.TTPF_E0, _transforms.TTPF_E1, _transforms._LOGIT_LIMIT
     flat = n.reshape(-1)
-    outs = [np.empty(flat.shape, dtype=np.float64) for _ in n50s]
-    chunk = 1 << 14
-    log_n = np.empty(min(chunk, flat.size))
-    tmp = np.empty_like(log_n)
-    for start in range(0, flat.size, chunk):
+    size = flat.size
+    # Per task: E = e0 + N · (e1 / N50) and ln x = ln N − ln N50, as ttpf has them.
+    scale = np.array([e1 / v for v in n50s])[:, None]
+    shift = np.array([np.log(v) for v in n50s])[:, None]
+    out = np.empty((len(n50s), size))
+    chunk = 1 << 13
+    log_n = np.empty(min(chunk, size))
+    tmp = np.empty((len(n50s), log_n.size))
+    for start in range(0, size, chunk):
         part = flat[start : start + chunk]
         m = part.size
-        ln, t = log_n[:m], tmp[:m]
+        ln, t, o = log_n[:m], tmp[:, :m], out[:, start : start + m]
         with np.errstate(divide="ignore"):
             np.log(part, out=ln)  # -inf at N = 0, which the clip turns into P = 0
-        for out, n50 in zip(outs, n50s, strict=True):
-            o = out[start : start + m]
-            np.multiply(part, e1 / n50, out=t)
-            t += e0
-            np.subtract(ln, np.log(n50), out=o)
-            o *= t  # z = E · ln x
-            np.clip(o, -limit, limit, out=o)
-            np.negative(o, out=o)
-            np.exp(o, out=o)
-            o += 1.0
-            np.reciprocal(o, out=o)
+        np.multiply(part, scale, out=t)
+        t += e0
+        np.subtract(ln, shift, out=o)
+        o *= t  # z = E · ln x
+        np.clip(o, -limit, limit, out=o)
+        np.negative(o, out=o)
+        np.exp(o, out=o)
+        o += 1.0
+        np.reciprocal(o, out=o)
     zero = flat == 0
     if zero.any():
-        for out in outs:
-            out[zero] = 0.0
-    return [out.reshape(n.shape) for out in outs]
+        out[:, zero] = 0.0
+    return [row.reshape(n.shape) for row in out]
 
 
 def acquisition_probabilities(

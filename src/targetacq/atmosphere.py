@@ -18,6 +18,8 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 from targetacq.bands import band_name
 from targetacq.tables import load_table
@@ -44,6 +46,8 @@ __all__ = [
     "transmittance",
     "visibility_from_extinction",
 ]
+
+_LN10 = math.log(10.0)
 
 DB_PER_NEPER = 10.0 / math.log(10.0)
 """Decibels per neper for power, 10·log10(e) ≈ 4.343 (so 1 dB = 0.2303 Np; erratum to §7.4)."""
@@ -482,11 +486,28 @@ def snr_from_optical_depth(depth: Any) -> Any:
     """
     xp, (d,) = _arrays.arrays(depth, names=("depth",))
     _arrays.require_nonnegative("depth", d, xp)
+    return _arrays.result(_snr_db(d, xp))
+
+
+def _snr_db(d: Any, xp: Any) -> Any:
+    """:func:`snr_from_optical_depth` of a checked float array (the arithmetic kernel).
+
+    NumPy takes the formula alone where every depth is positive and finite (no guards needed);
+    the numbers are the same.
+    """
+    if isinstance(d, np.ndarray) and d.ndim and d.size and d.min() > 0 and d.max() < math.inf:
+        snr = np.negative(d)
+        np.expm1(snr, out=snr)
+        np.negative(snr, out=snr)
+        np.log10(snr, out=snr)
+        snr += d / _LN10  # 20 (−d / ln 10 − log10(1 − e^{−d})), the same operations
+        snr *= -20.0
+        return snr
     inner = (d > 0) & xp.isfinite(d)
     safe = xp.where(inner, d, 1.0)
-    snr = 20.0 * (-safe / math.log(10.0) - xp.log10(-xp.expm1(-safe)))
+    snr = 20.0 * (-safe / _LN10 - xp.log10(-xp.expm1(-safe)))
     snr = xp.where(d <= 0, xp.inf, xp.where(xp.isinf(d), -xp.inf, snr))
-    return _arrays.result(xp.where(xp.isnan(d), d, snr))
+    return xp.where(xp.isnan(d), d, snr)
 
 
 def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
@@ -560,13 +581,18 @@ def segmented_optical_depth(
     0.28
     """
     xp, (r, g) = _arrays.arrays(range, extinction, names=("range", "extinction"))
+    return _arrays.result(_segmented_depth(r, g, segment_lengths, segment_extinctions, xp))
+
+
+def _segmented_depth(r: Any, g: Any, lengths: Any, gammas: Any, xp: Any) -> Any:
+    """:func:`segmented_optical_depth` of float arrays (the arithmetic kernel)."""
     depth = g * r
     start = 0.0
-    for length, gamma in zip(segment_lengths, segment_extinctions, strict=True):
+    for length, gamma in zip(lengths, gammas, strict=True):
         inside = xp.clip(r - start, 0.0, length)
         depth = depth + (_arrays.as_float(gamma, xp) - g) * inside
         start = start + length
-    return _arrays.result(depth)
+    return depth
 
 
 def extinction_for_band(

@@ -47,7 +47,12 @@ def fuse(probabilities: Any, axis: int = -1) -> Any:
     _arrays.require_unit_interval("probabilities", p, xp)
     if p.ndim == 0:
         raise ValueError("probabilities must have at least one axis (the sensors)")
-    return _arrays.result(1.0 - xp.prod(1.0 - p, axis=axis))
+    return _arrays.result(_fused(p, axis, xp))
+
+
+def _fused(p: Any, axis: int, xp: Any) -> Any:
+    """:func:`fuse` of a checked float array (the arithmetic kernel)."""
+    return 1.0 - xp.prod(1.0 - p, axis=axis)
 
 
 def central_level_bounds(probabilities: Any, axis: int = -1) -> tuple[Any, Any]:

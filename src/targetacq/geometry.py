@@ -321,28 +321,107 @@ def box_outline(
         x, y, z, heading, length, width, height, names=_OUTLINE_INPUTS
     )
     _arrays.require_finite("heading", heading, xp, "rad")
+    # An infinite component makes inf/inf or 0·inf: the outline is NaN there (unknown).
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rng, horizontal, vertical = _outline(
+            x, y, z, xp.sin(heading), xp.cos(heading), length, width, height, xp
+        )
+    return _arrays.result(rng), _arrays.result(horizontal), _arrays.result(vertical)
+
+
+def _outline(
+    x: Array,
+    y: Array,
+    z: Array,
+    sin_h: Array,
+    cos_h: Array,
+    length: Array,
+    width: Array,
+    height: Array,
+    xp: Any,
+) -> tuple[Array, Array, Array]:
+    """:func:`box_outline` of checked float arrays, given the sines and cosines of the headings.
+
+    The arithmetic kernel, without checks, conversions or a change of NumPy's error state (the
+    array core calls it block by block under its own, with the headings' sines and cosines
+    taken once per call). NumPy arrays of the lines of sight's full shape take
+    :func:`_outline_numpy`: the same operations with fewer temporaries.
+    """
+    if (
+        isinstance(x, np.ndarray)
+        and x.ndim
+        and x.shape == y.shape == z.shape
+        and np.broadcast_shapes(x.shape, *(np.shape(v) for v in (sin_h, length))) == x.shape
+        and np.broadcast_shapes(x.shape, *(np.shape(v) for v in (cos_h, width, height))) == x.shape
+    ):
+        return _outline_numpy(x, y, z, sin_h, cos_h, length, width, height)
     rho = xp.sqrt(x * x + y * y)
     rng = xp.sqrt(rho * rho + z * z)
-    sin_h, cos_h = xp.sin(heading), xp.cos(heading)
     along = xp.abs(x * sin_h + y * cos_h)  # ρ |cos a|
     across = xp.abs(x * cos_h - y * sin_h)  # ρ |sin a|
     flat = rho == 0
-    numpy = isinstance(rho, np.ndarray)
     # Straight down or up (ρ = 0): divide by 1 there, and take the box's top below.
-    safe = rho if numpy and not np.any(flat) else xp.where(flat, 1.0, rho)
-    # An infinite component makes inf/inf or 0·inf below: the outline is NaN there (unknown).
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
-        horizontal = (length * across + width * along) / safe
-        vertical = (height * rho + (length * along + width * across) / safe * xp.abs(z)) / xp.where(
-            rng > 0, rng, 1.0
-        )
-        if not numpy or np.any(flat):
-            top_h = length + 0.0 * flat
-            top_v = xp.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
-            horizontal = xp.where(flat, top_h, horizontal)
-            vertical = xp.where(flat, top_v, vertical)
-    return _arrays.result(rng), _arrays.result(horizontal), _arrays.result(vertical)
+    safe = xp.where(flat, 1.0, rho)
+    # Divisions, not a reciprocal: |cos a| and |sin a| stay exact for subnormal ρ.
+    horizontal = (length * across + width * along) / safe
+    vertical = (height * rho + (length * along + width * across) / safe * xp.abs(z)) / xp.where(
+        rng > 0, rng, 1.0
+    )
+    top_h = length + 0.0 * flat
+    top_v = xp.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
+    return rng, xp.where(flat, top_h, horizontal), xp.where(flat, top_v, vertical)
+
+
+def _outline_numpy(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    sin_h: Any,
+    cos_h: Any,
+    length: Any,
+    width: Any,
+    height: Any,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_outline` of NumPy arrays ``x, y, z`` of the result's shape: each operation of the
+    generic formula in the same order, in place where its result is new, and the ``where``
+    guards only where a line of sight is vertical (ρ = 0) or of zero length."""
+    tmp = y * y
+    rho = x * x
+    rho += tmp
+    np.sqrt(rho, out=rho)
+    rng = rho * rho
+    np.multiply(z, z, out=tmp)
+    rng += tmp
+    np.sqrt(rng, out=rng)
+    along = x * sin_h
+    np.multiply(y, cos_h, out=tmp)
+    along += tmp
+    np.abs(along, out=along)  # ρ |cos a|
+    across = x * cos_h
+    np.multiply(y, sin_h, out=tmp)
+    across -= tmp
+    np.abs(across, out=across)  # ρ |sin a|
+    flat = rho == 0
+    guarded = bool(flat.any()) or bool(np.any(rng == 0))
+    safe = np.where(flat, 1.0, rho) if guarded else rho
+    horizontal = length * across
+    np.multiply(width, along, out=tmp)
+    horizontal += tmp
+    horizontal /= safe
+    along *= length
+    across *= width
+    along += across  # ρ (L |cos a| + W |sin a|)
+    along /= safe
+    np.abs(z, out=tmp)
+    along *= tmp
+    vertical = height * rho
+    vertical += along
+    vertical /= np.where(rng > 0, rng, 1.0) if guarded else rng
+    if guarded:
+        top_v = np.where(rng > 0, width + 0.0 * rng, height + 0.0 * rng)
+        horizontal = np.where(flat, length + 0.0 * flat, horizontal)
+        vertical = np.where(flat, top_v, vertical)
+    return rng, horizontal, vertical
 
 
 def box_extents_seen(
@@ -474,6 +553,20 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
     xp, (x, y, z, fx, fy, fz) = _arrays.arrays(
         x, y, z, *forward, names=("x", "y", "z", "forward east", "forward north", "forward up")
     )
+    ahead, right, up = _offsets(x, y, z, _frame(fx, fy, fz, xp))
+    return _arrays.result(ahead), _arrays.result(right), _arrays.result(up)
+
+
+def _frame(fx: Array, fy: Array, fz: Array, xp: Any) -> tuple[Array, ...]:
+    """The sensor frame of :func:`view_offsets` from the boresight components (any length).
+
+    Returns
+    -------
+    tuple of 8 arrays
+        ``(fx, fy, fz)`` the unit boresight, ``(rx, ry)`` the horizontal right and
+        ``(ux, uy, uz)`` up, each of the boresight's shape: one frame per sensor (and batch
+        element), computed once and applied to every target by :func:`_offsets`.
+    """
     # Square roots of 1, not 0, where masked: sqrt's infinite slope at 0 would make gradients
     # NaN there (e.g. a sensor pointed straight down) even though the value is not used.
     square = fx * fx + fy * fy + fz * fz
@@ -486,10 +579,53 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
     rx = xp.where(level, fy / safe, 1.0)  # forward × up, normalised
     ry = xp.where(level, -fx / safe, 0.0)
     ux, uy, uz = ry * fz, -rx * fz, rx * fy - ry * fx  # right × forward (right has no z)
-    ahead = x * fx + y * fy + z * fz
-    right = x * rx + y * ry
-    up = x * ux + y * uy + z * uz
-    return _arrays.result(ahead), _arrays.result(right), _arrays.result(up)
+    return fx, fy, fz, rx, ry, ux, uy, uz
+
+
+def _offsets(x: Array, y: Array, z: Array, frame: tuple[Array, ...]) -> tuple[Array, Array, Array]:
+    """Ahead, right and up of lines of sight ``(x, y, z)`` in a sensor frame (:func:`_frame`)."""
+    fx, fy, fz, rx, ry, ux, uy, uz = frame
+    return x * fx + y * fy + z * fz, x * rx + y * ry, x * ux + y * uy + z * uz
+
+
+def _within_numpy(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    frame: tuple[np.ndarray, ...],
+    tan_h: Any,
+    tan_v: Any,
+) -> np.ndarray:
+    """:func:`_offsets` then :func:`_in_view` of NumPy arrays ``x, y, z`` of the result's
+    shape, with the frame's and half tangents' arrays broadcasting to it: the same operations
+    (the test is exact), with three temporaries."""
+    fx, fy, fz, rx, ry, ux, uy, uz = frame
+    tmp = y * fy
+    ahead = x * fx
+    ahead += tmp
+    np.multiply(z, fz, out=tmp)
+    ahead += tmp
+    side = x * rx
+    np.multiply(y, ry, out=tmp)
+    side += tmp  # right
+    np.abs(side, out=side)
+    np.multiply(tan_h, ahead, out=tmp)
+    inside = side <= tmp
+    np.multiply(x, ux, out=side)
+    np.multiply(y, uy, out=tmp)
+    side += tmp
+    np.multiply(z, uz, out=tmp)
+    side += tmp  # up
+    np.abs(side, out=side)
+    np.multiply(tan_v, ahead, out=tmp)
+    inside &= side <= tmp
+    inside &= ahead > 0
+    return inside
+
+
+def _in_view(ahead: Array, right: Array, up: Array, tan_h: Array, tan_v: Array, xp: Any) -> Array:
+    """In front, within the half tangents of the field of view (:func:`within_field_of_view`)."""
+    return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)
 
 
 def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any, Any]) -> Any:
@@ -549,4 +685,4 @@ def within_field_of_view(
     xp, (tan_h, tan_v) = _arrays.arrays(
         *half_tangents, names=("horizontal half tangent", "vertical half tangent")
     )
-    return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)
+    return _in_view(ahead, right, up, tan_h, tan_v, xp)

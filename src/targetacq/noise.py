@@ -63,6 +63,7 @@ __all__ = [
     "effective_scr",
     "get_noise_model",
     "noise_n50_factor",
+    "noise_ratio",
     "ratio_n50",
     "snr_ratio",
 ]
@@ -122,15 +123,38 @@ def effective_scr(scr: Any, snr: Any) -> Any:
     """
     xp, (c, s) = _arrays.arrays(scr, snr, names=("scr", "snr"))
     _arrays.require_nonnegative("scr", c, xp)
-    lin = _amplitude(s, xp)
+    return _arrays.result(_combined_ratio(c, _amplitude(s, xp), xp))
+
+
+def _combined_ratio(c: Any, lin: Any, xp: Any) -> Any:
+    """:func:`effective_scr` of a checked SCR and the linear SNR ``lin = 10^(SNR/20)``.
+
+    ``lin`` is +inf exactly where there is no noise (R_eff = SCR exactly) and NaN where the SNR
+    is. NumPy takes the formula alone where both ratios are positive and finite.
+    """
     # R = a / sqrt(1 + (a/b)²) with a = min, b = max of the two ratios: no overflow for tiny or
     # infinite ratios (1/R² = 1/a² + 1/b²).
     a, b = xp.minimum(c, lin), xp.maximum(c, lin)
+    if isinstance(b, np.ndarray) and b.ndim and b.size and b.min() > 0 and b.max() < math.inf:
+        ratio = a / b  # every pair usable, no NaN (which the minimum would have)
+        ratio *= ratio
+        ratio += 1.0
+        np.sqrt(ratio, out=ratio)
+        return np.divide(a, ratio, out=ratio)
     usable = (b > 0) & xp.isfinite(b)
     ratio = xp.where(usable, xp.where(usable, a, 0.0) / xp.where(usable, b, 1.0), 0.0)
     combined = a / xp.sqrt(1.0 + ratio * ratio)
-    exact = xp.where(xp.isinf(s) & (s > 0), c, combined)
-    return _arrays.result(xp.where(xp.isnan(s), s, exact))
+    exact = xp.where(xp.isinf(lin) & (lin > 0), c, combined)
+    return xp.where(xp.isnan(lin), lin, exact)
+
+
+def _effective_scr_of_ratio(c: Any, inverse: Any, xp: Any) -> Any:
+    """:func:`effective_scr` of a checked SCR and the noise-to-signal amplitude ratio
+    ``ρ = 1/SNR_lin`` (:func:`noise_ratio`: 0 without noise, +inf without signal), as the array
+    core has it (NumPy)."""
+    with np.errstate(divide="ignore"):
+        lin = 1.0 / inverse
+    return _combined_ratio(c, lin, xp)
 
 
 @functools.cache
@@ -163,36 +187,66 @@ def ratio_n50(ratio: Any) -> Any:
     """
     xp, (r,) = _arrays.arrays(ratio, names=("ratio",))
     _arrays.require_nonnegative("ratio", r, xp)
+    return _arrays.result(_ratio_n50(r, xp))
+
+
+def _ratio_n50(r: Any, xp: Any) -> Any:
+    """:func:`ratio_n50` of a checked float array."""
     low, medium, alpha = _ratio_anchors()
     safe = xp.where(r > 0, r, 1.0)
     mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (
         math.log(medium / low) / math.log(10.0)
     )
     out = xp.where(r >= 1.0, mid, medium * safe ** (-alpha))
-    return _arrays.result(xp.where(r > 0, out, xp.where(xp.isnan(r), r, xp.inf)))
+    return xp.where(r > 0, out, xp.where(xp.isnan(r), r, xp.inf))
 
 
 QUADRATURE_CONSTANT = math.sqrt(3.0)
 """k of the ``variance-sum`` law: ``f(0 dB) = sqrt(1 + k²) = 2`` (module docstring)."""
 
 
+def noise_ratio(snr: Any) -> Any:
+    """Noise-to-signal amplitude ratio ``ρ = 1/SNR_lin = 10^(−SNR/20)`` of an SNR in dB.
+
+    0 at +inf (no noise), +inf at −inf (no signal). The built-in noise models act on ``ρ``
+    (:attr:`NoiseModel.ratio_factor`); the array core takes it from the optical depth directly,
+    ``ρ = e^d − 1`` for Eq. (7.7), without the decibels. NumPy: no checks, no overflow warning.
+
+    Examples
+    --------
+    >>> from targetacq.noise import noise_ratio
+    >>> print([float(x) for x in noise_ratio([0.0, 20.0, float("inf")])])
+    [1.0, 0.1, 0.0]
+    """
+    xp, (s,) = _arrays.arrays(snr, names=("snr",))
+    if isinstance(s, np.ndarray):
+        with np.errstate(over="ignore"):
+            return _arrays.result(10.0 ** (-s / 20.0))
+    return _amplitude(-s, xp)  # a zero, not NaN, gradient at ±inf
+
+
 def _variance_sum_factor(snr: Any) -> Any:
     """``f = sqrt(1 + k²/SNR_lin²)``, written as ``hypot(1, k·10^(−SNR/20))`` (no overflow)."""
     xp, (s,) = _arrays.arrays(snr, names=("snr",))
     # 10^(-SNR/20) is the noise-to-signal amplitude: 0 at +inf (f = 1), +inf at -inf (f = inf).
-    if isinstance(s, np.ndarray):
-        with np.errstate(over="ignore"):
-            inverse = 10.0 ** (-s / 20.0)
-    else:
-        inverse = _amplitude(-s, xp)  # a zero, not NaN, gradient at ±inf
+    return _arrays.result(_variance_sum_of_ratio(noise_ratio(s), xp))
+
+
+def _variance_sum_of_ratio(inverse: Any, xp: Any = None) -> Any:
+    """The ``variance-sum`` factor of the noise-to-signal amplitude ratio (:func:`noise_ratio`)."""
+    xp = xp or _arrays.namespace(inverse)
     ratio = QUADRATURE_CONSTANT * inverse
+    if isinstance(ratio, np.ndarray) and not bool(np.any(ratio > 1.0)):
+        ratio *= ratio  # every ratio <= 1 (or NaN): the small branch alone, as below
+        ratio += 1.0
+        return np.sqrt(ratio, out=ratio)
     # sqrt(1 + r²) as r · sqrt(1 + 1/r²) for r > 1: no overflow for a vanishing signal.
     big = ratio > 1.0
     safe = xp.where(big, ratio, 1.0)
     shrink = 1.0 / safe
     large = safe * xp.sqrt(1.0 + shrink * shrink)
     small = xp.sqrt(1.0 + xp.where(big, 0.0, ratio) ** 2)
-    return _arrays.result(xp.where(big, large, small))
+    return xp.where(big, large, small)
 
 
 def _clutter_analogue_factor(snr: Any) -> Any:
@@ -202,9 +256,21 @@ def _clutter_analogue_factor(snr: Any) -> Any:
     return _arrays.result(ratio_n50(lin) / uncluttered)
 
 
+def _clutter_analogue_of_ratio(inverse: Any, xp: Any = None) -> Any:
+    xp = xp or _arrays.namespace(inverse)
+    with np.errstate(divide="ignore"):
+        lin = 1.0 / inverse  # SNR_lin: +inf without noise
+    return _ratio_n50(lin, xp) / _ratio_anchors()[0]
+
+
 def _no_noise_factor(snr: Any) -> Any:
     xp, (s,) = _arrays.arrays(snr, names=("snr",))
     return _arrays.result(xp.where(xp.isnan(s), s, xp.ones_like(s)))
+
+
+def _no_noise_of_ratio(inverse: Any, xp: Any = None) -> Any:
+    xp = xp or _arrays.namespace(inverse)
+    return xp.where(xp.isnan(inverse), inverse, xp.ones_like(inverse))
 
 
 @dataclass(frozen=True)
@@ -220,12 +286,18 @@ class NoiseModel:
         Whether detection in clutter is read at ``R_eff`` (:func:`effective_scr`) instead of
         applying ``n50_factor`` at the clutter's own SCR.
     source : str
+    ratio_factor : callable or None
+        The same factor as a function of the noise-to-signal amplitude ratio
+        ``ρ = 10^(−SNR/20)`` (:func:`noise_ratio`), ``ratio_factor(ρ, xp) -> f``: what the array
+        core uses with NumPy, which has ``ρ`` from the optical depth without the decibels.
+        None (a user's model): the core converts to decibels and calls ``n50_factor``.
     """
 
     name: str
     n50_factor: Callable[[Any], Any]
     combines_with_clutter: bool = False
     source: str = ""
+    ratio_factor: Callable[..., Any] | None = None
 
 
 NOISE_MODELS: Mapping[str, NoiseModel] = MappingProxyType(
@@ -234,6 +306,7 @@ NOISE_MODELS: Mapping[str, NoiseModel] = MappingProxyType(
             "variance-sum",
             _variance_sum_factor,
             combines_with_clutter=True,
+            ratio_factor=_variance_sum_of_ratio,
             source="project assumption: noise raises the N50s in quadrature, f = sqrt(1 + 3/SNR²) "
             "(the noise term of Vollmerhausen, Jacobs & Driggers 2004); noise and clutter add "
             "in variance",
@@ -242,10 +315,13 @@ NOISE_MODELS: Mapping[str, NoiseModel] = MappingProxyType(
             "clutter-analogue",
             _clutter_analogue_factor,
             combines_with_clutter=True,
+            ratio_factor=_clutter_analogue_of_ratio,
             source="project assumption: noise moves the N50 as clutter does in Table 3.5 "
             "(Sonesson 2004 §3.7, §3.10); no effect above 20 dB",
         ),
-        "none": NoiseModel("none", _no_noise_factor, source="noise ignored"),
+        "none": NoiseModel(
+            "none", _no_noise_factor, source="noise ignored", ratio_factor=_no_noise_of_ratio
+        ),
     }
 )
 """Noise models by name (read-only)."""

@@ -108,8 +108,13 @@ def pixels_on_target(area: Any, range: Any, ifov: Any) -> Any:
     _arrays.require_nonnegative("area", a, xp, "m²")
     _arrays.require_positive("range", r, xp, "m")
     _arrays.require_positive("ifov", i, xp, "rad")
+    return _arrays.result(_pixels(a, r, i))
+
+
+def _pixels(a: Any, r: Any, i: Any) -> Any:
+    """:func:`pixels_on_target` of checked float arrays (the arithmetic kernel)."""
     footprint = r * i
-    return _arrays.result(a / (footprint * footprint))
+    return a / (footprint * footprint)
 
 
 def pixel_gain(pixels: Any) -> Any:
@@ -129,7 +134,11 @@ def pixel_gain(pixels: Any) -> Any:
     """
     xp, (n,) = _arrays.arrays(pixels, names=("pixels",))
     _arrays.require_nonnegative("pixels", n, xp)
-    return _arrays.result(xp.where(n >= 1.0, xp.sqrt(xp.maximum(n, 1.0)), n))
+    return _arrays.result(_gain(n, xp))
+
+
+def _gain(n: Any, xp: Any) -> Any:
+    return xp.where(n >= 1.0, xp.sqrt(xp.maximum(n, 1.0)), n)
 
 
 def sensor_snr(contrast: Any, noise_equivalent: Any, transmittance: Any, pixels: Any) -> Any:
@@ -167,13 +176,27 @@ def sensor_snr(contrast: Any, noise_equivalent: Any, transmittance: Any, pixels:
     )
     _arrays.require_nonnegative("noise_equivalent", noise, xp)
     _arrays.require_unit_interval("transmittance", tau, xp)
-    signal = tau * xp.abs(c) * pixel_gain(n)
+    _arrays.require_nonnegative("pixels", n, xp)
+    return _arrays.result(_sensor_db(c, noise, tau, n, xp)[0])
+
+
+def _sensor_db(c: Any, noise: Any, tau: Any, n: Any, xp: Any) -> tuple[Any, Any, Any]:
+    """:func:`sensor_snr` of checked float arrays (the arithmetic kernel).
+
+    Returns
+    -------
+    snr, inverse, unknown
+        The SNR [dB], its noise-to-signal amplitude ratio ``NEC / (τ |C| g)`` (0 without noise,
+        +inf without signal; not NaN-masked) and where an input is NaN.
+    """
+    signal = tau * xp.abs(c) * _gain(n, xp)
     quiet = noise == 0
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ratio = xp.where(quiet, xp.inf, signal / xp.where(quiet, 1.0, noise))
         db = 20.0 * xp.log10(ratio)
+        inverse = xp.where(quiet, 0.0, noise / xp.where(quiet, 1.0, signal))
     unknown = xp.isnan(c) | xp.isnan(noise) | xp.isnan(tau) | xp.isnan(n)
-    return _arrays.result(xp.where(unknown, xp.nan, db))
+    return xp.where(unknown, xp.nan, db), inverse, unknown
 
 
 def combined_snr(*snr: Any) -> Any:
@@ -202,6 +225,11 @@ def combined_snr(*snr: Any) -> Any:
     xp, values = _arrays.arrays(*snr, names=[f"snr {k + 1}" for k in range(len(snr))])
     if len(values) == 1:
         return _arrays.result(values[0])
+    return _arrays.result(_combined_db(values, xp))
+
+
+def _combined_db(values: list[Any], xp: Any) -> Any:
+    """:func:`combined_snr` of two or more float arrays (the arithmetic kernel)."""
     # 1/SNR_lin² = 10^(−SNR/10): 0 at +inf, +inf at −inf.
     with np.errstate(over="ignore", divide="ignore"):
         total = sum((10.0 ** (-v / 10.0) for v in values), start=xp.zeros_like(values[0]))
@@ -209,4 +237,4 @@ def combined_snr(*snr: Any) -> Any:
     unknown = xp.zeros_like(total, dtype=bool)
     for v in values:
         unknown = unknown | xp.isnan(v)
-    return _arrays.result(xp.where(unknown, xp.nan, db))
+    return xp.where(unknown, xp.nan, db)

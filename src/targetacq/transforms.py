@@ -242,14 +242,23 @@ class _Curve:
     def _strict(self) -> bool:
         return all(b > a for a, b in itertools.pairwise(self.cycles))
 
-    def forward(self, n: Array, xp: Any) -> Array:
+    @functools.cached_property
+    def _log_cycles(self) -> np.ndarray:
+        return np.log(self.cycles)
+
+    def forward(self, n: Array, xp: Any, log_n: Array = None) -> Array:
+        """P at N; ``log_n``, NumPy only, is ``log(n)`` where the caller has it already."""
         ns, ps = self.cycles, self.probabilities
         if isinstance(n, np.ndarray) and self._strict:
             # NumPy fast path: the same piecewise-linear curve in log N by np.interp.
-            with np.errstate(divide="ignore"):
-                u = np.log(n)
-            out = np.interp(u, np.log(ns), ps)
-            return np.where(n < ns[0], ps[0] * n / ns[0], out)
+            if log_n is None:
+                with np.errstate(divide="ignore"):
+                    log_n = np.log(n)
+            out = np.interp(log_n, self._log_cycles, ps)
+            below = n < ns[0]
+            if out.ndim and not below.any():
+                return out
+            return np.where(below, ps[0] * n / ns[0], out)
         u = xp.log(xp.where(n > 0, xp.minimum(n, ns[-1]), 1.0))  # segments only: no inf · 0
         out = xp.where(n >= ns[-1], ps[-1], xp.zeros_like(n))
         out = xp.where(n < ns[0], ps[0] * n / ns[0], out)
@@ -524,6 +533,8 @@ def _sw_select(
     if scr is None:
         return values[region or "low"]
     scr_low = _sw_high_anchor()[0]
+    if isinstance(scr, np.ndarray):
+        return _sw_select_numpy(values, scr, scr_low)
     safe = xp.where(scr > 0, scr, scr_low)
     upper = xp.minimum(xp.maximum(xp.log10(xp.where(safe >= 1.0, safe, 1.0)), 0.0), 1.0)
     lower = xp.minimum(
@@ -536,6 +547,29 @@ def _sw_select(
     below = values["high"] + lower * (values["medium"] - values["high"])
     out = xp.where(scr >= 1.0, above, below)
     return xp.where(xp.isnan(scr), scr, out)
+
+
+def _sw_select_numpy(values: Mapping[str, Array], scr: np.ndarray, scr_low: float) -> Array:
+    """:func:`_sw_select` for NumPy: the same arithmetic, each side computed only where an SCR
+    needs it (``values`` may then hold only the curves of that side)."""
+    above = scr >= 1.0
+    all_above = bool(above.all())
+    none_above = not all_above and not above.any()
+    if not none_above:
+        upper = np.log10(np.where(scr >= 1.0, scr, 1.0) if not all_above else scr)
+        upper = np.minimum(np.maximum(upper, 0.0), 1.0)
+        medium = values["medium"]
+        upper = medium + upper * (values["low"] - medium)
+        if all_above:
+            return upper
+    safe = np.where(scr > 0, scr, scr_low)
+    lower = np.log(np.where(safe < 1.0, safe, 1.0) / scr_low) / math.log(1.0 / scr_low)
+    lower = np.minimum(np.maximum(lower, 0.0), 1.0)
+    high = values["high"]
+    lower = high + lower * (values["medium"] - high)
+    out = lower if none_above else np.where(above, upper, lower)
+    unknown = np.isnan(scr)
+    return np.where(unknown, scr, out) if unknown.any() else out
 
 
 def schmieder_weathersby(
@@ -591,13 +625,39 @@ def schmieder_weathersby(
     s = _sw_options(scr, region, hot_spot, moving, xp)
     if moving:
         return _arrays.result(xp.where(xp.isnan(n), n, xp.ones_like(n)))
-    scaled = n * (_sw_reference_n50() / n50_)
     if hot_spot:
-        return _arrays.result(_sw_curves()["low"].forward(scaled, xp))
-    if s is not None:
-        scaled = scaled * _sw_stretch(s, xp)
-    values = {name: curve.forward(scaled, xp) for name, curve in _sw_curves().items()}
-    return _arrays.result(_sw_select(values, s, region, xp))
+        return _arrays.result(_sw_probability(n, n50_, None, "low", xp))
+    return _arrays.result(_sw_probability(n, n50_, s, region, xp))
+
+
+def _sw_probability(n: Array, n50: Any, scr: Array | None, region: str | None, xp: Any) -> Array:
+    """:func:`schmieder_weathersby` of checked arrays: the region's curve (default low), or with
+    an SCR array the stretched curves blended in ``log SCR`` (:func:`_sw_select`).
+
+    The arithmetic kernel. NumPy evaluates only the curves the SCRs need, with ``log N`` taken
+    once for them; the numbers are the same.
+    """
+    scaled = n * (_sw_reference_n50() / n50)
+    curves = _sw_curves()
+    if scr is None:
+        return curves[region or "low"].forward(scaled, xp)
+    if not isinstance(scaled, np.ndarray) or scaled.ndim == 0:
+        scaled = scaled * _sw_stretch(scr, xp)
+        values = {name: curve.forward(scaled, xp) for name, curve in curves.items()}
+        return _sw_select(values, scr, None, xp)
+    scr = np.asarray(scr)
+    below = scr < _sw_high_anchor()[0]
+    if below.any():  # the stretch is 1 elsewhere: scaled · 1 is scaled
+        scaled = scaled * _sw_stretch(scr, xp)
+    with np.errstate(divide="ignore"):
+        log_n = np.log(scaled)
+    above = scr >= 1.0
+    # The curves the blend reads: low and medium at SCR >= 1, medium and high below.
+    wanted = ("low", "medium") if above.all() else CLUTTER_REGIONS
+    if not above.any() and not np.isnan(scr).any():
+        wanted = ("medium", "high")
+    values = {name: curves[name].forward(scaled, np, log_n) for name in wanted}
+    return _sw_select(values, scr, None, np)
 
 
 def schmieder_weathersby_inverse(

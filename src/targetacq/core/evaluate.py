@@ -19,6 +19,13 @@ module wires them together:
    ``P_id <= P_rec <= P_det``, zero outside the field of view;
 5. sensor-level fusion (8.4).
 
+NumPy. With NumPy arrays :func:`factors` computes the pairs block by block (temporaries in the
+CPU cache) and :func:`probabilities` runs the transforms on the pairs in view only, with the noise
+from the optical depth as an amplitude ratio (``1/SNR_lin = e^d − 1``) rather than through the
+decibels; what a scene fixes (its model choices resolved, its targets grouped by criterion, its
+sensors' frames) is derived once per record (:func:`targetacq.core.records.derived`). The numbers
+are those of the whole-array computation to about 1e-14 relative.
+
 Shapes: ``sensor_positions`` ``(n_s, *batch, 3)``, ``target_positions`` ``(n_g, *batch, 3)``; every
 result is ``(n_s, n_g, *batch)``, the fused ones ``(n_g, *batch)``. ``batch`` is the time axis of
 :class:`targetacq.model.ModelChain` and empty for one step of :class:`targetacq.Simulation`.
@@ -55,18 +62,35 @@ JAX differentiates both branches of a ``where``.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from targetacq import _arrays, atmosphere, geometry, sensor_noise
 from targetacq import transforms as _transforms
-from targetacq.acquisition import ordered_probabilities
+from targetacq.acquisition import (
+    MotionRule,
+    Semantics,
+    get_motion_rule,
+    get_semantics,
+    ordered_probabilities,
+)
 from targetacq.clutter import signal_to_clutter_ratio
-from targetacq.core.records import SceneArrays, SensorArrays, pytree_record
-from targetacq.fusion import fuse
-from targetacq.noise import get_noise_model
+from targetacq.core.records import (
+    ModelChoices,
+    SceneArrays,
+    SensorArrays,
+    TargetArrays,
+    derived,
+    pytree_record,
+)
+from targetacq.fusion import _fused, fuse
+from targetacq.noise import NoiseModel, get_noise_model
 
 __all__ = [
     "Factors",
@@ -189,6 +213,496 @@ def boresight(
     return (forward[0], forward[1], forward[2]), _per_sensor(pointed & has_view, batch, xp)
 
 
+# --------------------------------------------------------------------------------------------
+# NumPy: what a scene fixes, once; the factors block by block; the probabilities in view only
+# --------------------------------------------------------------------------------------------
+
+# Triples per block of the NumPy factors: the block's temporaries (32 KiB each) stay in the CPU
+# cache and are reused from the heap, where larger ones are fresh pages (page faults) on every
+# block and call.
+_BLOCK = 1 << 12
+# Elements per call of the transforms on the pairs in view, for the same reason.
+_PROBABILITY_BLOCK = 1 << 12
+# The private attribute of a Factors made by factors() with NumPy: where its probabilities take
+# the noise-to-signal amplitude ratio 1/SNR_lin from (see _noise_ratio).
+_RATIO = "_noise_ratio"
+_FROM_DEPTH = "optical depth"  # ρ = e^d − 1, from the path alone (no noise of the sensors)
+
+
+@dataclass(frozen=True)
+class _Choices:
+    """A scene's model choices, resolved once (registry look-ups, the options as a mapping)."""
+
+    transform: _transforms.Transform
+    options: Mapping[str, Any]
+    noise: NoiseModel
+    motion: MotionRule
+    semantics: Semantics
+
+
+def _resolve(choices: ModelChoices) -> _Choices:
+    return _Choices(
+        _transforms.get_transform(choices.transform),
+        MappingProxyType(dict(choices.options)),
+        get_noise_model(choices.noise_model),
+        get_motion_rule(choices.motion),
+        get_semantics(choices.semantics),
+    )
+
+
+_resolved = functools.cache(_resolve)
+
+
+def _choices(choices: ModelChoices) -> _Choices:
+    try:
+        return _resolved(choices)
+    except TypeError:  # an option that cannot be hashed: resolved on every call
+        return _resolve(choices)
+
+
+@dataclass(frozen=True)
+class _TargetGroups:
+    """The targets grouped by their N50s, and their flags, from a TargetArrays (NumPy)."""
+
+    rows: tuple[tuple[float, float, float], ...]  # each group's N50s
+    group: np.ndarray | None  # (n_g,) each target's group; None: one group
+    hot: np.ndarray  # (n_g,) bool
+    moving: np.ndarray
+    # Per group, the flag of all its targets, or None where they differ: as task_probabilities
+    # passes them (one bool, else one per target), whichever of the group's pairs are evaluated.
+    hot_same: tuple[bool | None, ...]
+    moving_same: tuple[bool | None, ...]
+
+    def flag(self, name: str, k: int, targets: Callable[[], np.ndarray]) -> Any:
+        """Group ``k``'s flag: one bool, else the flags of ``targets()`` (their indices)."""
+        same = (self.hot_same if name == "hot" else self.moving_same)[k]
+        if same is not None:
+            return same
+        return (self.hot if name == "hot" else self.moving)[targets()]
+
+
+def _same(values: np.ndarray) -> bool | None:
+    if values.size and bool(np.all(values == values[0])):
+        return bool(values[0])
+    return None
+
+
+def _group_targets(targets: TargetArrays) -> _TargetGroups:
+    table = np.asarray(targets.n50, dtype=float).reshape(-1, 3)
+    hot = np.asarray(targets.hot_spot, dtype=bool).reshape(-1)
+    moving = np.asarray(targets.moving, dtype=bool).reshape(-1)
+    if table.shape[0] == 0 or bool(np.all(table == table[0])):
+        row = tuple(float(v) for v in table[0]) if table.shape[0] else (1.0, 1.0, 1.0)
+        return _TargetGroups((row,), None, hot, moving, (_same(hot),), (_same(moving),))  # type: ignore[arg-type]
+    rows, group = np.unique(table, axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    members = [group == k for k in range(rows.shape[0])]
+    return _TargetGroups(
+        tuple(tuple(float(v) for v in row) for row in rows),  # type: ignore[misc]
+        group,
+        hot,
+        moving,
+        tuple(_same(hot[m]) for m in members),
+        tuple(_same(moving[m]) for m in members),
+    )
+
+
+def _groups(targets: TargetArrays) -> _TargetGroups:
+    return derived(targets, "groups", _group_targets)
+
+
+def _is_numpy_record(record: Any) -> bool:
+    """Whether every array of a record (and of the records in it) is a float64 NumPy array."""
+    for item in dataclasses.fields(record):
+        if item.metadata.get("static"):
+            continue
+        value = getattr(record, item.name)
+        if value is None:
+            continue
+        if dataclasses.is_dataclass(value):
+            if not _is_numpy_record(value):
+                return False
+        elif not (isinstance(value, np.ndarray) and value.dtype == np.float64):
+            return False
+    return True
+
+
+def _numpy_scene(scene: SceneArrays) -> bool:
+    return derived(scene, "numpy", _is_numpy_record)
+
+
+@dataclass(frozen=True)
+class _Pointing:
+    """What a sensor's own pointing fixes (NumPy): the boresight where it is a direction."""
+
+    by_point: np.ndarray  # (n_s,) bool: pointed at a look_at point
+    look_at: np.ndarray  # (n_s, 3)
+    direction: tuple[np.ndarray, np.ndarray, np.ndarray]  # (n_s,) each, where by angles
+    viewing: np.ndarray  # (n_s,) bool: pointed and with a field of view
+    half_tangents: tuple[np.ndarray, np.ndarray]  # (n_s, 1, 1) each
+    frame: tuple[np.ndarray, ...] | None  # (n_s, 1) each where no sensor points at a place
+
+
+def _fixed_pointing(sensors: SensorArrays, pointing: Any = None) -> _Pointing:
+    """:func:`boresight`'s per-sensor part, with NumPy (the same arithmetic)."""
+    look_at = np.asarray(sensors.look_at, dtype=float).reshape(-1, 3)
+    angles = np.asarray(sensors.pointing, dtype=float).reshape(-1, 2)
+    pointed = np.asarray(sensors.pointed, dtype=bool).reshape(-1)
+    if pointing is not None:
+        given = np.asarray(pointing, dtype=float)
+        chosen = np.isfinite(given[:, 0]) & np.isfinite(given[:, 1])
+        angles = np.where(chosen[:, None], given, angles)
+        look_at = np.where(chosen[:, None], np.nan, look_at)
+        pointed = pointed | chosen
+    by_point = np.isfinite(look_at[:, 0])
+    by_angles = np.isfinite(angles[:, 0])
+    east, north, up = geometry.pointing_direction(
+        np.where(by_angles, angles[:, 0], 0.0), np.where(by_angles, angles[:, 1], 0.0)
+    )
+    half = np.asarray(sensors.half_tangents, dtype=float).reshape(-1, 2)
+    direction = (np.asarray(east), np.asarray(north), np.asarray(up))
+    frame = None
+    if not by_point.any():  # the boresight is a direction: the frame does not move
+        east_, north_, up_ = (d[:, None] for d in direction)
+        frame = geometry._frame(east_, north_, up_, np)
+    return _Pointing(
+        by_point,
+        look_at,
+        direction,
+        pointed & np.isfinite(half[:, 0]),
+        (half[:, 0, None, None], half[:, 1, None, None]),
+        frame,
+    )
+
+
+def _sensor_frames(
+    s3: np.ndarray, sensors: SensorArrays, pointing: Any
+) -> tuple[tuple[np.ndarray, ...], _Pointing]:
+    """Each sensor's frame (:func:`targetacq.geometry._frame`), ``(n_s, B)`` or ``(n_s, 1)``
+    where no sensor points at a place (the frame does not move then), and its pointing."""
+    fixed = (
+        derived(sensors, "pointing", _fixed_pointing)
+        if pointing is None
+        else _fixed_pointing(sensors, pointing)
+    )
+    if fixed.frame is not None:
+        return fixed.frame, fixed
+    forward = []
+    for k in range(3):  # toward the point, from where the sensor is, else the direction
+        toward = np.where(fixed.by_point, fixed.look_at[:, k], 0.0)[:, None] - s3[:, :, k]
+        forward.append(np.where(fixed.by_point[:, None], toward, fixed.direction[k][:, None]))
+    return geometry._frame(forward[0], forward[1], forward[2], np), fixed
+
+
+def _blocks(n_s: int, n_g: int, n_b: int) -> Iterator[tuple[slice, slice, slice]]:
+    """Blocks of about :data:`_BLOCK` triples of the ``(n_s, n_g, n_b)`` grid, each contiguous
+    in a C-ordered array: whole sensor rows, else a sensor's targets, else a pair's batch."""
+    if n_s * n_g * n_b == 0:
+        return
+    whole = slice(None)
+    if n_g * n_b <= _BLOCK:
+        step = max(1, _BLOCK // (n_g * n_b))
+        for s in range(0, n_s, step):
+            yield slice(s, min(s + step, n_s)), whole, whole
+    elif n_b <= _BLOCK:
+        step = max(1, _BLOCK // n_b)
+        for s in range(n_s):
+            for g in range(0, n_g, step):
+                yield slice(s, s + 1), slice(g, min(g + step, n_g)), whole
+    else:
+        for s in range(n_s):
+            for g in range(n_g):
+                for b in range(0, n_b, _BLOCK):
+                    yield slice(s, s + 1), slice(g, g + 1), slice(b, min(b + _BLOCK, n_b))
+
+
+def _factors_numpy(
+    scene: SceneArrays,
+    s_pos: np.ndarray,
+    t_pos: np.ndarray,
+    headings: np.ndarray | None,
+    pointing: Any,
+    scr: Any,
+) -> Factors:
+    """:func:`factors` with NumPy, block by block (:func:`_blocks`), the same arithmetic.
+
+    Sets the Factors' private noise-to-signal ratio (:data:`_RATIO`) for :func:`probabilities`.
+    """
+    sensors, targets, path = scene.sensors, scene.targets, scene.path
+    n_s, n_g = s_pos.shape[0], t_pos.shape[0]
+    batch = s_pos.shape[1:-1]
+    n_b = int(np.prod(batch, dtype=np.int64))
+    s3, t3 = s_pos.reshape(n_s, n_b, 3), t_pos.reshape(n_g, n_b, 3)
+    if headings is None:
+        heading = targets.heading.reshape(n_g, 1)
+    else:
+        heading = np.broadcast_to(headings, (n_g, *batch)).reshape(n_g, n_b)
+        _arrays.require_finite("heading", heading, np, "rad")
+    sin_h, cos_h = np.sin(heading), np.cos(heading)
+    dims = targets.dimensions.reshape(n_g, 3)
+    visible = targets.visible_fraction.reshape(n_g)
+    frame, fixed = _sensor_frames(s3, sensors, pointing)
+    tan_h, tan_v = fixed.half_tangents
+    lengths = [float(v) for v in path.segment_length]
+    segments = sensors.segment_extinction.reshape(n_s, len(lengths))
+    clouds = path.cloud_center.reshape(-1, 3).shape[0]
+    noisy = sensors.has_noise
+    shape3 = (n_s, n_g, n_b)
+    rng, critical, cycles = np.empty(shape3), np.empty(shape3), np.empty(shape3)
+    in_view, depth_out = np.empty(shape3, dtype=bool), np.empty(shape3)
+    tau_out, snr_out = np.empty(shape3), np.empty(shape3)
+    ratio_out = np.empty(shape3) if noisy else None
+    flat = heading.shape[1] == 1
+    per_target = (slice(None), None)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for sb, gb, bb in _blocks(n_s, n_g, n_b):
+            block = (sb, gb, bb)
+            s_b, t_b = s3[sb, bb], t3[gb, bb]  # (ks, kb, 3), (kg, kb, 3)
+            x, y, z = (t_b[None, :, :, k] - s_b[:, None, :, k] for k in range(3))
+            h_b = slice(None) if flat else bb
+            r, horizontal, vertical = geometry._outline_numpy(
+                x,
+                y,
+                z,
+                sin_h[None, gb, h_b],
+                cos_h[None, gb, h_b],
+                dims[gb, 0][per_target],
+                dims[gb, 1][per_target],
+                dims[gb, 2][per_target],
+            )
+            rng[block] = r
+            seen = vertical * visible[gb][per_target]
+            np.minimum(horizontal, seen, out=seen)
+            critical[block] = seen
+            footprint = np.maximum(r, 1e-9)
+            footprint *= sensors.cycle[sb][:, None, None]
+            np.divide(seen, footprint, out=cycles[block])
+            # The field of view, for the pointed sensors with one; NaN lines of sight are out.
+            known = r == r
+            viewing = fixed.viewing[sb]
+            if viewing.any():
+                f_b = slice(None) if frame[0].shape[1] == 1 else bb
+                inside = geometry._within_numpy(
+                    x, y, z, tuple(c[sb, None, f_b] for c in frame), tan_h[sb], tan_v[sb]
+                )
+                if not viewing.all():
+                    inside |= ~viewing[:, None, None]
+                np.logical_and(inside, known, out=in_view[block])
+            else:
+                in_view[block] = known
+            # The path: optical depth, transmittance, SNR of Eq. (7.7).
+            gamma = sensors.extinction[sb][:, None, None]
+            depth = atmosphere._segmented_depth(
+                r, gamma, lengths, [segments[sb, j][:, None, None] for j in range(len(lengths))], np
+            )
+            for c in range(clouds):
+                chord = atmosphere.sphere_chord_length(
+                    s_b[:, None], t_b[None], path.cloud_center[c], path.cloud_radius[c]
+                )
+                depth = depth + path.cloud_extinction[c] * chord
+            depth_out[block] = depth
+            tau = np.negative(depth)
+            np.exp(tau, out=tau)
+            tau_out[block] = tau
+            snr = atmosphere._snr_db(depth, np)
+            if noisy:
+                # The area seen: the outline's horizontal side times the visible part of its
+                # height.
+                area = horizontal * vertical * visible[gb][per_target]
+                pixels = sensor_noise._pixels(
+                    area, np.maximum(r, 1e-9), sensors.ifov[sb][:, None, None]
+                )
+                contrast = scene.signature.contrast[sb, gb][:, :, None]
+                noise = sensors.noise_equivalent[sb][:, None, None]
+                own, inverse, unknown = sensor_noise._sensor_db(contrast, noise, tau, pixels, np)
+                snr = sensor_noise._combined_db([snr, own], np)
+                # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
+                path_inverse = np.expm1(depth)
+                total = path_inverse * path_inverse
+                total += inverse * inverse
+                np.sqrt(total, out=total)
+                ratio_out[block] = np.where(unknown | np.isnan(depth), np.nan, total)  # type: ignore[index]
+            snr_out[block] = snr
+    full = (n_s, n_g, *batch)
+    if scr is None and scene.signature.scr is not None:
+        scr = scene.signature.scr.reshape((n_s, n_g) + (1,) * len(batch))
+    found = Factors(
+        range=rng.reshape(full),
+        critical_dimension=critical.reshape(full),
+        cycles=cycles.reshape(full),
+        in_view=in_view.reshape(full),
+        optical_depth=depth_out.reshape(full),
+        transmittance=tau_out.reshape(full),
+        snr=snr_out.reshape(full),
+        scr=scr,
+    )
+    ratio = _FROM_DEPTH if ratio_out is None else ratio_out.reshape(full)
+    object.__setattr__(found, _RATIO, ratio)
+    return found
+
+
+def _numpy_path(
+    scene: SceneArrays, s_pos: Any, t_pos: Any, headings: Any, pointing: Any, scr: Any
+) -> bool:
+    """Whether :func:`factors` takes the NumPy path: float64 NumPy positions of one batch shape
+    (and headings, pointing and SCR NumPy or absent) with a scene of NumPy arrays."""
+    if not (isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray)):
+        return False
+    if s_pos.dtype != np.float64 or t_pos.dtype != np.float64:
+        return False
+    if s_pos.ndim < 2 or s_pos.shape[1:] != t_pos.shape[1:] or s_pos.shape[-1] != 3:
+        return False
+    batch = s_pos.shape[1:-1]
+    if headings is not None:
+        if not isinstance(headings, np.ndarray) or headings.dtype != np.float64:
+            return False
+        try:
+            np.broadcast_shapes(headings.shape, (t_pos.shape[0], *batch))
+        except ValueError:
+            return False
+        if np.broadcast_shapes(headings.shape, (t_pos.shape[0], *batch)) != (
+            t_pos.shape[0],
+            *batch,
+        ):
+            return False
+    for value in (pointing, scr):
+        if value is not None and not isinstance(value, np.ndarray):
+            return False
+    return _numpy_scene(scene)
+
+
+def _numpy_factors(scene: SceneArrays, found: Factors) -> bool:
+    """Whether :func:`probabilities` takes the NumPy path: NumPy factors and scene."""
+    if not (isinstance(found.range, np.ndarray) and isinstance(found.cycles, np.ndarray)):
+        return False
+    if found.range.ndim < 2 or found.range.dtype != np.float64:
+        return False
+    for value in (found.in_view, found.snr, found.scr, found.optical_depth):
+        if value is not None and not isinstance(value, (np.ndarray, bool)):
+            return False
+    return _numpy_scene(scene)
+
+
+def _pair_values(value: Any, shape: tuple[int, ...], picked: np.ndarray | None) -> np.ndarray:
+    """The elements ``picked`` (flat indices into ``shape``; None: all) of an array that
+    broadcasts to ``shape``, as a flat array."""
+    value = np.asarray(value, dtype=float)
+    if value.shape == shape:
+        flat = value.reshape(-1)
+        return flat if picked is None else flat[picked]
+    pair = shape[:2] + (1,) * (len(shape) - 2)
+    if value.shape == pair and picked is not None:  # one value per pair, e.g. the SCR
+        return value.reshape(-1)[picked // int(np.prod(shape[2:], dtype=np.int64))]
+    flat = np.broadcast_to(value, shape).reshape(-1)
+    return flat if picked is None else flat[picked]
+
+
+def _noise_ratio(found: Factors, shape: tuple[int, ...], picked: np.ndarray | None) -> Any:
+    """The noise-to-signal amplitude ratio ``ρ = 1/SNR_lin`` at ``picked``, without decibels
+    where ``factors`` left it (:data:`_RATIO`); None where the Factors were made otherwise (the
+    transforms then take it from the SNR in dB)."""
+    source = found.__dict__.get(_RATIO)
+    if source is None:
+        return None
+    if isinstance(source, str):  # the path's alone: Eq. (7.7) in amplitude, e^d − 1
+        with np.errstate(over="ignore"):
+            return np.expm1(_pair_values(found.optical_depth, shape, picked))
+    return _pair_values(source, shape, picked)
+
+
+def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
+    """:func:`probabilities` with NumPy: the transforms run on the pairs in view only."""
+    rng = np.asarray(found.range)
+    shape = rng.shape
+    in_view = np.asarray(found.in_view, dtype=bool)
+    if in_view.shape != shape:
+        in_view = np.broadcast_to(in_view, shape)
+    everywhere = bool(in_view.all())
+    picked = None if everywhere else np.flatnonzero(in_view)
+    count = rng.size if picked is None else picked.size
+    noisy = scene.path.attenuates or scene.sensors.has_noise
+    cycles = _pair_values(found.cycles, shape, picked)
+    snr = _pair_values(found.snr, shape, picked) if noisy else None
+    ratio = _noise_ratio(found, shape, picked) if noisy else None
+    scr = None if found.scr is None else _pair_values(found.scr, shape, picked)
+
+    def target() -> np.ndarray:  # each element's target
+        n_g, per_pair = shape[1], int(np.prod(shape[2:], dtype=np.int64))
+        index = np.arange(rng.size) if picked is None else picked
+        return (index // per_pair) % n_g
+
+    tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene)
+    unknown = np.isnan(rng)
+    some_unknown = bool(unknown.any())
+    out = []
+    for p in tasks:
+        whole = np.zeros(shape)
+        flat = whole.reshape(-1)
+        if picked is None:
+            flat[:] = p
+        elif count:
+            flat[picked] = p
+        if some_unknown:
+            whole[unknown] = np.nan
+        out.append(whole)
+    fused = [_fused(p, 0, np) for p in out]
+    return Probabilities(*out, *fused)
+
+
+def _in_view_tasks(
+    cycles: np.ndarray,
+    snr: np.ndarray | None,
+    ratio: np.ndarray | None,
+    scr: np.ndarray | None,
+    target: Callable[[], np.ndarray],
+    scene: SceneArrays,
+) -> list[np.ndarray]:
+    """Ordered probabilities of flat arrays of pairs (``target()``: each element's target), the
+    targets that share a criterion together, in blocks of :data:`_PROBABILITY_BLOCK`; the same
+    calls as :func:`task_probabilities` makes for them, element by element."""
+    groups = _groups(scene.targets)
+    chosen = _choices(scene.choices)
+    noise = None if snr is None else chosen.noise
+    size = cycles.size
+    out = [np.empty(size) for _ in TASKS]
+    flags_differ = None in groups.hot_same or None in groups.moving_same
+    of = target() if groups.group is not None or flags_differ else None
+    members: list[np.ndarray | None] = [None]
+    if groups.group is not None and of is not None:
+        members = [np.flatnonzero(groups.group[of] == k) for k in range(len(groups.rows))]
+    for k, (row, chosen_members) in enumerate(zip(groups.rows, members, strict=True)):
+        count = size if chosen_members is None else chosen_members.size
+        for start in range(0, count, _PROBABILITY_BLOCK):
+            where: Any = slice(start, min(start + _PROBABILITY_BLOCK, count))
+            if chosen_members is not None:
+                where = chosen_members[where]
+
+            def part(value: Any, where: Any = where) -> Any:
+                return None if value is None else value[where]
+
+            def at(where: Any = where) -> np.ndarray:
+                return of[where]  # type: ignore[index]
+
+            found = ordered_probabilities(
+                part(cycles),
+                list(row),
+                chosen.transform,
+                chosen.options,
+                scr=part(scr),
+                region=scene.choices.region,
+                hot_spot=groups.flag("hot", k, at),
+                moving=groups.flag("moving", k, at),
+                snr=part(snr),
+                noise=noise,
+                motion=chosen.motion,
+                semantics=chosen.semantics,
+                noise_ratio=part(ratio),
+            )
+            for whole, p in zip(out, found, strict=True):
+                whole[where] = p
+    return out
+
+
 def factors(
     scene: SceneArrays,
     sensor_positions: Any,
@@ -216,14 +730,36 @@ def factors(
     Returns
     -------
     Factors
+
+    Notes
+    -----
+    With NumPy (float64 positions and a scene of NumPy arrays) the pairs are computed in blocks
+    of a few thousand triples whose temporaries stay in the CPU cache, with each scene's fixed
+    parts (the sensors' frames where they point by angles) computed once; the numbers are those
+    of the whole-array computation.
     """
-    sensors, targets, path = scene.sensors, scene.targets, scene.path
     xp, (s_pos, t_pos) = _arrays.arrays(
         sensor_positions, target_positions, names=_POSITIONS, broadcast=False
     )
     # Infinite positions have no geometry (inf − inf); NaN ones give NaN probabilities.
     for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
         _arrays.require_finite(name, value, xp, "m")
+    if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr):
+        return _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
+    return _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
+
+
+def _factors_generic(
+    scene: SceneArrays,
+    s_pos: Any,
+    t_pos: Any,
+    headings: Any,
+    pointing: Any,
+    scr: Any,
+    xp: Any,
+) -> Factors:
+    """:func:`factors` of checked positions in any array namespace (whole arrays at once)."""
+    sensors, targets, path = scene.sensors, scene.targets, scene.path
     batch = s_pos.ndim - 2
     # Components (n_s, n_g, *batch), each contiguous in memory.
     x, y, z = (t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3))
@@ -375,7 +911,19 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
 
 def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
     """Probabilities of every pair from its factors, zero outside the field of view, NaN where
-    the geometry is NaN, and their sensor-level fusion (8.4)."""
+    the geometry is NaN, and their sensor-level fusion (8.4).
+
+    With NumPy the transforms run on the pairs in view only, and the noise comes from the optical
+    depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
+    same.
+    """
+    if _numpy_factors(scene, found):
+        return _probabilities_numpy(scene, found)
+    return _probabilities_generic(scene, found)
+
+
+def _probabilities_generic(scene: SceneArrays, found: Factors) -> Probabilities:
+    """:func:`probabilities` in any array namespace: every pair, then the field of view."""
     xp, (rng,) = _arrays.arrays(found.range)
     snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
     tasks = task_probabilities(found.cycles, snr, found.scr, scene)

@@ -23,10 +23,12 @@ from __future__ import annotations
 
 import dataclasses
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
 _R = TypeVar("_R")
+_V = TypeVar("_V")
 
 __all__ = [
     "ModelChoices",
@@ -36,6 +38,7 @@ __all__ = [
     "SignatureArrays",
     "TargetArrays",
     "as_jax",
+    "derived",
     "pytree_record",
     "register_pytrees",
     "to_namespace",
@@ -43,6 +46,32 @@ __all__ = [
 
 
 _RECORDS: list[type] = []  # the records that are JAX pytrees (pytree_record)
+
+
+def derived(record: Any, key: str, compute: Callable[[Any], _V]) -> _V:
+    """A value derived from a record's fields, computed once per record and kept on it.
+
+    The records are frozen and their arrays are read, never written, so what depends on them
+    alone (a grouping of the targets' criteria, the sensors' fixed pointing) need not be
+    computed again on every call. The value lives on the record itself, outside its fields: it
+    is no part of its equality, of its pytree, nor of a copy made by ``dataclasses.replace``
+    (which computes it afresh), and it goes when the record goes.
+
+    Parameters
+    ----------
+    record : a record of this module
+    key : str
+        What is derived (one value per key).
+    compute : callable
+        ``compute(record) -> value``.
+    """
+    cache = record.__dict__.get("_derived")
+    if cache is None:
+        cache = {}
+        object.__setattr__(record, "_derived", cache)
+    if key not in cache:
+        cache[key] = compute(record)
+    return cache[key]
 
 
 def _static(default: Any = dataclasses.MISSING) -> Any:

@@ -327,11 +327,13 @@ def _p(y: Any) -> Any:
     return ((y + 3.0) * y + 6.0) * y + 6.0
 
 
-def _q_asymptotic(x: np.ndarray, x_min: float) -> np.ndarray:
-    """Q(x) for x >= 20 (``x_min`` the least): two terms of the large-x series (the third is
-    below 2e-18 relative). From x = 37.5 on the second is below 2^-54 of the first, so that the
-    sum rounds to the first: it is left out where no element is below 37.5 (the same numbers)."""
-    x = np.minimum(x, _X_CAP)
+def _q_asymptotic(x: np.ndarray, x_min: float, x_max: float) -> np.ndarray:
+    """Q(x) for x >= 20 (``x_min`` and ``x_max`` the least and greatest; ``x`` is overwritten):
+    two terms of the large-x series (the third is below 2e-18 relative). From x = 37.5 on the
+    second is below 2^-54 of the first, so that the sum rounds to the first: it is left out
+    where no element is below 37.5 (the same numbers)."""
+    if x_max > _X_CAP:
+        np.minimum(x, _X_CAP, out=x)
     decay = np.negative(x)
     np.exp(decay, out=decay)
     value = x + 3.0  # x³ + 3x² + 6x + 6 by Horner, in place
@@ -360,10 +362,11 @@ def _q_fast(scaled: np.ndarray, low: float, high: float) -> np.ndarray:
         return _tabulated(_split_tables()[0], scaled)
     x = scaled / _TABLE_STEPS
     if low >= end:
-        return _q_asymptotic(x, low / _TABLE_STEPS)
+        return _q_asymptotic(x, low / _TABLE_STEPS, high / _TABLE_STEPS)
     inside = scaled < end
     table = _tabulated(_split_tables()[0], np.where(inside, scaled, 0.0))
-    return np.where(inside, table, _q_asymptotic(np.maximum(x, _TABLE_END), _TABLE_END))
+    outside = _q_asymptotic(np.maximum(x, _TABLE_END), _TABLE_END, high / _TABLE_STEPS)
+    return np.where(inside, table, outside)
 
 
 def _log_q(x: np.ndarray) -> np.ndarray:

@@ -67,18 +67,25 @@ def supported(scene: SceneArrays) -> str | None:
     return None
 
 
-def _curve_arrays(curves: list[Any]) -> tuple[np.ndarray, np.ndarray]:
-    """(len(curves), 3, K) cycles, log cycles, probabilities (padded) and the point counts."""
-    size = max(len(c.cycles) for c in curves)
-    table = np.full((len(curves), 3, size), np.nan)
-    counts = np.zeros(len(curves), dtype=np.int64)
+def _curve_arrays(curves: list[Any]) -> np.ndarray:
+    """(len(curves), 4, CURVE_POINTS): cycles, their logarithms, probabilities and the slopes
+    ``dP / d ln N`` of the segments (0 where a segment has no width), each curve padded with its
+    last point (:data:`~targetacq.engines.numba_kernels.CURVE_POINTS`)."""
+    table = np.zeros((len(curves), 4, kernels.CURVE_POINTS))
     for k, c in enumerate(curves):
         count = len(c.cycles)
-        table[k, 0, :count] = c.cycles
-        table[k, 1, :count] = [math.log(n) for n in c.cycles]
-        table[k, 2, :count] = c.probabilities
-        counts[k] = count
-    return table, counts
+        if count > kernels.CURVE_POINTS:
+            raise ValueError(
+                f"a table curve of {count} points; the kernels read at most {kernels.CURVE_POINTS}"
+            )
+        pad = kernels.CURVE_POINTS - count
+        table[k, 0] = list(c.cycles) + [c.cycles[-1]] * pad
+        table[k, 1] = [math.log(n) for n in table[k, 0]]
+        table[k, 2] = list(c.probabilities) + [c.probabilities[-1]] * pad
+        width = np.diff(table[k, 1])
+        rise = np.diff(table[k, 2])
+        table[k, 3, :-1] = np.divide(rise, width, out=np.zeros_like(rise), where=width > 0)
+    return table
 
 
 def _float(value: Any) -> np.ndarray:
@@ -133,10 +140,10 @@ class NumbaScene:
         self.visible_fraction = _float(targets.visible_fraction)
         self.heading = _float(targets.heading)
         self.n50 = _float(targets.n50).reshape(-1, 3)
-        low = self.n50[:, 0] * _low_clutter_scale()  # a moving target's, detection
+        moving_n50 = self.n50[:, 0] * _low_clutter_scale()  # a moving target's detection N50
         with np.errstate(divide="ignore"):
             self.log_n50 = np.ascontiguousarray(
-                np.column_stack([np.log(self.n50), low, np.log(low)])
+                np.column_stack([np.log(self.n50), moving_n50, np.log(moving_n50)])
             )
         self.hot_spot = np.ascontiguousarray(np.asarray(targets.hot_spot, dtype=bool))
         self.moving = np.ascontiguousarray(np.asarray(targets.moving, dtype=bool))
@@ -151,13 +158,15 @@ class NumbaScene:
                 _MOTION_CODES[choices.motion],
                 _SEMANTICS_CODES[choices.semantics],
                 0,  # has_scr: set per evaluation
+                int(self.hot_spot.any()),
+                int(self.moving.any()),
             ],
             dtype=np.int64,
         )
         low, medium, alpha = noise._ratio_anchors()
         self.noise_anchors = np.array([noise.QUADRATURE_CONSTANT, low, medium, alpha])
         sw_curves = transforms._sw_curves()
-        self.sw, self.sw_count = _curve_arrays([sw_curves[r] for r in transforms.CLUTTER_REGIONS])
+        self.sw = _curve_arrays([sw_curves[r] for r in transforms.CLUTTER_REGIONS])
         scr_low, _, sw_alpha = transforms._sw_high_anchor()
         self.sw_constants = np.array(
             [transforms._sw_reference_n50(), scr_low, sw_alpha, _low_clutter_scale()]
@@ -165,10 +174,10 @@ class NumbaScene:
         if choices.transform == "c2nveo":
             bound = dict(choices.options).get("bound", "nominal")
             curves = transforms._c2nveo_curves()
-            self.tables, self.table_count = _curve_arrays([curves[t, bound] for t in _TASKS])
+            self.tables = _curve_arrays([curves[t, bound] for t in _TASKS])
             self.table_reference = np.array([transforms._c2nveo_reference_n50(t) for t in _TASKS])
         else:  # unused by the TTPF: a placeholder of the same types
-            self.tables, self.table_count = self.sw, self.sw_count
+            self.tables = self.sw
             self.table_reference = np.ones(3)
 
     # -- evaluation --------------------------------------------------------------------------
@@ -199,20 +208,19 @@ class NumbaScene:
         n_s, n_g = self.contrast.shape
         batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
         size = math.prod(batch)
-        sensors = np.ascontiguousarray(np.broadcast_to(s_pos, (n_s, *batch, 3))).reshape(
-            n_s, size, 3
+        # Component-major, (3, n, size): the kernel's loops over the batch read unit strides.
+        sensors = np.ascontiguousarray(
+            np.moveaxis(np.broadcast_to(s_pos, (n_s, *batch, 3)).reshape(n_s, size, 3), -1, 0)
         )
-        targets = np.ascontiguousarray(np.broadcast_to(t_pos, (n_g, *batch, 3))).reshape(
-            n_g, size, 3
+        targets = np.ascontiguousarray(
+            np.moveaxis(np.broadcast_to(t_pos, (n_g, *batch, 3)).reshape(n_g, size, 3), -1, 0)
         )
         if headings is None:
-            heading = np.broadcast_to(
-                self.heading.reshape((n_g,) + (1,) * len(batch)), (n_g, *batch)
-            )
+            heading = np.broadcast_to(self.heading[:, None], (n_g, size))
         else:
             heading = np.broadcast_to(np.asarray(headings, dtype=float), (n_g, *batch))
+            heading = heading.reshape(n_g, size)
         _arrays.require_finite("heading", heading, np, "rad")
-        heading = heading.reshape(n_g, size)
         forward, pointed = boresight(s_pos, self.scene.sensors, pointing)
         axes = (
             np.broadcast_to(forward[0], (n_s, *batch)),
@@ -223,10 +231,11 @@ class NumbaScene:
         north = geometry.view_offsets(0.0, 1.0, 0.0, axes)
         up = geometry.view_offsets(0.0, 0.0, 1.0, axes)
         frame = np.stack(
-            [east[0], north[0], up[0], east[1], north[1], east[2], north[2], up[2]], axis=-1
-        ).reshape(n_s, size, 8)
-        out = [np.empty((n_s, n_g, size)) for _ in range(6)]
-        in_view = np.empty((n_s, n_g, size), dtype=bool)
+            [east[0], north[0], up[0], east[1], north[1], east[2], north[2], up[2]]
+        ).reshape(8, n_s, size)
+        flat = (n_s, n_g, size)
+        out = [np.empty(flat) for _ in range(6)]
+        in_view = np.empty(flat, dtype=bool)
         cycle, ifov = self.sensor_arrays
         kernels.factors_kernel(
             sensors,
@@ -247,6 +256,7 @@ class NumbaScene:
             self.noise_equivalent,
             self.contrast,
             bool(self.scene.sensors.has_noise),
+            np.empty(size),
             out[0],
             out[1],
             out[2],
@@ -281,17 +291,20 @@ class NumbaScene:
         flat = (n_s, n_g, size)
         settings = self.settings.copy()
         if found.scr is None:
-            scr = np.zeros((1, 1, 1))
-            scr_flat = np.broadcast_to(scr, flat)
+            scr = np.broadcast_to(np.zeros((1, 1, 1)), flat)
         else:
             settings[6] = 1
-            scr_flat = np.broadcast_to(np.asarray(found.scr, dtype=float), shape).reshape(flat)
+            # Contiguous, even where the SCR is per pair: a loop over a broadcast (zero-stride)
+            # array does not vectorise.
+            scr = np.ascontiguousarray(
+                np.broadcast_to(np.asarray(found.scr, dtype=float), shape)
+            ).reshape(flat)
         out = [np.empty(flat) for _ in range(3)]
         fused = np.empty((3, n_g, size))
         kernels.probabilities_kernel(
             np.asarray(found.cycles, dtype=float).reshape(flat),
             np.asarray(found.snr, dtype=float).reshape(flat),
-            scr_flat,
+            scr,
             np.asarray(found.in_view, dtype=bool).reshape(flat),
             rng.reshape(flat),
             self.n50,
@@ -301,11 +314,11 @@ class NumbaScene:
             settings,
             self.noise_anchors,
             self.tables,
-            self.table_count,
             self.table_reference,
             self.sw,
-            self.sw_count,
             self.sw_constants,
+            np.empty(size),
+            np.empty((6, size)),
             out[0],
             out[1],
             out[2],

@@ -1,4 +1,4 @@
-"""The numba engine's kernels: the core's pipeline, element by element, fused into two loops.
+"""The numba engine's kernels: the core's pipeline, element by element, in loops that vectorise.
 
 Each function here is the scalar form of a NumPy kernel of the topic modules, with the same
 arithmetic in the same order where it matters (the field-of-view test is exact), so that the
@@ -20,19 +20,26 @@ here                              NumPy kernel
 :func:`schmieder_weathersby`      :func:`targetacq.transforms.schmieder_weathersby`
 ================================  ==========================================================
 
-:func:`factors_kernel` and :func:`probabilities_kernel` are the two loops (sensors, targets,
-batch) of :mod:`targetacq.engines.numba_engine`, which prepares their inputs. Importing this
-module imports numba (the ``fast`` extra).
+Layout. For each sensor–target pair the kernels run over the batch (the times of a
+:class:`targetacq.ModelChain`) in passes that LLVM turns into SIMD code: the model choices are
+loops of their own, every branch inside a loop is a select, the table curves are read with a
+fixed number of segments (:data:`CURVE_POINTS`), and the exponentials and logarithms are
+:mod:`targetacq.engines._simd`'s. A step of the step API has a batch of one: its pairs run one
+by one.
+
+:func:`factors_kernel` and :func:`probabilities_kernel` are the two kernels of
+:mod:`targetacq.engines.numba_engine`, which prepares their inputs; :func:`ttpf_three` is the
+core kernel alone (``benchmarks/bench_core.py``). Importing this module imports numba (the
+``fast`` extra).
 """
 
 from __future__ import annotations
 
 import math
 
-import numpy as np
+from numba import literal_unroll
 
-from targetacq.engines import _simd
-from targetacq.engines._simd import compiled, inline
+from targetacq.engines._simd import compiled, exp, expm1, inline, log, log10
 
 # Codes of the model choices inside the kernels (numba compiles integers, not registry names).
 NOISE_NONE_GIVEN, NOISE_VARIANCE_SUM, NOISE_CLUTTER_ANALOGUE, NOISE_IGNORED = 0, 1, 2, 3
@@ -41,7 +48,12 @@ MOTION_LOW_CLUTTER, MOTION_ALWAYS = 0, 1
 SEMANTICS_NESTED, SEMANTICS_CONDITIONAL = 0, 1
 REGION_NONE = -1  # else the index of the region's curve: 0 low, 1 medium, 2 high
 
+CURVE_POINTS = 12
+"""Points of every table curve as the kernels read it: a curve with fewer printed points is
+padded with its last point (segments of zero width, never selected). A constant, so that the
+loop over the segments unrolls and the curve vectorises."""
 
+_SEGMENTS = tuple(range(CURVE_POINTS - 1))
 _LN10 = math.log(10.0)
 _TTPF_LIMIT = 700.0
 
@@ -67,7 +79,7 @@ def clip(x, low, high):
 @inline
 def power_of_ten(x):
     """``10 ** x``."""
-    return math.exp(x * _LN10)
+    return exp(x * _LN10)
 
 
 # --------------------------------------------------------------------------------------------
@@ -88,9 +100,9 @@ def box_outline(x, y, z, sin_h, cos_h, length, width, height):
     vertical = (height * rho + (length * along + width * across) / safe * abs(z)) / (
         rng if rng > 0.0 else 1.0
     )
-    if flat:
-        horizontal = length
-        vertical = width if rng > 0.0 else height
+    horizontal = length if flat else horizontal
+    top = width if rng > 0.0 else height
+    vertical = top if flat else vertical
     return rng, horizontal, vertical
 
 
@@ -117,7 +129,7 @@ def path_snr(depth):
     """SNR of Eq. (7.7) from the optical depth [dB]."""
     inner = depth > 0.0 and depth < math.inf
     safe = depth if inner else 1.0
-    snr = 20.0 * (-safe / _LN10 - math.log10(-math.expm1(-safe)))
+    snr = 20.0 * (-safe / _LN10 - log10(-expm1(-safe)))
     snr = math.inf if depth <= 0.0 else snr
     snr = -math.inf if depth == math.inf else snr
     return depth if depth != depth else snr
@@ -125,12 +137,12 @@ def path_snr(depth):
 
 @inline
 def sensor_snr(contrast, noise_equivalent, tau, pixels):
-    """The sensor's own SNR of a target [dB], ``20 math.log10(τ |C| g(n) / NEC)``."""
+    """The sensor's own SNR of a target [dB], ``20 log10(τ |C| g(n) / NEC)``."""
     gain = math.sqrt(maximum(pixels, 1.0)) if pixels >= 1.0 else pixels
     signal = tau * abs(contrast) * gain
     quiet = noise_equivalent == 0.0
-    ratio = math.inf if quiet else signal / noise_equivalent
-    db = 20.0 * math.log10(ratio)
+    ratio = math.inf if quiet else signal / (1.0 if quiet else noise_equivalent)
+    db = 20.0 * log10(ratio)
     unknown = contrast != contrast or noise_equivalent != noise_equivalent
     unknown = unknown or tau != tau or pixels != pixels
     return math.nan if unknown else db
@@ -139,54 +151,22 @@ def sensor_snr(contrast, noise_equivalent, tau, pixels):
 @inline
 def combined_snr(a, b):
     """Two independent noises added in variance [dB]."""
-    total = 0.0 + power_of_ten(-a / 10.0) + power_of_ten(-b / 10.0)
-    db = -10.0 * math.log10(total)
-    return math.nan if (a != a or b != b) else db
-
-
-@inline
-def path_snr_vector(depth):
-    """:func:`path_snr` with the vectorisable exponential and logarithm."""
-    inner = depth > 0.0 and depth < math.inf
-    safe = depth if inner else 1.0
-    snr = 20.0 * (-safe / _LN10 - _simd.log10(-_simd.expm1(-safe)))
-    snr = math.inf if depth <= 0.0 else snr
-    snr = -math.inf if depth == math.inf else snr
-    return depth if depth != depth else snr
-
-
-@inline
-def sensor_snr_vector(contrast, noise_equivalent, tau, pixels):
-    """:func:`sensor_snr` with the vectorisable logarithm."""
-    gain = math.sqrt(maximum(pixels, 1.0)) if pixels >= 1.0 else pixels
-    signal = tau * abs(contrast) * gain
-    quiet = noise_equivalent == 0.0
-    ratio = math.inf if quiet else signal / (1.0 if quiet else noise_equivalent)
-    db = 20.0 * _simd.log10(ratio)
-    unknown = contrast != contrast or noise_equivalent != noise_equivalent
-    unknown = unknown or tau != tau or pixels != pixels
-    return math.nan if unknown else db
-
-
-@inline
-def combined_snr_vector(a, b):
-    """:func:`combined_snr` with the vectorisable exponential and logarithm."""
-    total = 0.0 + _simd.exp(-a * (_LN10 / 10.0)) + _simd.exp(-b * (_LN10 / 10.0))
-    db = -10.0 * _simd.log10(total)
+    total = 0.0 + exp(-a * (_LN10 / 10.0)) + exp(-b * (_LN10 / 10.0))
+    db = -10.0 * log10(total)
     return math.nan if (a != a or b != b) else db
 
 
 @compiled
 def factors_kernel(
-    sensor_positions,  # (n_s, B, 3)
-    target_positions,  # (n_g, B, 3)
+    sensor_positions,  # (3, n_s, B): east, north, up, component-major (unit-stride loads)
+    target_positions,  # (3, n_g, B)
     sin_heading,  # (n_g, B)
     cos_heading,  # (n_g, B)
     dimensions,  # (n_g, 3)
     visible_fraction,  # (n_g,)
     cycle,  # (n_s,)
     ifov,  # (n_s,)
-    frame,  # (n_s, B, 8): forward (3), right (2), up (3), unit, in east-north-up
+    frame,  # (8, n_s, B): forward (3), right (2), up (3), unit, in east-north-up
     half_tangents,  # (n_s, 2)
     pointed,  # (n_s,) bool
     extinction,  # (n_s,)
@@ -196,7 +176,8 @@ def factors_kernel(
     noise_equivalent,  # (n_s,)
     contrast,  # (n_s, n_g)
     has_noise,  # bool
-    out_range,
+    area,  # (B,) work space
+    out_range,  # (n_s, n_g, B)
     out_critical,
     out_cycles,
     out_in_view,
@@ -204,22 +185,21 @@ def factors_kernel(
     out_tau,
     out_snr,
 ):
-    """Per pair, in passes over the batch that LLVM vectorises: the geometry, the optical
-    depth (segment by segment, cloud by cloud), then transmittance and SNR."""
-    n_s, n_b = sensor_positions.shape[0], sensor_positions.shape[1]
-    n_g = target_positions.shape[0]
-    area = np.empty(n_b)
+    """Per pair, in passes over the batch: the geometry, the optical depth (segment by segment,
+    cloud by cloud), then transmittance and SNR."""
+    n_s, n_g, n_b = out_range.shape
     for s in range(n_s):
         tan_h, tan_v = half_tangents[s, 0], half_tangents[s, 1]
         gamma, sensor_cycle, pointed_s = extinction[s], cycle[s], pointed[s]
+        noise_s, ifov_s = noise_equivalent[s], ifov[s]
         for g in range(n_g):
             length, width, height = dimensions[g, 0], dimensions[g, 1], dimensions[g, 2]
-            visible = visible_fraction[g]
+            visible, signal = visible_fraction[g], contrast[s, g]
             # 1. Geometry: range, outline, critical dimension, cycles, field of view.
             for b in range(n_b):
-                x = target_positions[g, b, 0] - sensor_positions[s, b, 0]
-                y = target_positions[g, b, 1] - sensor_positions[s, b, 1]
-                z = target_positions[g, b, 2] - sensor_positions[s, b, 2]
+                x = target_positions[0, g, b] - sensor_positions[0, s, b]
+                y = target_positions[1, g, b] - sensor_positions[1, s, b]
+                z = target_positions[2, g, b] - sensor_positions[2, s, b]
                 rng, horizontal, vertical = box_outline(
                     x, y, z, sin_heading[g, b], cos_heading[g, b], length, width, height
                 )
@@ -228,9 +208,9 @@ def factors_kernel(
                 out_critical[s, g, b] = critical
                 out_cycles[s, g, b] = critical / (maximum(rng, 1e-9) * sensor_cycle)
                 area[b] = horizontal * vertical * visible
-                ahead = x * frame[s, b, 0] + y * frame[s, b, 1] + z * frame[s, b, 2]
-                right = x * frame[s, b, 3] + y * frame[s, b, 4]
-                up = x * frame[s, b, 5] + y * frame[s, b, 6] + z * frame[s, b, 7]
+                ahead = x * frame[0, s, b] + y * frame[1, s, b] + z * frame[2, s, b]
+                right = x * frame[3, s, b] + y * frame[4, s, b]
+                up = x * frame[5, s, b] + y * frame[6, s, b] + z * frame[7, s, b]
                 in_fov = ahead > 0.0 and abs(right) <= tan_h * ahead and abs(up) <= tan_v * ahead
                 out_in_view[s, g, b] = (in_fov or not pointed_s) and rng == rng
                 out_depth[s, g, b] = gamma * rng
@@ -239,26 +219,20 @@ def factors_kernel(
             for j in range(segment_length.shape[0]):
                 stretch, more = segment_length[j], segment_extinction[s, j] - gamma
                 for b in range(n_b):
-                    out_depth[s, g, b] = out_depth[s, g, b] + more * clip(
-                        out_range[s, g, b] - start, 0.0, stretch
-                    )
+                    inside = clip(out_range[s, g, b] - start, 0.0, stretch)
+                    out_depth[s, g, b] = out_depth[s, g, b] + more * inside
                 start = start + stretch
             for c in range(clouds.shape[0]):
-                cx, cy, cz, radius, cloud = (
-                    clouds[c, 0],
-                    clouds[c, 1],
-                    clouds[c, 2],
-                    clouds[c, 3],
-                    clouds[c, 4],
-                )
+                cx, cy, cz = clouds[c, 0], clouds[c, 1], clouds[c, 2]
+                radius, cloud = clouds[c, 3], clouds[c, 4]
                 for b in range(n_b):
                     crossed = chord(
-                        sensor_positions[s, b, 0],
-                        sensor_positions[s, b, 1],
-                        sensor_positions[s, b, 2],
-                        target_positions[g, b, 0],
-                        target_positions[g, b, 1],
-                        target_positions[g, b, 2],
+                        sensor_positions[0, s, b],
+                        sensor_positions[1, s, b],
+                        sensor_positions[2, s, b],
+                        target_positions[0, g, b],
+                        target_positions[1, g, b],
+                        target_positions[2, g, b],
                         cx,
                         cy,
                         cz,
@@ -266,17 +240,20 @@ def factors_kernel(
                     )
                     out_depth[s, g, b] = out_depth[s, g, b] + cloud * crossed
             # 3. Transmittance and SNR (the path's, and the sensor's own added in variance).
-            for b in range(n_b):
-                depth = out_depth[s, g, b]
-                tau = _simd.exp(-depth)
-                snr = path_snr_vector(depth)
-                if has_noise:
-                    footprint = maximum(out_range[s, g, b], 1e-9) * ifov[s]
+            if has_noise:
+                for b in range(n_b):
+                    depth = out_depth[s, g, b]
+                    tau = exp(-depth)
+                    footprint = maximum(out_range[s, g, b], 1e-9) * ifov_s
                     pixels = area[b] / (footprint * footprint)
-                    own = sensor_snr_vector(contrast[s, g], noise_equivalent[s], tau, pixels)
-                    snr = combined_snr_vector(snr, own)
-                out_tau[s, g, b] = tau
-                out_snr[s, g, b] = snr
+                    own = sensor_snr(signal, noise_s, tau, pixels)
+                    out_tau[s, g, b] = tau
+                    out_snr[s, g, b] = combined_snr(path_snr(depth), own)
+            else:
+                for b in range(n_b):
+                    depth = out_depth[s, g, b]
+                    out_tau[s, g, b] = exp(-depth)
+                    out_snr[s, g, b] = path_snr(depth)
 
 
 # --------------------------------------------------------------------------------------------
@@ -291,8 +268,8 @@ def noise_factor(snr, model, anchors):
     ``anchors``: sqrt(3) (variance-sum); Table 3.5's low, medium 50 % points and α
     (clutter-analogue).
     """
-    if model == NOISE_VARIANCE_SUM:
-        ratio = anchors[0] * power_of_ten(-snr / 20.0)
+    if model == NOISE_VARIANCE_SUM:  # sqrt(1 + r²), r = k · 10^(−SNR/20), without overflow
+        ratio = anchors[0] * exp(-snr * (_LN10 / 20.0))
         big = ratio > 1.0
         safe = ratio if big else 1.0
         shrink = 1.0 / safe
@@ -300,17 +277,23 @@ def noise_factor(snr, model, anchors):
         small_ratio = 0.0 if big else ratio
         small = math.sqrt(1.0 + small_ratio * small_ratio)
         return large if big else small
-    if model == NOISE_CLUTTER_ANALOGUE:
+    if model == NOISE_CLUTTER_ANALOGUE:  # Table 3.5's continuous 50 % point at 10^(SNR/20)
         low, medium, alpha = anchors[1], anchors[2], anchors[3]
-        r = power_of_ten(snr / 20.0)
-        safe = r if r > 0.0 else 1.0
-        mid = low * math.exp(
-            math.log(10.0 / minimum(maximum(safe, 1.0), 10.0)) * (math.log(medium / low) / _LN10)
-        )
-        value = mid if r >= 1.0 else medium * math.exp(-alpha * math.log(safe))
+        r = exp(snr * (_LN10 / 20.0))
+        positive = r if r > 0.0 else 1.0
+        bounded = minimum(maximum(positive, 1.0), 10.0)
+        mid = low * exp(log(10.0 / bounded) * (log(medium / low) / _LN10))
+        value = mid if r >= 1.0 else medium * exp(-alpha * log(positive))
         value = value if r > 0.0 else (r if r != r else math.inf)
         return value / low
     return snr if snr != snr else 1.0  # the "none" model: f = 1
+
+
+@inline
+def noisy_cycles(n, f):
+    """N / f; no signal left (f = inf): nothing resolved, N = 0 (NaN stays NaN)."""
+    nothing = n if n != n else 0.0
+    return nothing if f == math.inf else n / (1.0 if f == math.inf else f)
 
 
 @inline
@@ -319,7 +302,8 @@ def effective_scr(scr, snr):
     lin = power_of_ten(snr / 20.0)
     a, b = minimum(scr, lin), maximum(scr, lin)
     usable = b > 0.0 and b < math.inf
-    ratio = a / b if usable else 0.0
+    ratio = a / (b if usable else 1.0)
+    ratio = ratio if usable else 0.0
     combined = a / math.sqrt(1.0 + ratio * ratio)
     exact = scr if snr == math.inf else combined
     return snr if snr != snr else exact
@@ -330,107 +314,99 @@ def ttpf(n, log_n, n50, log_n50):
     """The TTPF of N cycles for an N50, with ``ln N`` and ``ln N50`` given."""
     z = (log_n - log_n50) * (2.7 + n * (0.7 / n50))
     z = clip(z, -_TTPF_LIMIT, _TTPF_LIMIT)
-    p = 1.0 / (1.0 + math.exp(-z))
+    p = 1.0 / (1.0 + exp(-z))
     return 0.0 if n == 0.0 else p
 
 
 @inline
-def curve(n, tables, row, count):
-    """:func:`curve_log` taking the logarithm of N itself."""
-    return curve_log(n, math.log(n) if n > 0.0 else 0.0, tables, row, count)
+def curve(n, u, tables, row):
+    """A table curve at N (``u = ln N``): piecewise linear in ``ln N`` between its printed
+    points, linear from 0 below the first, flat from the last; a vertical step holds its
+    higher value.
+
+    ``tables[row]`` holds the curve's cycles, their logarithms, the probabilities and the
+    slopes ``dP / d ln N`` of the segments (as ``numpy.interp`` takes them), padded to
+    :data:`CURVE_POINTS` points. Read with a select per segment (no search, no branch).
+    """
+    out = tables[row, 2, CURVE_POINTS - 1]
+    for k in literal_unroll(_SEGMENTS):  # straight-line code: the caller's loop vectorises
+        value = tables[row, 3, k] * (u - tables[row, 1, k]) + tables[row, 2, k]
+        out = value if (tables[row, 0, k] <= n and n < tables[row, 0, k + 1]) else out
+    first = tables[row, 2, 0] * n / tables[row, 0, 0]
+    out = first if n < tables[row, 0, 0] else out
+    return n if n != n else out
 
 
 @inline
-def curve_log(n, u, tables, row, count):
-    """A table curve through ``count`` printed points, piecewise linear in ``u = ln N``, linear
-    from 0 below its first point, flat after its last; a vertical step holds its higher value.
-
-    ``tables[row]`` holds the curve's cycles, their logarithms and the probabilities (indexed,
-    not sliced: a slice inside a loop would count references).
-    """
-    out = tables[row, 2, count - 1]
-    if n != n:
-        out = n
-    elif n < tables[row, 0, 0]:
-        out = tables[row, 2, 0] * n / tables[row, 0, 0]
-    elif n < tables[row, 0, count - 1]:
-        for k in range(count - 1):
-            if tables[row, 0, k] <= n < tables[row, 0, k + 1]:
-                low, high = tables[row, 1, k], tables[row, 1, k + 1]
-                p_low, p_high = tables[row, 2, k], tables[row, 2, k + 1]
-                out = p_low + (u - low) / (high - low) * (p_high - p_low)
-                break
-    return out
-
-
-@inline
-def schmieder_weathersby(n, n50, scr, region, sw, sw_count, sw_constants):
-    """P(detection) in clutter of Table 3.5: the region's curve, or with ``region`` < 0 the
-    curves blended in ``log SCR`` with the stretch below SCR = 0.33.
-
-    ``sw``: (3, 3, K) cycles, log cycles, probabilities of the low, medium and high curves;
-    ``sw_constants``: reference N50, lowest observed SCR, exponent α.
-    """
+def sw_scaled(n, n50, scr, region, sw_constants):
+    """The cycles at which Table 3.5's curves are read: N scaled to the table's N50 and, with an
+    SCR below 0.33 (``region`` < 0), stretched; and their logarithm."""
     scaled = n * (sw_constants[0] / n50)
-    if region >= 0:
-        return curve(scaled, sw, region, sw_count[region])
     scr_low, alpha = sw_constants[1], sw_constants[2]
-    below = scr < scr_low
+    below = region < 0 and scr < scr_low
     ratio = (scr if below else scr_low) / scr_low
-    stretch = math.exp(alpha * math.log(ratio)) if below else 1.0
-    scaled = scaled * stretch
-    u = math.log(scaled) if scaled > 0.0 else 0.0
-    low = curve_log(scaled, u, sw, 0, sw_count[0])
-    medium = curve_log(scaled, u, sw, 1, sw_count[1])
-    high = curve_log(scaled, u, sw, 2, sw_count[2])
+    stretch = exp(alpha * log(ratio))
+    scaled = scaled * stretch if below else scaled
+    return scaled, log(scaled if scaled > 0.0 else 1.0)
+
+
+@inline
+def sw_blend(low, medium, high, scr, region, sw_constants):
+    """P(detection) in clutter of Table 3.5 from its three curves read at :func:`sw_scaled`:
+    the region's curve, or with ``region`` < 0 the curves blended in ``log SCR``."""
+    scr_low = sw_constants[1]
     safe = scr if scr > 0.0 else scr_low
-    upper = minimum(maximum(math.log10(safe if safe >= 1.0 else 1.0), 0.0), 1.0)
+    upper = minimum(maximum(log10(safe if safe >= 1.0 else 1.0), 0.0), 1.0)
     lower = minimum(
-        maximum(math.log((safe if safe < 1.0 else 1.0) / scr_low) / math.log(1.0 / scr_low), 0.0),
-        1.0,
+        maximum(log((safe if safe < 1.0 else 1.0) / scr_low) / log(1.0 / scr_low), 0.0), 1.0
     )
     above_one = medium + upper * (low - medium)
     below_one = high + lower * (medium - high)
     out = above_one if scr >= 1.0 else below_one
-    return scr if scr != scr else out
+    out = scr if scr != scr else out
+    fixed = low if region == 0 else (medium if region == 1 else high)
+    return out if region < 0 else fixed
 
 
 @inline
-def task_curve(n, log_n, n50, log_n50, task, transform, tables, table_count, table_reference):
-    """P of one task from N through the transform (TTPF, or a table curve stretched by the
-    ratio of its reference N50 to the criterion's)."""
-    if transform == TRANSFORM_TTPF:
-        return ttpf(n, log_n, n50, log_n50)
+def curve_rows(tables, work, x, u, out, n_b):
+    """``work[out + r, b]`` = the curve ``tables[r]`` (r = 0, 1, 2) at ``work[x, b]``
+    (``work[u, b]`` its logarithm) for ``b < n_b``: :func:`curve`, segment by segment over the
+    row, the three curves in one pass per segment, so that each pass vectorises."""
+    last = CURVE_POINTS - 1
+    for r in range(3):
+        p_last = tables[r, 2, last]
+        for b in range(n_b):
+            work[out + r, b] = p_last
+    for k in range(last):
+        c0, c1, c2 = tables[0, 0, k], tables[1, 0, k], tables[2, 0, k]
+        d0, d1, d2 = tables[0, 0, k + 1], tables[1, 0, k + 1], tables[2, 0, k + 1]
+        a0, a1, a2 = tables[0, 1, k], tables[1, 1, k], tables[2, 1, k]
+        p0, p1, p2 = tables[0, 2, k], tables[1, 2, k], tables[2, 2, k]
+        m0, m1, m2 = tables[0, 3, k], tables[1, 3, k], tables[2, 3, k]
+        for b in range(n_b):
+            n, log_n = work[x, b], work[u, b]
+            v0 = m0 * (log_n - a0) + p0
+            v1 = m1 * (log_n - a1) + p1
+            v2 = m2 * (log_n - a2) + p2
+            work[out, b] = v0 if (c0 <= n and n < d0) else work[out, b]
+            work[out + 1, b] = v1 if (c1 <= n and n < d1) else work[out + 1, b]
+            work[out + 2, b] = v2 if (c2 <= n and n < d2) else work[out + 2, b]
+    for r in range(3):
+        c_first, p_first = tables[r, 0, 0], tables[r, 2, 0]
+        for b in range(n_b):
+            n = work[x, b]
+            first = p_first * n / c_first
+            value = first if n < c_first else work[out + r, b]
+            work[out + r, b] = n if n != n else value
+
+
+@inline
+def table_curve(n, n50, task, tables, table_reference):
+    """P of one task from a table transform's curve, its cycles axis stretched by the ratio of
+    the table's reference N50 to the criterion's."""
     scaled = n * (table_reference[task] / n50)
-    return curve(scaled, tables, task, table_count[task])
-
-
-@inline
-def ttpf_vector(n, log_n, n50, log_n50):
-    """:func:`ttpf` with the vectorisable exponential (for loops LLVM vectorises)."""
-    z = (log_n - log_n50) * (2.7 + n * (0.7 / n50))
-    z = clip(z, -_TTPF_LIMIT, _TTPF_LIMIT)
-    p = 1.0 / (1.0 + _simd.exp(-z))
-    return 0.0 if n == 0.0 else p
-
-
-@inline
-def variance_sum_vector(snr, constant):
-    """The ``variance-sum`` noise factor with the vectorisable exponential."""
-    ratio = constant * _simd.exp(-snr * (_LN10 / 20.0))
-    big = ratio > 1.0
-    safe = ratio if big else 1.0
-    shrink = 1.0 / safe
-    large = safe * math.sqrt(1.0 + shrink * shrink)
-    small_ratio = 0.0 if big else ratio
-    small = math.sqrt(1.0 + small_ratio * small_ratio)
-    return large if big else small
-
-
-@inline
-def noisy_cycles(n, f):
-    """N / f; no signal left (f = inf): nothing resolved, N = 0 (NaN stays NaN)."""
-    return (n if n != n else 0.0) if f == math.inf else n / f
+    return curve(scaled, log(scaled if scaled > 0.0 else 1.0), tables, task)
 
 
 @compiled
@@ -444,28 +420,31 @@ def probabilities_kernel(
     log_n50,  # (n_g, 5): ln N50 of the three tasks, the low-clutter N50 of motion, its ln
     hot_spot,  # (n_g,) bool
     moving,  # (n_g,) bool
-    settings,  # int64 (7,): noise, combines, transform, region, motion, semantics, has_scr
+    settings,  # int64 (9,): noise, combines, transform, region, motion, semantics, has_scr,
+    # any hot spot, any moving target
     noise_anchors,  # (4,)
-    tables,  # (3, 3, K): the transform's curves per task (cycles, log cycles, P)
-    table_count,  # (3,)
+    tables,  # (3, 4, CURVE_POINTS): the transform's curves per task (N, ln N, P, slope)
     table_reference,  # (3,)
-    sw,  # (3, 3, K)
-    sw_count,  # (3,)
+    sw,  # (3, 4, CURVE_POINTS)
     sw_constants,  # (4,): reference N50, lowest SCR, α, low-clutter scale
-    out_detection,
+    noisy,  # (B,) work space
+    work,  # (6, B) work space
+    out_detection,  # (n_s, n_g, B)
     out_recognition,
     out_identification,
     out_fused,  # (3, n_g, B): the products of the misses, then the fused probabilities
 ):
-    """Per pair and batch element, in three passes over the batch: the noisy N and the three
-    task curves (a loop LLVM vectorises for the TTPF), detection in clutter, hot spots and
-    motion where there are any (scalar), then the semantics, the field of view and the
-    fusion."""
+    """Per pair, in passes over the batch: the noisy N and the three task curves; detection in
+    clutter, of hot spots and of moving targets (where there are any); then the semantics, the
+    field of view and the fusion."""
     noise, combines, transform = settings[0], settings[1] == 1, settings[2]
     region, motion, semantics, has_scr = settings[3], settings[4], settings[5], settings[6] == 1
     clutter = has_scr or region >= 0
+    with_noise = noise != NOISE_NONE_GIVEN
+    read_effective = with_noise and combines and has_scr
+    region_read = REGION_NONE if read_effective else region
+    nested = semantics == SEMANTICS_NESTED
     n_s, n_g, n_b = cycles.shape
-    noisy = np.empty(n_b)
     for g in range(n_g):
         for b in range(n_b):
             out_fused[0, g, b] = 1.0
@@ -474,20 +453,16 @@ def probabilities_kernel(
     for s in range(n_s):
         for g in range(n_g):
             d50, r50, i50 = n50[g, 0], n50[g, 1], n50[g, 2]
-            ld, lr, li, low50, llow = (
-                log_n50[g, 0],
-                log_n50[g, 1],
-                log_n50[g, 2],
-                log_n50[g, 3],
-                log_n50[g, 4],
-            )
+            ld, lr, li = log_n50[g, 0], log_n50[g, 1], log_n50[g, 2]
+            low50, llow = log_n50[g, 3], log_n50[g, 4]
             hot, move = hot_spot[g], moving[g]
-            # 1. The noisy N and the curves of the three tasks.
+            # 1. The noisy N and the curves of the three tasks (each choice a loop of its own,
+            # so that every loop vectorises).
             if noise == NOISE_VARIANCE_SUM:
                 for b in range(n_b):
-                    f = variance_sum_vector(snr[s, g, b], noise_anchors[0])
+                    f = noise_factor(snr[s, g, b], NOISE_VARIANCE_SUM, noise_anchors)
                     noisy[b] = noisy_cycles(cycles[s, g, b], f)
-            elif noise != NOISE_NONE_GIVEN:
+            elif with_noise:
                 for b in range(n_b):
                     f = noise_factor(snr[s, g, b], noise, noise_anchors)
                     noisy[b] = noisy_cycles(cycles[s, g, b], f)
@@ -497,87 +472,64 @@ def probabilities_kernel(
             if transform == TRANSFORM_TTPF:
                 for b in range(n_b):
                     n = noisy[b]
-                    log_n = _simd.log(n)
-                    out_detection[s, g, b] = ttpf_vector(n, log_n, d50, ld)
-                    out_recognition[s, g, b] = ttpf_vector(n, log_n, r50, lr)
-                    out_identification[s, g, b] = ttpf_vector(n, log_n, i50, li)
+                    log_n = log(n)
+                    out_detection[s, g, b] = ttpf(n, log_n, d50, ld)
+                    out_recognition[s, g, b] = ttpf(n, log_n, r50, lr)
+                    out_identification[s, g, b] = ttpf(n, log_n, i50, li)
             else:
                 for b in range(n_b):
                     n = noisy[b]
-                    out_detection[s, g, b] = task_curve(
-                        n, 0.0, d50, ld, 0, transform, tables, table_count, table_reference
-                    )
-                    out_recognition[s, g, b] = task_curve(
-                        n, 0.0, r50, lr, 1, transform, tables, table_count, table_reference
-                    )
-                    out_identification[s, g, b] = task_curve(
-                        n, 0.0, i50, li, 2, transform, tables, table_count, table_reference
-                    )
+                    out_detection[s, g, b] = table_curve(n, d50, 0, tables, table_reference)
+                    out_recognition[s, g, b] = table_curve(n, r50, 1, tables, table_reference)
+                    out_identification[s, g, b] = table_curve(n, i50, 2, tables, table_reference)
             # 2. Detection in clutter, of hot spots and of moving targets.
-            if clutter or hot or move:
+            if clutter:
+                # The ratio and the cycles to read Table 3.5 at, its three curves, the blend.
                 for b in range(n_b):
-                    n, n_noisy, det = cycles[s, g, b], noisy[b], out_detection[s, g, b]
-                    fallback = det
-                    if clutter:
-                        c = scr[s, g, b] if has_scr else math.nan
-                        if noise != NOISE_NONE_GIVEN and combines and has_scr:
-                            ratio = effective_scr(c, snr[s, g, b])
-                            seen = schmieder_weathersby(
-                                n, d50, ratio, REGION_NONE, sw, sw_count, sw_constants
-                            )
-                        else:
-                            seen = schmieder_weathersby(
-                                n_noisy, d50, c, region, sw, sw_count, sw_constants
-                            )
-                        fallback = minimum(seen, det)
-                    special = math.nan
-                    if hot:
-                        special = curve(n_noisy * (sw_constants[0] / d50), sw, 0, sw_count[0])
+                    c = scr[s, g, b] if has_scr else math.nan
+                    ratio = effective_scr(c, snr[s, g, b]) if read_effective else c
+                    n = cycles[s, g, b] if read_effective else noisy[b]
+                    scaled, log_scaled = sw_scaled(n, d50, ratio, region_read, sw_constants)
+                    work[0, b], work[1, b], work[2, b] = scaled, log_scaled, ratio
+                curve_rows(sw, work, 0, 1, 3, n_b)
+                for b in range(n_b):
+                    seen = sw_blend(
+                        work[3, b], work[4, b], work[5, b], work[2, b], region_read, sw_constants
+                    )
+                    out_detection[s, g, b] = minimum(seen, out_detection[s, g, b])
+            if hot or move:
+                for b in range(n_b):
+                    n_noisy = noisy[b]
+                    scaled = n_noisy * (sw_constants[0] / d50)
+                    special = curve(scaled, log(scaled), sw, 0) if hot else math.nan
                     if move:
                         if motion == MOTION_ALWAYS:
                             go = n_noisy if n_noisy != n_noisy else 1.0
+                        elif transform == TRANSFORM_TTPF:
+                            go = ttpf(n_noisy, log(n_noisy), low50, llow)
                         else:
-                            go = task_curve(
-                                n_noisy,
-                                math.log(n_noisy),
-                                low50,
-                                llow,
-                                0,
-                                transform,
-                                tables,
-                                table_count,
-                                table_reference,
-                            )
+                            go = table_curve(n_noisy, low50, 0, tables, table_reference)
                         special = go if special != special else maximum(special, go)
-                    out_detection[s, g, b] = (
-                        fallback if (special != special and n == n) else special
-                    )
+                    kept = special != special and cycles[s, g, b] == cycles[s, g, b]
+                    out_detection[s, g, b] = out_detection[s, g, b] if kept else special
             # 3. The semantics, the field of view, unknown geometry, and the misses.
             for b in range(n_b):
-                det, rec, ide = (
-                    out_detection[s, g, b],
-                    out_recognition[s, g, b],
-                    out_identification[s, g, b],
-                )
-                if semantics == SEMANTICS_NESTED:
+                det = out_detection[s, g, b]
+                rec, ide = out_recognition[s, g, b], out_identification[s, g, b]
+                if nested:
                     rec = minimum(rec, det)
                     ide = minimum(ide, rec)
                 else:
                     rec = det * rec
                     ide = rec * ide
                 seen = in_view[s, g, b]
-                det = det if seen else 0.0
-                rec = rec if seen else 0.0
-                ide = ide if seen else 0.0
                 unknown = rng[s, g, b] != rng[s, g, b]
-                det = math.nan if unknown else det
-                rec = math.nan if unknown else rec
-                ide = math.nan if unknown else ide
-                out_detection[s, g, b], out_recognition[s, g, b], out_identification[s, g, b] = (
-                    det,
-                    rec,
-                    ide,
-                )
+                det = math.nan if unknown else (det if seen else 0.0)
+                rec = math.nan if unknown else (rec if seen else 0.0)
+                ide = math.nan if unknown else (ide if seen else 0.0)
+                out_detection[s, g, b] = det
+                out_recognition[s, g, b] = rec
+                out_identification[s, g, b] = ide
                 out_fused[0, g, b] *= 1.0 - det
                 out_fused[1, g, b] *= 1.0 - rec
                 out_fused[2, g, b] *= 1.0 - ide
@@ -594,7 +546,7 @@ def ttpf_three(cycles, n50, out_detection, out_recognition, out_identification):
     ld, lr, li = math.log(d50), math.log(r50), math.log(i50)
     for k in range(cycles.shape[0]):
         n = cycles[k]
-        log_n = _simd.log(n)
-        out_detection[k] = ttpf_vector(n, log_n, d50, ld)
-        out_recognition[k] = ttpf_vector(n, log_n, r50, lr)
-        out_identification[k] = ttpf_vector(n, log_n, i50, li)
+        log_n = log(n)
+        out_detection[k] = ttpf(n, log_n, d50, ld)
+        out_recognition[k] = ttpf(n, log_n, r50, lr)
+        out_identification[k] = ttpf(n, log_n, i50, li)

@@ -209,7 +209,8 @@ def scenarios(draw: st.DrawFn) -> dict:
         "sensors": sensors,
         "targets": targets,
         "background": background,
-        "time": {"start": "0 s", "stop": "2 s", "step": "1 s"},
+        # A short batch (targets in rows by their model) or a long one (a row per pair).
+        "time": {"start": "0 s", "stop": f"{draw(st.sampled_from([2, 9]))} s", "step": "1 s"},
     }
     path = draw(st.sampled_from(["none", "haze", "extinction", "segments"]))
     if path == "haze":

@@ -43,6 +43,7 @@ _SEMANTICS_CODES = {
     "conditional": kernels.SEMANTICS_CONDITIONAL,
 }
 _TASKS = ("detection", "recognition", "identification")
+_SHORT_BATCH = 8  # batches shorter than this run their targets as the kernel's batch
 
 
 def supported(scene: SceneArrays) -> str | None:
@@ -113,6 +114,7 @@ class NumbaScene:
         if reason is not None:
             raise ValueError(reason)
         self.scene = scene
+        self._target_groups: list[np.ndarray] | None = None
         sensors, targets, path, choices = scene.sensors, scene.targets, scene.path, scene.choices
         self.sensor_arrays = (
             _float(sensors.cycle),
@@ -282,35 +284,80 @@ class NumbaScene:
             scr=scr,
         )
 
+    def _groups(self) -> list[np.ndarray]:
+        """The targets by their probability model (N50s, hot spot, moving), each group's
+        members in order: the rows of the probabilities kernel where the batch is short."""
+        if self._target_groups is None:
+            key = np.column_stack([self.n50, self.hot_spot, self.moving])
+            _, inverse = np.unique(key, axis=0, return_inverse=True)
+            inverse = inverse.reshape(-1)
+            self._target_groups = [np.flatnonzero(inverse == k) for k in range(inverse.max() + 1)]
+        return self._target_groups
+
     def probabilities(self, found: Factors) -> Probabilities:
-        """As :func:`targetacq.core.probabilities` of the bound scene."""
+        """As :func:`targetacq.core.probabilities` of the bound scene.
+
+        The kernel runs per sensor and target over the batch. Where the batch is short (one step
+        of the step API), the targets that share a probability model go through as one row,
+        their pairs as its batch: the kernel's loops then run over the targets.
+        """
         rng = np.asarray(found.range, dtype=float)
         shape = rng.shape
         n_s, n_g = shape[:2]
         size = math.prod(shape[2:])
         flat = (n_s, n_g, size)
-        settings = self.settings.copy()
-        if found.scr is None:
-            scr = np.broadcast_to(np.zeros((1, 1, 1)), flat)
-        else:
-            settings[6] = 1
-            # Contiguous, even where the SCR is per pair: a loop over a broadcast (zero-stride)
-            # array does not vectorise.
-            scr = np.ascontiguousarray(
-                np.broadcast_to(np.asarray(found.scr, dtype=float), shape)
-            ).reshape(flat)
-        out = [np.empty(flat) for _ in range(3)]
-        fused = np.empty((3, n_g, size))
-        kernels.probabilities_kernel(
+        has_scr = found.scr is not None
+        # Contiguous, even where the SCR is per pair: a loop over a broadcast (zero-stride)
+        # array does not vectorise.
+        inputs = [
             np.asarray(found.cycles, dtype=float).reshape(flat),
             np.asarray(found.snr, dtype=float).reshape(flat),
-            scr,
+            np.ascontiguousarray(
+                np.broadcast_to(np.asarray(found.scr, dtype=float), shape)
+            ).reshape(flat)
+            if has_scr
+            else np.zeros(flat),
             np.asarray(found.in_view, dtype=bool).reshape(flat),
             rng.reshape(flat),
-            self.n50,
-            self.log_n50,
-            self.hot_spot,
-            self.moving,
+        ]
+        out = [np.empty(flat) for _ in range(3)]
+        fused = np.empty((3, n_g, size))
+        if size >= _SHORT_BATCH or n_g == 1:
+            self._run(inputs, slice(None), out, fused, has_scr)
+        else:
+            for members in self._groups():
+                whole = members.size == n_g  # one model for all: no copies
+                chosen = slice(None) if whole else members
+                row = (n_s, 1, members.size * size)
+                part_in = [np.ascontiguousarray(a[:, chosen]).reshape(row) for a in inputs]
+                part_out = [np.empty(row) for _ in range(3)]
+                part_fused = np.empty((3, 1, members.size * size))
+                self._run(part_in, members[:1], part_out, part_fused, has_scr)
+                for whole_out, part in zip(out, part_out, strict=True):
+                    whole_out[:, chosen] = part.reshape(n_s, members.size, size)
+                fused[:, chosen] = part_fused.reshape(3, members.size, size)
+        tasks = [a.reshape(shape) for a in out]
+        together = [f.reshape((n_g, *shape[2:])) for f in fused]
+        return Probabilities(*tasks, *together)
+
+    def _run(
+        self,
+        inputs: list[np.ndarray],
+        targets: Any,
+        out: list[np.ndarray],
+        fused: np.ndarray,
+        has_scr: bool,
+    ) -> None:
+        """The probabilities kernel on (n_s, rows, batch) inputs, the rows' targets given."""
+        settings = self.settings.copy()
+        settings[6] = int(has_scr)
+        size = inputs[0].shape[2]
+        kernels.probabilities_kernel(
+            *inputs,
+            self.n50[targets],
+            self.log_n50[targets],
+            self.hot_spot[targets],
+            self.moving[targets],
             settings,
             self.noise_anchors,
             self.tables,
@@ -324,6 +371,3 @@ class NumbaScene:
             out[2],
             fused,
         )
-        tasks = [a.reshape(shape) for a in out]
-        together = [f.reshape((n_g, *shape[2:])) for f in fused]
-        return Probabilities(*tasks, *together)

@@ -304,3 +304,39 @@ def test_simd_exp_log_match_numpy() -> None:
             np.testing.assert_allclose(
                 apply(kind, specials), reference(specials), rtol=1e-13, atol=0, equal_nan=True
             )
+
+
+# -- the command line --------------------------------------------------------------------------
+
+
+def _cli(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    from targetacq.cli import main
+
+    with pytest.raises(SystemExit) as done:
+        main(list(args))
+    out, err = capsys.readouterr()
+    return int(done.value.code or 0), out, err
+
+
+def test_cli_evaluate_engine_gives_the_same_peaks(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    path = str(EXAMPLES[-1])
+    runs = {}
+    for engine in ("numpy", "numba"):
+        code, out, _ = _cli(capsys, "evaluate", path, "--format", "json", "--engine", engine)
+        assert code == 0
+        runs[engine] = json.loads(out)
+    for ours, reference in zip(runs["numba"]["targets"], runs["numpy"]["targets"], strict=True):
+        assert ours.keys() == reference.keys()
+        for key, value in reference.items():
+            if isinstance(value, float):
+                assert ours[key] == pytest.approx(value, rel=1e-12, abs=1e-15), key
+            else:
+                assert ours[key] == value, key
+
+
+def test_cli_unknown_engine_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, err = _cli(capsys, "evaluate", "--engine", "gpu")
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and "numba" in err and "Traceback" not in err

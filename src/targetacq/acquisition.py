@@ -289,8 +289,14 @@ def _detection_in_clutter(
     if moving is not False:
         go = motion.detection(n_noisy, n50, transform, options, xp)
         go = go if moving is True else xp.where(_flag(moving, xp), go, xp.nan)
+        # Where the moving flag is not set, go is NaN: a hot spot keeps its own curve there
+        # (the maximum with NaN would drop it to the fallback).
         special = (
-            go if special is None else xp.where(xp.isnan(special), go, xp.maximum(special, go))
+            go
+            if special is None
+            else xp.where(
+                xp.isnan(special), go, xp.where(xp.isnan(go), special, xp.maximum(special, go))
+            )
         )
     if special is not None:
         fallback = uncluttered if out is None else out

@@ -9,7 +9,10 @@ Regenerated (deliberate model changes of the physical-fidelity issue): the noise
 ``variance-sum`` (quadrature), the Schmieder–Weathersby transform continuous in the SCR,
 detection in clutter capped by the uncluttered value, moving targets detected as in low
 clutter (not always), hot spots under noise read at the noisy N; then the datasheet field-of-view
-convention (``hfov`` over pixels is IFOV = hfov / pixels by default, features.toml).
+convention (``hfov`` over pixels is IFOV = hfov / pixels by default, features.toml). Then
+features.npz alone, for a bug fix: a hot spot evaluated beside a moving target of the same
+criterion lost its hot-spot curve (target ``hot``'s detection and fused detection only; see
+tests/test_target_independence.py).
 """
 
 from pathlib import Path

@@ -86,6 +86,8 @@ api_modules = [
     "targetacq.sampling",
     "targetacq.simulation",
     "targetacq.model",
+    "targetacq.engines",
+    "targetacq.streaming",
     "targetacq.scenario",
     "targetacq.sensors",
     "targetacq.sensors.imaging",

@@ -263,6 +263,38 @@ def test_small_blocks_give_the_same_numbers(monkeypatch):
             np.testing.assert_array_equal(getattr(got, item.name), getattr(want, item.name))
 
 
+def test_outputs_from_one_allocation_are_independent_arrays(monkeypatch):
+    scene = core.compile_scenario(
+        parse_scenario(copy.deepcopy(VARIANTS["noise-clutter-segments-cloud"]))
+    ).scene
+    sensors, targets = _positions(scene, (4,), np.random.default_rng(3), special=True)
+    want_found, want = core.evaluate(scene, sensors, targets)
+    monkeypatch.setattr(EVALUATE, "_SHARED_OUTPUTS", 1)  # every output carved from one block
+    found = core.factors(scene, sensors, targets)
+    first = core.probabilities(scene, found)
+    second = core.probabilities(scene, found)  # the room is taken once: its own arrays now
+    for got in (first, second):
+        for item in dataclasses.fields(want):
+            np.testing.assert_array_equal(getattr(got, item.name), getattr(want, item.name))
+    for item in dataclasses.fields(want_found):
+        np.testing.assert_array_equal(getattr(found, item.name), getattr(want_found, item.name))
+    first.detection[...] = 2.0  # writing one output changes no other
+    assert not np.any(second.detection == 2.0)
+    assert not np.any(found.range == 2.0) and not np.any(first.recognition == 2.0)
+
+
+@pytest.mark.parametrize("shape", [(100, 10, 30), (7, 3), (1, 5, 2)])
+def test_fusion_over_the_pairs_in_view_is_the_fusion_of_every_pair_exactly(shape):
+    rng = np.random.default_rng(shape[0])
+    seen = rng.uniform(size=shape) < 0.3
+    unknown = rng.uniform(size=shape) < 0.01
+    p = np.where(seen, rng.uniform(0.0, 1.0, shape), 0.0)
+    p[unknown] = np.nan
+    picked = np.flatnonzero(seen & ~unknown)
+    want = 1.0 - np.prod(1.0 - p, axis=0)
+    np.testing.assert_array_equal(EVALUATE._fused_sparse(p, picked, unknown), want)
+
+
 def test_a_scene_derives_its_fixed_parts_once():
     scene = core.compile_scenario(parse_scenario(copy.deepcopy(VARIANTS["scr-fog"]))).scene
     calls = []
@@ -397,9 +429,8 @@ def test_path_noise_ratio_is_e_to_the_depth_minus_one():
 
 
 def test_in_view_path_passes_each_group_the_flags_of_all_its_targets():
-    # task_probabilities passes a group's flags per target where they differ; a hot spot that
-    # does not move then takes the clutter's value (the maximum with the motion rule's NaN), as
-    # the version before the NumPy path did: the in-view path must pass the same flags.
+    # task_probabilities passes a group's flags per target where they differ; the in-view path
+    # passes the same flags (for the pairs in view), whichever pairs are in view.
     rng = np.random.default_rng(10)
     data = {
         "sensors": [_sensor(2)],

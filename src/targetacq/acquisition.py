@@ -27,6 +27,7 @@ the events have probabilities ``P_det``, ``P_det·P_rec`` and ``P_det·P_rec·P_
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -566,35 +567,45 @@ def _ttpf_three_numpy(n: np.ndarray, n50s: tuple[float, ...]) -> list[np.ndarray
     each operation per chunk for all three). Since the N50s increase with the task, the TTPF
     already gives ``P_id <= P_rec <= P_det`` here.
     """
-    e0, e1, limit = _transforms.TTPF_E0, _transforms.TTPF_E1, _transforms._LOGIT_LIMIT
+    e0, limit = _transforms.TTPF_E0, _transforms._LOGIT_LIMIT
     flat = n.reshape(-1)
     size = flat.size
-    # Per task: E = e0 + N · (e1 / N50) and ln x = ln N − ln N50, as ttpf has them.
-    scale = np.array([e1 / v for v in n50s])[:, None]
-    shift = np.array([np.log(v) for v in n50s])[:, None]
+    scale, shift = _ttpf_constants(tuple(n50s))
     out = np.empty((len(n50s), size))
     chunk = 1 << 13
     log_n = np.empty(min(chunk, size))
     tmp = np.empty((len(n50s), log_n.size))
-    for start in range(0, size, chunk):
-        part = flat[start : start + chunk]
-        m = part.size
-        ln, t, o = log_n[:m], tmp[:, :m], out[:, start : start + m]
-        with np.errstate(divide="ignore"):
-            np.log(part, out=ln)  # -inf at N = 0, which the clip turns into P = 0
-        np.multiply(part, scale, out=t)
-        t += e0
-        np.subtract(ln, shift, out=o)
-        o *= t  # z = E · ln x
-        np.clip(o, -limit, limit, out=o)
-        np.negative(o, out=o)
-        np.exp(o, out=o)
-        o += 1.0
-        np.reciprocal(o, out=o)
+    with np.errstate(divide="ignore"):  # ln 0 = -inf, which the clip turns into P = 0
+        for start in range(0, size, chunk):
+            part = flat[start : start + chunk]
+            m = part.size
+            ln, t, o = log_n[:m], tmp[:, :m], out[:, start : start + m]
+            np.log(part, out=ln)
+            np.multiply(part, scale, out=t)
+            t += e0
+            np.subtract(ln, shift, out=o)
+            o *= t  # z = E · ln x
+            np.clip(o, -limit, limit, out=o)
+            np.negative(o, out=o)
+            np.exp(o, out=o)
+            o += 1.0
+            np.reciprocal(o, out=o)
     zero = flat == 0
     if zero.any():
         out[:, zero] = 0.0
     return [row.reshape(n.shape) for row in out]
+
+
+@functools.lru_cache(maxsize=64)
+def _ttpf_constants(n50s: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Per task, ``e1 / N50`` and ``ln N50`` as columns: ``E = e0 + N · (e1 / N50)`` and
+    ``ln x = ln N − ln N50``, as :func:`_ttpf_three_numpy` takes them."""
+    e1 = _transforms.TTPF_E1
+    scale = np.array([e1 / v for v in n50s])[:, None]
+    shift = np.array([np.log(v) for v in n50s])[:, None]
+    scale.flags.writeable = False
+    shift.flags.writeable = False
+    return scale, shift
 
 
 def acquisition_probabilities(

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from targetacq import _arrays
 
 __all__ = ["central_level_bounds", "fuse"]
@@ -52,6 +54,8 @@ def fuse(probabilities: Any, axis: int = -1) -> Any:
 
 def _fused(p: Any, axis: int, xp: Any) -> Any:
     """:func:`fuse` of a checked float array (the arithmetic kernel)."""
+    if isinstance(p, np.ndarray):  # the product's own reduction, without its wrapper
+        return 1.0 - np.multiply.reduce(1.0 - p, axis=axis)
     return 1.0 - xp.prod(1.0 - p, axis=axis)
 
 

@@ -91,10 +91,21 @@ class CompiledScenario:
 
 def _criteria(scenario: Any) -> tuple[Criterion, ...]:
     model = scenario.model
-    default = dict(zip(TASKS, model.n50, strict=True)) if model.n50 is not None else model.criterion
-    return tuple(
-        get_criterion(t.criterion if t.criterion is not None else default) for t in scenario.targets
+    default = get_criterion(
+        dict(zip(TASKS, model.n50, strict=True)) if model.n50 is not None else model.criterion
     )
+    return tuple(
+        default if t.criterion is None else get_criterion(t.criterion) for t in scenario.targets
+    )
+
+
+def _n50_rows(criteria: tuple[Criterion, ...]) -> np.ndarray:
+    """Each target's N50s, (n_g, 3): a row per distinct criterion, shared by its targets."""
+    rows: dict[int, list[float]] = {}
+    for c in criteria:
+        if id(c) not in rows:
+            rows[id(c)] = [c.n50(task) for task in TASKS]
+    return np.array([rows[id(c)] for c in criteria], dtype=float).reshape(-1, 3)
 
 
 def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
@@ -165,7 +176,7 @@ def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
         dimensions=np.array([t.dimensions for t in targets], dtype=float).reshape(-1, 3),
         visible_fraction=np.array([t.visible_fraction for t in targets], dtype=float),
         heading=np.array([t.heading for t in targets], dtype=float),
-        n50=np.array([[c.n50(task) for task in TASKS] for c in criteria], dtype=float),
+        n50=_n50_rows(criteria),
         names=tuple(t.name for t in targets),
         hot_spot=tuple(bool(t.hot_spot) for t in targets),
         moving=tuple(bool(t.moving) for t in targets),

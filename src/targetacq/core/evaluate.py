@@ -227,6 +227,12 @@ _PROBABILITY_BLOCK = 1 << 12
 # the noise-to-signal amplitude ratio 1/SNR_lin from (see _noise_ratio).
 _RATIO = "_noise_ratio"
 _FROM_DEPTH = "optical depth"  # ρ = e^d − 1, from the path alone (no noise of the sensors)
+# The private attribute of a Factors made by factors() with NumPy where its outputs are large:
+# room for the three task probabilities in the same allocation (see _outputs), taken once.
+_SPARE = "_probability_room"
+# Triples from which the NumPy factors carve their outputs from one allocation (128 KiB arrays:
+# the allocator maps memory of that size afresh on every call).
+_SHARED_OUTPUTS = 1 << 14
 
 
 @dataclass(frozen=True)
@@ -416,6 +422,53 @@ def _blocks(n_s: int, n_g: int, n_b: int) -> Iterator[tuple[slice, slice, slice]
                     yield slice(s, s + 1), slice(g, g + 1), slice(b, min(b + _BLOCK, n_b))
 
 
+@dataclass(frozen=True)
+class _Parts:
+    """A scene's arrays shaped for the blocks of :func:`_factors_numpy` (NumPy), made once."""
+
+    length: np.ndarray  # (n_g, 1) each: against (k_s, k_g, k_b) blocks
+    width: np.ndarray
+    height: np.ndarray
+    visible: np.ndarray
+    sin_h: np.ndarray  # (n_g, 1): the targets' own headings
+    cos_h: np.ndarray
+    cycle: np.ndarray  # (n_s, 1, 1) each
+    extinction: np.ndarray
+    ifov: np.ndarray
+    noise_equivalent: np.ndarray
+    segments: tuple[np.ndarray, ...]  # (n_s, 1, 1) each segment's extinction
+    lengths: tuple[float, ...]
+    contrast: np.ndarray  # (n_s, n_g, 1)
+
+
+def _scene_parts(scene: SceneArrays) -> _Parts:
+    sensors, targets, path = scene.sensors, scene.targets, scene.path
+    n_s, n_g = scene.shape
+    dims = targets.dimensions.reshape(n_g, 3)
+    heading = targets.heading.reshape(n_g, 1)
+    lengths = tuple(float(v) for v in path.segment_length)
+    segments = sensors.segment_extinction.reshape(n_s, len(lengths))
+
+    def per_sensor(value: np.ndarray) -> np.ndarray:
+        return value.reshape(n_s, 1, 1)
+
+    return _Parts(
+        dims[:, 0:1],
+        dims[:, 1:2],
+        dims[:, 2:3],
+        targets.visible_fraction.reshape(n_g, 1),
+        np.sin(heading),
+        np.cos(heading),
+        per_sensor(sensors.cycle),
+        per_sensor(sensors.extinction),
+        per_sensor(sensors.ifov),
+        per_sensor(sensors.noise_equivalent),
+        tuple(per_sensor(segments[:, j]) for j in range(len(lengths))),
+        lengths,
+        scene.signature.contrast.reshape(n_s, n_g, 1),
+    )
+
+
 def _factors_numpy(
     scene: SceneArrays,
     s_pos: np.ndarray,
@@ -428,60 +481,60 @@ def _factors_numpy(
 
     Sets the Factors' private noise-to-signal ratio (:data:`_RATIO`) for :func:`probabilities`.
     """
-    sensors, targets, path = scene.sensors, scene.targets, scene.path
+    sensors, path = scene.sensors, scene.path
     n_s, n_g = s_pos.shape[0], t_pos.shape[0]
     batch = s_pos.shape[1:-1]
     n_b = int(np.prod(batch, dtype=np.int64))
     s3, t3 = s_pos.reshape(n_s, n_b, 3), t_pos.reshape(n_g, n_b, 3)
+    # The components apart, each contiguous: the blocks' differences run on contiguous rows.
+    s_east, s_north, s_up = np.moveaxis(s3, -1, 0).copy()
+    t_east, t_north, t_up = np.moveaxis(t3, -1, 0).copy()
+    parts: _Parts = derived(scene, "parts", _scene_parts)
     if headings is None:
-        heading = targets.heading.reshape(n_g, 1)
+        sin_h, cos_h = parts.sin_h, parts.cos_h
     else:
         heading = np.broadcast_to(headings, (n_g, *batch)).reshape(n_g, n_b)
         _arrays.require_finite("heading", heading, np, "rad")
-    sin_h, cos_h = np.sin(heading), np.cos(heading)
-    dims = targets.dimensions.reshape(n_g, 3)
-    visible = targets.visible_fraction.reshape(n_g)
+        sin_h, cos_h = np.sin(heading), np.cos(heading)
     frame, fixed = _sensor_frames(s3, sensors, pointing)
+    moving_frame = frame[0].shape[1] > 1
     tan_h, tan_v = fixed.half_tangents
-    lengths = [float(v) for v in path.segment_length]
-    segments = sensors.segment_extinction.reshape(n_s, len(lengths))
     clouds = path.cloud_center.reshape(-1, 3).shape[0]
     noisy = sensors.has_noise
     shape3 = (n_s, n_g, n_b)
-    rng, critical, cycles = np.empty(shape3), np.empty(shape3), np.empty(shape3)
-    in_view, depth_out = np.empty(shape3, dtype=bool), np.empty(shape3)
-    tau_out, snr_out = np.empty(shape3), np.empty(shape3)
-    ratio_out = np.empty(shape3) if noisy else None
-    flat = heading.shape[1] == 1
-    per_target = (slice(None), None)
+    floats, in_view, spare = _outputs(7 if noisy else 6, shape3)
+    rng, critical, cycles, depth_out, tau_out, snr_out = floats[:6]
+    ratio_out = floats[6] if noisy else None
+    per_batch = sin_h.shape[1] > 1
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for sb, gb, bb in _blocks(n_s, n_g, n_b):
             block = (sb, gb, bb)
-            s_b, t_b = s3[sb, bb], t3[gb, bb]  # (ks, kb, 3), (kg, kb, 3)
-            x, y, z = (t_b[None, :, :, k] - s_b[:, None, :, k] for k in range(3))
-            h_b = slice(None) if flat else bb
+            x = t_east[None, gb, bb] - s_east[sb, None, bb]  # (ks, kg, kb)
+            y = t_north[None, gb, bb] - s_north[sb, None, bb]
+            z = t_up[None, gb, bb] - s_up[sb, None, bb]
+            h_b = bb if per_batch else slice(None)
             r, horizontal, vertical = geometry._outline_numpy(
                 x,
                 y,
                 z,
-                sin_h[None, gb, h_b],
-                cos_h[None, gb, h_b],
-                dims[gb, 0][per_target],
-                dims[gb, 1][per_target],
-                dims[gb, 2][per_target],
+                sin_h[gb, h_b],
+                cos_h[gb, h_b],
+                parts.length[gb],
+                parts.width[gb],
+                parts.height[gb],
             )
             rng[block] = r
-            seen = vertical * visible[gb][per_target]
+            seen = vertical * parts.visible[gb]
             np.minimum(horizontal, seen, out=seen)
             critical[block] = seen
             footprint = np.maximum(r, 1e-9)
-            footprint *= sensors.cycle[sb][:, None, None]
+            footprint *= parts.cycle[sb]
             np.divide(seen, footprint, out=cycles[block])
             # The field of view, for the pointed sensors with one; NaN lines of sight are out.
             known = r == r
             viewing = fixed.viewing[sb]
             if viewing.any():
-                f_b = slice(None) if frame[0].shape[1] == 1 else bb
+                f_b = bb if moving_frame else slice(None)
                 inside = geometry._within_numpy(
                     x, y, z, tuple(c[sb, None, f_b] for c in frame), tan_h[sb], tan_v[sb]
                 )
@@ -491,13 +544,12 @@ def _factors_numpy(
             else:
                 in_view[block] = known
             # The path: optical depth, transmittance, SNR of Eq. (7.7).
-            gamma = sensors.extinction[sb][:, None, None]
             depth = atmosphere._segmented_depth(
-                r, gamma, lengths, [segments[sb, j][:, None, None] for j in range(len(lengths))], np
+                r, parts.extinction[sb], parts.lengths, [g[sb] for g in parts.segments], np
             )
             for c in range(clouds):
                 chord = atmosphere.sphere_chord_length(
-                    s_b[:, None], t_b[None], path.cloud_center[c], path.cloud_radius[c]
+                    s3[sb, None, bb], t3[None, gb, bb], path.cloud_center[c], path.cloud_radius[c]
                 )
                 depth = depth + path.cloud_extinction[c] * chord
             depth_out[block] = depth
@@ -508,13 +560,11 @@ def _factors_numpy(
             if noisy:
                 # The area seen: the outline's horizontal side times the visible part of its
                 # height.
-                area = horizontal * vertical * visible[gb][per_target]
-                pixels = sensor_noise._pixels(
-                    area, np.maximum(r, 1e-9), sensors.ifov[sb][:, None, None]
+                area = horizontal * vertical * parts.visible[gb]
+                pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), parts.ifov[sb])
+                own, inverse, unknown = sensor_noise._sensor_db(
+                    parts.contrast[sb, gb], parts.noise_equivalent[sb], tau, pixels, np
                 )
-                contrast = scene.signature.contrast[sb, gb][:, :, None]
-                noise = sensors.noise_equivalent[sb][:, None, None]
-                own, inverse, unknown = sensor_noise._sensor_db(contrast, noise, tau, pixels, np)
                 snr = sensor_noise._combined_db([snr, own], np)
                 # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
                 path_inverse = np.expm1(depth)
@@ -538,7 +588,29 @@ def _factors_numpy(
     )
     ratio = _FROM_DEPTH if ratio_out is None else ratio_out.reshape(full)
     object.__setattr__(found, _RATIO, ratio)
+    if spare is not None:
+        object.__setattr__(found, _SPARE, spare.reshape((len(TASKS), *full)))
     return found
+
+
+def _outputs(count: int, shape: tuple[int, ...]) -> tuple[list[np.ndarray], np.ndarray, Any]:
+    """``count`` float arrays and a bool array of ``shape`` for :func:`_factors_numpy`, and
+    room for the three task probabilities (or None).
+
+    Large outputs are carved from one allocation: fresh memory is mapped page by page on its
+    first write, a fault per 4 KiB page that costs more than the arithmetic of the pairs on it,
+    while NumPy asks the kernel for 2 MiB pages for an allocation of 4 MiB or more. The room
+    for the probabilities is only written (so only mapped) if :func:`probabilities` takes it
+    (:data:`_SPARE`). Small outputs are arrays of their own (reused from the heap).
+    """
+    size = int(np.prod(shape, dtype=np.int64))
+    if size < _SHARED_OUTPUTS:
+        return [np.empty(shape) for _ in range(count)], np.empty(shape, dtype=bool), None
+    floats = count + len(TASKS)
+    raw = np.empty(floats * size * 8 + size, dtype=np.uint8)
+    block = raw[: floats * size * 8].view(np.float64).reshape((floats, *shape))
+    flags = raw[floats * size * 8 :].view(np.bool_).reshape(shape)
+    return list(block[:count]), flags, block[count:]
 
 
 def _numpy_path(
@@ -634,19 +706,40 @@ def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
     tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene)
     unknown = np.isnan(rng)
     some_unknown = bool(unknown.any())
-    out = []
-    for p in tasks:
-        whole = np.zeros(shape)
-        flat = whole.reshape(-1)
-        if picked is None:
-            flat[:] = p
-        elif count:
-            flat[picked] = p
+    room = found.__dict__.pop(_SPARE, None)  # once: a second call allocates its own
+    if picked is not None and (room is None or room.shape[1:] != shape):
+        room = np.zeros((len(TASKS), *shape))
+    elif picked is not None:
+        room.fill(0.0)
+    out, fused = [], []
+    for k, p in enumerate(tasks):
+        if picked is None:  # every pair in view: the task's own (new) array
+            whole = np.asarray(p, dtype=float).reshape(shape)
+        else:
+            whole = room[k]
+            if count:
+                whole.reshape(-1)[picked] = p
         if some_unknown:
             whole[unknown] = np.nan
         out.append(whole)
-    fused = [_fused(p, 0, np) for p in out]
+        if picked is None or 2 * count > rng.size:
+            fused.append(_fused(whole, 0, np))
+        else:
+            fused.append(_fused_sparse(whole, picked, unknown if some_unknown else None))
     return Probabilities(*out, *fused)
+
+
+def _fused_sparse(p: np.ndarray, picked: np.ndarray, unknown: np.ndarray | None) -> np.ndarray:
+    """:func:`targetacq.fusion.fuse` over the sensors (axis 0) of ``p``, zero but at ``picked``
+    (flat indices, increasing) and NaN at ``unknown``: the product of ``1 − p`` taken over those
+    elements only, sensor after sensor as the reduction takes it (a factor 1 changes nothing),
+    without reading the zeros."""
+    per_sensor = p[0].size
+    product = np.ones(per_sensor)
+    np.multiply.at(product, picked % per_sensor, 1.0 - p.reshape(-1)[picked])
+    if unknown is not None:
+        product[unknown.reshape(p.shape[0], -1).any(axis=0)] = np.nan
+    return (1.0 - product).reshape(p.shape[1:])
 
 
 def _in_view_tasks(
@@ -664,12 +757,12 @@ def _in_view_tasks(
     chosen = _choices(scene.choices)
     noise = None if snr is None else chosen.noise
     size = cycles.size
-    out = [np.empty(size) for _ in TASKS]
     flags_differ = None in groups.hot_same or None in groups.moving_same
     of = target() if groups.group is not None or flags_differ else None
     members: list[np.ndarray | None] = [None]
     if groups.group is not None and of is not None:
         members = [np.flatnonzero(groups.group[of] == k) for k in range(len(groups.rows))]
+    out: list[np.ndarray] | None = None
     for k, (row, chosen_members) in enumerate(zip(groups.rows, members, strict=True)):
         count = size if chosen_members is None else chosen_members.size
         for start in range(0, count, _PROBABILITY_BLOCK):
@@ -698,9 +791,13 @@ def _in_view_tasks(
                 semantics=chosen.semantics,
                 noise_ratio=part(ratio),
             )
+            if out is None and count == size <= _PROBABILITY_BLOCK:
+                return [np.asarray(p, dtype=float) for p in found]  # one call: its arrays
+            if out is None:
+                out = [np.empty(size) for _ in TASKS]
             for whole, p in zip(out, found, strict=True):
                 whole[where] = p
-    return out
+    return out if out is not None else [np.empty(size) for _ in TASKS]
 
 
 def factors(
@@ -743,7 +840,8 @@ def factors(
     )
     # Infinite positions have no geometry (inf − inf); NaN ones give NaN probabilities.
     for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
-        _arrays.require_finite(name, value, xp, "m")
+        if type(value) is not np.ndarray or not value.ndim or np.isinf(value).any():
+            _arrays.require_finite(name, value, xp, "m")
     if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr):
         return _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
     return _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
@@ -863,17 +961,21 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     xp, (n,) = _arrays.arrays(cycles)
     choices, targets = scene.choices, scene.targets
     batch = n.ndim - 2
-    transform = _transforms.get_transform(choices.transform)
-    options = dict(choices.options)
-    noise = None if snr is None else get_noise_model(choices.noise_model)
-    hot = np.asarray(targets.hot_spot, dtype=bool)
-    moving = np.asarray(targets.moving, dtype=bool)
+    numpy = isinstance(targets.n50, np.ndarray) and isinstance(n, np.ndarray)
+    resolved = _choices(choices) if numpy else _resolve(choices)
+    noise = None if snr is None else resolved.noise
+    groups = _groups(targets) if numpy else None
 
-    def run(members: Any, n50: list[Any]) -> tuple[Any, Any, Any]:
+    def run(members: Any, n50: list[Any], k: int = 0) -> tuple[Any, Any, Any]:
         def pick(value: Any) -> Any:
             return value if value is None or members is None else value[:, members]
 
-        def flag(values: np.ndarray) -> Any:  # one bool when all agree, else per target
+        def flag(name: str) -> Any:  # one bool when all agree, else per target
+            if groups is not None:
+                same = (groups.hot_same if name == "hot" else groups.moving_same)[k]
+                if same is not None:
+                    return same
+            values = np.asarray(targets.hot_spot if name == "hot" else targets.moving, dtype=bool)
             chosen = values if members is None else values[members]
             if chosen.size and bool(np.all(chosen == chosen[0])):
                 return bool(chosen[0])
@@ -882,29 +984,27 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
         return ordered_probabilities(
             pick(n),
             n50,
-            transform,
-            options,
+            resolved.transform,
+            resolved.options,
             scr=pick(scr),
             region=choices.region,
-            hot_spot=flag(hot),
-            moving=flag(moving),
+            hot_spot=flag("hot"),
+            moving=flag("moving"),
             snr=pick(snr),
             noise=noise,
-            motion=choices.motion,
-            semantics=choices.semantics,
+            motion=resolved.motion,
+            semantics=resolved.semantics,
         )
 
-    table = targets.n50
-    if not (isinstance(table, np.ndarray) and isinstance(n, np.ndarray)):
-        table_xp = _arrays.as_float(table, xp)
+    if groups is None:
+        table_xp = _arrays.as_float(targets.n50, xp)
         return run(None, [_per_target(table_xp[:, k], batch, xp) for k in range(3)])
-    rows, group = np.unique(table, axis=0, return_inverse=True)
-    if rows.shape[0] <= 1:
-        return run(None, [float(v) for v in rows[0]] if rows.size else [1.0, 1.0, 1.0])
+    if groups.group is None:
+        return run(None, list(groups.rows[0]))
     out = [np.empty(n.shape) for _ in TASKS]
-    for k, row in enumerate(rows):
-        members = np.flatnonzero(group.reshape(-1) == k)
-        for whole, part in zip(out, run(members, [float(v) for v in row]), strict=True):
+    for k, row in enumerate(groups.rows):
+        members = np.flatnonzero(groups.group == k)
+        for whole, part in zip(out, run(members, list(row), k), strict=True):
             whole[:, members] = part
     return out[0], out[1], out[2]
 

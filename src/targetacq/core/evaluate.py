@@ -64,6 +64,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -264,6 +265,10 @@ def _choices(choices: ModelChoices) -> _Choices:
         return _resolved(choices)
     except TypeError:  # an option that cannot be hashed: resolved on every call
         return _resolve(choices)
+
+
+def _scene_choices(scene: SceneArrays) -> _Choices:
+    return _choices(scene.choices)
 
 
 @dataclass(frozen=True)
@@ -484,11 +489,11 @@ def _factors_numpy(
     sensors, path = scene.sensors, scene.path
     n_s, n_g = s_pos.shape[0], t_pos.shape[0]
     batch = s_pos.shape[1:-1]
-    n_b = int(np.prod(batch, dtype=np.int64))
+    n_b = math.prod(batch)
     s3, t3 = s_pos.reshape(n_s, n_b, 3), t_pos.reshape(n_g, n_b, 3)
     # The components apart, each contiguous: the blocks' differences run on contiguous rows.
-    s_east, s_north, s_up = np.moveaxis(s3, -1, 0).copy()
-    t_east, t_north, t_up = np.moveaxis(t3, -1, 0).copy()
+    s_east, s_north, s_up = s3.transpose(2, 0, 1).copy()
+    t_east, t_north, t_up = t3.transpose(2, 0, 1).copy()
     parts: _Parts = derived(scene, "parts", _scene_parts)
     if headings is None:
         sin_h, cos_h = parts.sin_h, parts.cos_h
@@ -603,7 +608,7 @@ def _outputs(count: int, shape: tuple[int, ...]) -> tuple[list[np.ndarray], np.n
     for the probabilities is only written (so only mapped) if :func:`probabilities` takes it
     (:data:`_SPARE`). Small outputs are arrays of their own (reused from the heap).
     """
-    size = int(np.prod(shape, dtype=np.int64))
+    size = math.prod(shape)
     if size < _SHARED_OUTPUTS:
         return [np.empty(shape) for _ in range(count)], np.empty(shape, dtype=bool), None
     floats = count + len(TASKS)
@@ -664,7 +669,7 @@ def _pair_values(value: Any, shape: tuple[int, ...], picked: np.ndarray | None) 
         return flat if picked is None else flat[picked]
     pair = shape[:2] + (1,) * (len(shape) - 2)
     if value.shape == pair and picked is not None:  # one value per pair, e.g. the SCR
-        return value.reshape(-1)[picked // int(np.prod(shape[2:], dtype=np.int64))]
+        return value.reshape(-1)[picked // math.prod(shape[2:])]
     flat = np.broadcast_to(value, shape).reshape(-1)
     return flat if picked is None else flat[picked]
 
@@ -699,7 +704,7 @@ def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
     scr = None if found.scr is None else _pair_values(found.scr, shape, picked)
 
     def target() -> np.ndarray:  # each element's target
-        n_g, per_pair = shape[1], int(np.prod(shape[2:], dtype=np.int64))
+        n_g, per_pair = shape[1], math.prod(shape[2:])
         index = np.arange(rng.size) if picked is None else picked
         return (index // per_pair) % n_g
 
@@ -754,7 +759,7 @@ def _in_view_tasks(
     targets that share a criterion together, in blocks of :data:`_PROBABILITY_BLOCK`; the same
     calls as :func:`task_probabilities` makes for them, element by element."""
     groups = _groups(scene.targets)
-    chosen = _choices(scene.choices)
+    chosen: _Choices = derived(scene, "choices", _scene_choices)
     noise = None if snr is None else chosen.noise
     size = cycles.size
     flags_differ = None in groups.hot_same or None in groups.moving_same

@@ -10,6 +10,7 @@ where the operations are the same, to 1e-12 relative where the noise goes throug
 import copy
 import dataclasses
 import math
+import pickle
 import sys
 from pathlib import Path
 
@@ -293,6 +294,21 @@ def test_fusion_over_the_pairs_in_view_is_the_fusion_of_every_pair_exactly(shape
     picked = np.flatnonzero(seen & ~unknown)
     want = 1.0 - np.prod(1.0 - p, axis=0)
     np.testing.assert_array_equal(EVALUATE._fused_sparse(p, picked, unknown), want)
+
+
+def test_factors_pickle_and_copy_as_their_fields(monkeypatch):
+    scene = core.compile_scenario(parse_scenario(copy.deepcopy(VARIANTS["scr-fog"]))).scene
+    sensors, targets = _positions(scene, (3,), np.random.default_rng(4), special=False)
+    monkeypatch.setattr(EVALUATE, "_SHARED_OUTPUTS", 1)
+    found = core.factors(scene, sensors, targets)
+    want = core.probabilities(scene, found)
+    for again in (pickle.loads(pickle.dumps(found)), copy.copy(found), copy.deepcopy(found)):
+        assert set(vars(again)) == {item.name for item in dataclasses.fields(found)}
+        got = core.probabilities(scene, again)  # through the decibels now: the same numbers
+        for item in dataclasses.fields(want):
+            np.testing.assert_allclose(
+                getattr(got, item.name), getattr(want, item.name), rtol=1e-12, atol=1e-300
+            )
 
 
 def test_a_scene_derives_its_fixed_parts_once():

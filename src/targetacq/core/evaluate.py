@@ -142,6 +142,15 @@ class Factors:
     snr: Any
     scr: Any
 
+    def __getstate__(self) -> dict[str, Any]:
+        # The fields only: what factors() keeps beside them for probabilities() (the noise
+        # ratio, room for the probabilities) is not part of a copy or a pickle.
+        return {item.name: getattr(self, item.name) for item in dataclasses.fields(self)}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        for name, value in state.items():
+            object.__setattr__(self, name, value)
+
 
 @pytree_record
 @dataclass(frozen=True)

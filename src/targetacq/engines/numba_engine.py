@@ -160,8 +160,6 @@ class NumbaScene:
                 _MOTION_CODES[choices.motion],
                 _SEMANTICS_CODES[choices.semantics],
                 0,  # has_scr: set per evaluation
-                int(self.hot_spot.any()),
-                int(self.moving.any()),
             ],
             dtype=np.int64,
         )

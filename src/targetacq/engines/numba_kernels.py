@@ -420,8 +420,7 @@ def probabilities_kernel(
     log_n50,  # (n_g, 5): ln N50 of the three tasks, the low-clutter N50 of motion, its ln
     hot_spot,  # (n_g,) bool
     moving,  # (n_g,) bool
-    settings,  # int64 (9,): noise, combines, transform, region, motion, semantics, has_scr,
-    # any hot spot, any moving target
+    settings,  # int64 (7,): noise, combines, transform, region, motion, semantics, has_scr
     noise_anchors,  # (4,)
     tables,  # (3, 4, CURVE_POINTS): the transform's curves per task (N, ln N, P, slope)
     table_reference,  # (3,)
@@ -456,6 +455,17 @@ def probabilities_kernel(
             ld, lr, li = log_n50[g, 0], log_n50[g, 1], log_n50[g, 2]
             low50, llow = log_n50[g, 3], log_n50[g, 4]
             hot, move = hot_spot[g], moving[g]
+            # A row with nothing in view and its geometry known is all zeros (the misses stay):
+            # most pairs of a large scenario never see each other.
+            needed = False
+            for b in range(n_b):
+                needed = needed or in_view[s, g, b] or rng[s, g, b] != rng[s, g, b]
+            if not needed:
+                for b in range(n_b):
+                    out_detection[s, g, b] = 0.0
+                    out_recognition[s, g, b] = 0.0
+                    out_identification[s, g, b] = 0.0
+                continue
             # 1. The noisy N and the curves of the three tasks (each choice a loop of its own,
             # so that every loop vectorises).
             if noise == NOISE_VARIANCE_SUM:

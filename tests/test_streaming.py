@@ -318,3 +318,21 @@ def test_evaluate_out_streams_the_in_memory_content(capsys, tmp_path):
     meta = json.loads(table.schema.metadata[b"targetacq"])
     assert meta["scenario_file"] == str(scenario) and len(meta["scenario_file_sha256"]) == 64
     pd.testing.assert_frame_equal(table.to_pandas(), expected)
+
+
+def test_a_run_too_large_for_memory_streams_but_is_not_held(monkeypatch, tmp_path):
+    """A run larger than memory compiles and streams chunk by chunk; held whole it is refused
+    with advice to stream (the machine's memory made small for the test)."""
+    from targetacq import limits
+    from targetacq.model import ModelChain
+    from targetacq.scenario import load_scenario
+    from targetacq.streaming import write_chunks
+
+    scenario = load_scenario(ROOT / "examples" / "uav_haze.toml")
+    # One target's times fit; all three targets' do not.
+    monkeypatch.setattr(limits, "available_memory", lambda: 2 * 13 * 1024)
+    chain = ModelChain(scenario)
+    with pytest.raises(ValueError, match="evaluate chunk by chunk"):
+        chain.evaluate()
+    out = write_chunks(chain, tmp_path / "run.csv", targets_per_chunk=1)
+    assert out.exists()

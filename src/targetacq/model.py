@@ -40,6 +40,7 @@ from targetacq import _arrays, core, engines
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluate import footprint_scr
 from targetacq.datasets import OUTPUT_FORMATS, Output, annotate, provenance, write_output
+from targetacq.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.registry import lookup
 from targetacq.scenario import Scenario
 
@@ -377,8 +378,24 @@ class ModelChain:
         return cases
 
     def evaluate(self, times: Any = None) -> Results:
-        """Evaluate every sensor × target × time (default: the scenario's time grid)."""
+        """Evaluate every sensor × target × time (default: the scenario's time grid), held in
+        memory.
+
+        Raises
+        ------
+        ValueError
+            If the run would not fit in memory: evaluate it chunk by chunk instead
+            (:meth:`evaluate_chunks`, :func:`targetacq.streaming.write_chunks`).
+        """
         t = self._times(times)
+        n_s, n_g = len(self.sensor_names), len(self.target_names)
+        check_size(
+            t.size * n_s * n_g,
+            BYTES_PER_EVALUATION,
+            f"evaluating {t.size} times x {n_s} sensor(s) x {n_g} target(s) in memory",
+            "evaluate chunk by chunk: ModelChain.evaluate_chunks, "
+            "targetacq.streaming.write_chunks, or targetacq evaluate --out FILE",
+        )
         whole = slice(None)
         return Results(self._dataset(self.compute(t, whole), t, whole))
 

@@ -309,14 +309,17 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
 
 
 def _size_problems(scenario: Any) -> list[str]:
-    """The scenario's own time grid against the memory an evaluation of it needs."""
+    """The scenario's own time grid against the memory a chunked evaluation of it needs: all
+    the times of one target at once (:meth:`targetacq.model.ModelChain.evaluate_chunks`, which
+    ``targetacq evaluate`` streams). An evaluation held in memory whole is checked by
+    :meth:`targetacq.model.ModelChain.evaluate`."""
     grid, n_s, n_g = scenario.time, len(scenario.sensors), len(scenario.targets)
     try:
         check_size(
-            grid.count * n_s * n_g,
+            grid.count * n_s,
             BYTES_PER_EVALUATION,
-            f"evaluating {grid.count:.3g} times ({grid.describe()}) x {n_s} sensor(s) x "
-            f"{n_g} target(s)",
+            f"evaluating {grid.count:.3g} times ({grid.describe()}, one target at a time) x "
+            f"{n_s} sensor(s) x {n_g} target(s)",
             "use a longer time.step or a shorter span (time.start to time.stop)",
         )
     except ValueError as error:

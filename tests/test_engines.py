@@ -340,3 +340,93 @@ def test_cli_unknown_engine_is_one_line(capsys: pytest.CaptureFixture[str]) -> N
     code, out, err = _cli(capsys, "evaluate", "--engine", "gpu")
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and "numba" in err and "Traceback" not in err
+
+
+# -- edges found in review ---------------------------------------------------------------------
+
+
+def _region_scene() -> tuple[ModelChain, np.ndarray, np.ndarray]:
+    document = {
+        "sensors": [
+            {
+                "name": "ir",
+                "type": "thermal",
+                "band": "lwir",
+                "pixels": [640, 480],
+                "pitch": "17 um",
+                "focal_length": "100 mm",
+                "position": ["0 m", "0 m", "10 m"],
+            }
+        ],
+        "targets": [
+            {
+                "name": "truck",
+                "dimensions": ["7 m", "2.5 m", "3 m"],
+                "temperature": "305 K",
+                "position": ["1 km", "0 m", "0 m"],
+            },
+            {
+                "name": "jeep",
+                "dimensions": ["3.4 m", "1.6 m", "1.8 m"],
+                "temperature": "303 K",
+                "position": ["2 km", "0 m", "0 m"],
+            },
+        ],
+        "background": {"temperature": "300 K", "clutter": "high"},
+        "time": {"start": "0 s", "stop": "3 s", "step": "1 s"},
+    }
+    chain = ModelChain(parse_scenario(document))
+    sensors = np.tile(np.array([0.0, 0.0, 10.0]), (1, 4, 1))
+    targets = np.stack([np.linspace(500.0, 3000.0, 4)[:, None] * [1.0, 0.0, 0.0]] * 2)
+    return chain, sensors, targets
+
+
+def test_an_scr_given_wins_over_the_region() -> None:
+    """``factors(scr=...)`` replaces the scene's clutter, its region too, in both engines."""
+    chain, sensors, targets = _region_scene()
+    scene = chain.compiled.scene
+    results = []
+    for engine in ("numpy", "numba"):
+        bound = bind(scene, engine)
+        found = bound.factors(sensors, targets, scr=np.full((1, 2, 4), 30.0))
+        results.append(bound.probabilities(found))
+    for name in PROBABILITIES:
+        np.testing.assert_allclose(
+            getattr(results[1], name), getattr(results[0], name), rtol=1e-12, atol=1e-15
+        )
+
+
+def test_hand_made_factors_broadcast_as_with_numpy() -> None:
+    chain, sensors, targets = _region_scene()
+    scene = chain.compiled.scene
+    reference = bind(scene, "numpy")
+    found = dataclasses.replace(reference.factors(sensors, targets), in_view=True)
+    expected = reference.probabilities(found)
+    got = bind(scene, "numba").probabilities(found)
+    for name in PROBABILITIES:
+        np.testing.assert_allclose(getattr(got, name), getattr(expected, name), rtol=1e-12)
+
+
+def test_wrong_counts_and_bad_options_are_value_errors() -> None:
+    chain, sensors, targets = _region_scene()
+    scene = chain.compiled.scene
+    bound = bind(scene, "numba")
+    with pytest.raises(ValueError, match=r"target_positions must have shape \(2, \.\.\., 3\)"):
+        bound.factors(sensors, targets[:1])
+    with pytest.raises(ValueError, match="sensor_positions"):
+        bound.factors(sensors[..., :2], targets)
+    odd = dataclasses.replace(
+        scene,
+        choices=dataclasses.replace(scene.choices, transform="c2nveo", options=(("bound", "x"),)),
+    )
+    with pytest.raises(ValueError, match="bound must be one of"):
+        bind(odd, "numba")
+
+
+def test_an_empty_target_subset_gives_empty_results() -> None:
+    chain, _, _ = _region_scene()
+    numba_chain = ModelChain(chain.scenario, engine="numba")
+    got = numba_chain.compute(np.arange(3.0), slice(1, 1))
+    expected = chain.compute(np.arange(3.0), slice(1, 1))
+    for name in ("detection", "fused_detection"):
+        assert got[name].shape == expected[name].shape

@@ -53,7 +53,7 @@ EngineOption = Annotated[
     str,
     typer.Option(
         help="Compute engine: numpy (the reference), numba (pip install 'targetacq[fast]'), "
-        "jax, or auto (numba where installed); the same numbers to about 1e-15.",
+        "jax, or auto (numba where installed); the same numbers to 1e-12.",
         autocompletion=complete_names(ENGINES, separator=None),
     ),
 ]

@@ -171,8 +171,16 @@ class NumbaScene:
         self.sw_constants = np.array(
             [transforms._sw_reference_n50(), scr_low, sw_alpha, _low_clutter_scale()]
         )
+        options = dict(choices.options)
+        chosen = transforms.get_transform(choices.transform)
+        for task in _TASKS:
+            chosen.check(task, options)  # unknown options: ValueError, as with NumPy
         if choices.transform == "c2nveo":
-            bound = dict(choices.options).get("bound", "nominal")
+            bound = options.get("bound", "nominal")
+            if bound not in transforms.C2NVEO_BOUNDS:
+                raise ValueError(
+                    f"bound must be one of {', '.join(transforms.C2NVEO_BOUNDS)}; got {bound!r}"
+                )
             curves = transforms._c2nveo_curves()
             self.tables = _curve_arrays([curves[t, bound] for t in _TASKS])
             self.table_reference = np.array([transforms._c2nveo_reference_n50(t) for t in _TASKS])
@@ -202,11 +210,26 @@ class NumbaScene:
                 "the numba engine takes NumPy arrays; for JAX arrays use engine='jax' or "
                 "engine='numpy'"
             )
+        # Computed in float64 whatever the input's precision (NumPy keeps float32 as float32).
         s_pos, t_pos = np.asarray(s_pos, dtype=float), np.asarray(t_pos, dtype=float)
-        for name, value in (("sensor_positions", s_pos), ("target_positions", t_pos)):
-            _arrays.require_finite(name, value, np, "m")
         n_s, n_g = self.contrast.shape
-        batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
+        for name, value, count, what in (
+            ("sensor_positions", s_pos, n_s, "sensor"),
+            ("target_positions", t_pos, n_g, "target"),
+        ):
+            if value.ndim < 2 or value.shape[0] != count or value.shape[-1] != 3:
+                raise ValueError(
+                    f"{name} must have shape ({count}, ..., 3): one row per {what} of the "
+                    f"scene, east, north, up [m]; got {value.shape}"
+                )
+            _arrays.require_finite(name, value, np, "m")
+        try:
+            batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
+        except ValueError:
+            raise ValueError(
+                f"sensor_positions {s_pos.shape} and target_positions {t_pos.shape}: their "
+                "batch dimensions (between the first and the last) do not broadcast"
+            ) from None
         size = math.prod(batch)
         # Component-major, (3, n, size): the kernel's loops over the batch read unit strides.
         sensors = np.ascontiguousarray(
@@ -286,6 +309,8 @@ class NumbaScene:
         """The targets by their probability model (N50s, hot spot, moving), each group's
         members in order: the rows of the probabilities kernel where the batch is short."""
         if self._target_groups is None:
+            if self.n50.shape[0] == 0:
+                return []
             key = np.column_stack([self.n50, self.hot_spot, self.moving])
             _, inverse = np.unique(key, axis=0, return_inverse=True)
             inverse = inverse.reshape(-1)
@@ -304,18 +329,23 @@ class NumbaScene:
         n_s, n_g = shape[:2]
         size = math.prod(shape[2:])
         flat = (n_s, n_g, size)
+        if rng.size == 0:
+            empty = [np.zeros(shape) for _ in range(3)]
+            return Probabilities(*empty, *(np.zeros((n_g, *shape[2:])) for _ in range(3)))
         has_scr = found.scr is not None
-        # Contiguous, even where the SCR is per pair: a loop over a broadcast (zero-stride)
-        # array does not vectorise.
+        with_snr = self.settings[0] != kernels.NOISE_NONE_GIVEN
+
+        def full(value: Any, dtype: Any = float) -> np.ndarray:
+            # Contiguous at the full shape, even where a field is per pair or a scalar: a loop
+            # over a broadcast (zero-stride) array does not vectorise.
+            given = np.asarray(value, dtype=dtype)
+            return np.ascontiguousarray(np.broadcast_to(given, shape)).reshape(flat)
+
         inputs = [
-            np.asarray(found.cycles, dtype=float).reshape(flat),
-            np.asarray(found.snr, dtype=float).reshape(flat),
-            np.ascontiguousarray(
-                np.broadcast_to(np.asarray(found.scr, dtype=float), shape)
-            ).reshape(flat)
-            if has_scr
-            else np.zeros(flat),
-            np.asarray(found.in_view, dtype=bool).reshape(flat),
+            full(found.cycles),
+            full(found.snr) if with_snr else np.zeros(flat),
+            full(found.scr) if has_scr else np.zeros(flat),
+            full(found.in_view, bool),
             rng.reshape(flat),
         ]
         out = [np.empty(flat) for _ in range(3)]

@@ -413,7 +413,7 @@ def table_curve(n, n50, task, tables, table_reference):
 def probabilities_kernel(
     cycles,  # (n_s, n_g, B)
     snr,  # (n_s, n_g, B)
-    scr,  # (n_s, n_g, B), possibly broadcast
+    scr,  # (n_s, n_g, B), contiguous
     in_view,  # (n_s, n_g, B) bool
     rng,  # (n_s, n_g, B)
     n50,  # (n_g, 3)
@@ -441,7 +441,7 @@ def probabilities_kernel(
     clutter = has_scr or region >= 0
     with_noise = noise != NOISE_NONE_GIVEN
     read_effective = with_noise and combines and has_scr
-    region_read = REGION_NONE if read_effective else region
+    region_read = REGION_NONE if has_scr else region  # an SCR given wins over the region
     nested = semantics == SEMANTICS_NESTED
     n_s, n_g, n_b = cycles.shape
     for g in range(n_g):

@@ -430,3 +430,9 @@ def test_an_empty_target_subset_gives_empty_results() -> None:
     expected = chain.compute(np.arange(3.0), slice(1, 1))
     for name in ("detection", "fused_detection"):
         assert got[name].shape == expected[name].shape
+
+
+def test_auto_is_numba_for_chains_and_numpy_for_steps() -> None:
+    scenario = load_scenario(EXAMPLES[-1])
+    assert Simulation.from_scenario(scenario, engine="auto").engine == "numpy"
+    assert ModelChain(scenario, engine="auto").provenance()["model"]["engine"] == "numba"

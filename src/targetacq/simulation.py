@@ -185,8 +185,9 @@ class Simulation:
         Seed of the random outcomes, >= 0.
     engine : str
         The compute engine for NumPy positions (:data:`targetacq.engines.ENGINES`: ``numpy``,
-        the default and reference, ``numba``, ``jax`` or ``auto``); JAX positions always go
-        through the array core in JAX.
+        the default and reference, ``numba``, ``jax`` or ``auto``, which is ``numpy`` here:
+        :func:`targetacq.engines.for_steps`); JAX positions always go through the array core
+        in JAX.
 
     Attributes
     ----------
@@ -231,7 +232,7 @@ class Simulation:
         seed: int = 0,
         engine: str = "numpy",
     ) -> None:
-        chosen = engines.get_engine(engine)
+        chosen = engines.for_steps(engine)
         sensors = [_record(s) for s in sensors]
         targets = [_record(t) for t in targets]
         for k, sensor in enumerate(sensors):
@@ -273,7 +274,7 @@ class Simulation:
         -------
         Simulation
         """
-        chosen = engines.get_engine(engine)
+        chosen = engines.for_steps(engine)
         if not isinstance(scenario, Scenario):
             scenario = load_scenario(scenario)
         sim = cls.__new__(cls)

@@ -19,7 +19,9 @@ that evaluate (``--engine``):
     NumPy arrays in and out; equal to the NumPy engine to about 1e-12. ``pip install
     'targetacq[jax]'``.
 ``auto``
-    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``.
+    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``; for the
+    step API (:class:`targetacq.Simulation`) ``numpy``, which runs its short batches (one time
+    per step) faster (``benchmarks/bench_step.py``; :func:`for_steps`).
 
 Every engine takes NumPy positions and gives the records of the core
 (:class:`targetacq.core.Factors`, :class:`targetacq.core.Probabilities`) in NumPy arrays, so
@@ -46,7 +48,7 @@ from typing import Any, Protocol
 
 from targetacq.registry import lookup
 
-__all__ = ["ENGINES", "BoundEngine", "Engine", "bind", "engine_names", "get_engine"]
+__all__ = ["ENGINES", "BoundEngine", "Engine", "bind", "engine_names", "for_steps", "get_engine"]
 
 
 class BoundEngine(Protocol):
@@ -208,6 +210,21 @@ def get_engine(engine: str | Engine) -> Engine:
             f"pip install 'targetacq[{chosen.extra}]' (or use engine='numpy')"
         )
     return chosen
+
+
+def for_steps(engine: str | Engine) -> Engine:
+    """The engine for the step API: ``auto`` is ``numpy`` there (a step is a batch of one
+    time, which the NumPy engine runs faster than the numba engine today); any other engine as
+    named (:func:`get_engine`).
+
+    Examples
+    --------
+    >>> from targetacq.engines import for_steps
+    >>> for_steps("auto").name
+    'numpy'
+    """
+    chosen = get_engine(engine)
+    return ENGINES["numpy"] if chosen.name == "auto" else chosen
 
 
 def bind(scene: Any, engine: str | Engine = "numpy") -> BoundEngine:

@@ -382,32 +382,23 @@ class Simulation:
         )
 
     def _evaluate(self, s_pos: Any, t_pos: Any, head: Any, point: Any) -> tuple[Any, Any]:
-        on_host = isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray)
-        if on_host and self.engine != "numpy":
+        if isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray):
             found = self._bound.factors(s_pos, t_pos, head, point)
             if self._terrain is not None:
                 scr = footprint_scr(self._terrain, found.range, t_pos, self._signal, self._ifov)
                 found = dataclasses.replace(found, scr=scr)
             return found, self._bound.probabilities(found)
-        if self._terrain is None:
-            if on_host:
-                scene = self._scene
-            else:  # JAX arrays (or tracers): the scene's arrays in JAX too, made once
-                if self._jax_scene is None:
-                    from targetacq.core import records
-
-                    self._jax_scene = records.as_jax(self._scene)
-                scene = self._jax_scene
-            return core.evaluate(scene, s_pos, t_pos, head, point)
-        if not isinstance(t_pos, np.ndarray):
+        if self._terrain is not None:
             raise ValueError(
                 "a scenario with a terrain map (background.terrain) is evaluated with NumPy "
                 "arrays only: its clutter is looked up in the map per position on the host"
             )
-        found = core.factors(self._scene, s_pos, t_pos, head, point)
-        scr = footprint_scr(self._terrain, found.range, t_pos, self._signal, self._ifov)
-        found = dataclasses.replace(found, scr=scr)
-        return found, core.probabilities(self._scene, found)
+        # JAX arrays (or tracers): the scene's arrays in JAX too, made once.
+        if self._jax_scene is None:
+            from targetacq.core import records
+
+            self._jax_scene = records.as_jax(self._scene)
+        return core.evaluate(self._jax_scene, s_pos, t_pos, head, point)
 
     def probabilities(
         self,

@@ -46,6 +46,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Protocol
 
+from targetacq.core.evaluate import factors, probabilities
 from targetacq.registry import lookup
 
 __all__ = ["ENGINES", "BoundEngine", "Engine", "bind", "engine_names", "for_steps", "get_engine"]
@@ -123,13 +124,9 @@ class NumpyScene:
         pointing: Any = None,
         scr: Any = None,
     ) -> Any:
-        from targetacq.core.evaluate import factors
-
         return factors(self.scene, sensor_positions, target_positions, headings, pointing, scr)
 
     def probabilities(self, found: Any) -> Any:
-        from targetacq.core.evaluate import probabilities
-
         return probabilities(self.scene, found)
 
 

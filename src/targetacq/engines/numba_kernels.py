@@ -17,15 +17,18 @@ here                              NumPy kernel
 :func:`ttpf`                      :func:`targetacq.transforms.ttpf` (``ln N`` given)
 :func:`curve`                     a table curve of :mod:`targetacq.transforms` (C2NVEO,
                                   Table 3.5), piecewise linear in ``log N``
-:func:`schmieder_weathersby`      :func:`targetacq.transforms.schmieder_weathersby`
+:func:`sw_scaled`,                :func:`targetacq.transforms.schmieder_weathersby` (the
+:func:`sw_blend`                  cycles it reads the curves at, then their blend)
 ================================  ==========================================================
 
 Layout. For each sensor–target pair the kernels run over the batch (the times of a
 :class:`targetacq.ModelChain`) in passes that LLVM turns into SIMD code: the model choices are
 loops of their own, every branch inside a loop is a select, the table curves are read with a
-fixed number of segments (:data:`CURVE_POINTS`), and the exponentials and logarithms are
-:mod:`targetacq.engines._simd`'s. A step of the step API has a batch of one: its pairs run one
-by one.
+fixed number of segments (:data:`CURVE_POINTS`; :func:`curve_rows` reads three curves for a
+whole batch, segment by segment), and the exponentials and logarithms are
+:mod:`targetacq.engines._simd`'s. A step of the step API has a batch of one: the engine runs the
+targets that share a probability model as one row of the probabilities kernel, while the
+factors kernel runs its pairs one by one.
 
 :func:`factors_kernel` and :func:`probabilities_kernel` are the two kernels of
 :mod:`targetacq.engines.numba_engine`, which prepares their inputs; :func:`ttpf_three` is the
@@ -36,8 +39,6 @@ core kernel alone (``benchmarks/bench_core.py``). Importing this module imports 
 from __future__ import annotations
 
 import math
-
-from numba import literal_unroll
 
 from targetacq.engines._simd import compiled, exp, expm1, inline, log, log10
 
@@ -53,7 +54,6 @@ CURVE_POINTS = 12
 padded with its last point (segments of zero width, never selected). A constant, so that the
 loop over the segments unrolls and the curve vectorises."""
 
-_SEGMENTS = tuple(range(CURVE_POINTS - 1))
 _LN10 = math.log(10.0)
 _TTPF_LIMIT = 700.0
 
@@ -326,10 +326,11 @@ def curve(n, u, tables, row):
 
     ``tables[row]`` holds the curve's cycles, their logarithms, the probabilities and the
     slopes ``dP / d ln N`` of the segments (as ``numpy.interp`` takes them), padded to
-    :data:`CURVE_POINTS` points. Read with a select per segment (no search, no branch).
+    :data:`CURVE_POINTS` points. Read with a select per segment (no search); element by element,
+    for a whole batch :func:`curve_rows`.
     """
     out = tables[row, 2, CURVE_POINTS - 1]
-    for k in literal_unroll(_SEGMENTS):  # straight-line code: the caller's loop vectorises
+    for k in range(CURVE_POINTS - 1):
         value = tables[row, 3, k] * (u - tables[row, 1, k]) + tables[row, 2, k]
         out = value if (tables[row, 0, k] <= n and n < tables[row, 0, k + 1]) else out
     first = tables[row, 2, 0] * n / tables[row, 0, 0]

@@ -51,7 +51,8 @@ def test_plain_units_agree_with_pint(kind, unit):
     from targetacq.units import DIMENSIONS
 
     ureg = pint.UnitRegistry()
-    pint_unit = {"1/m": "1/m", "/m": "1/m", "/km": "1/km", "W/m^2": "W/m**2"}.get(unit, unit)
+    pint_unit = "1" + unit if unit.startswith("/") else unit
+    pint_unit = pint_unit.replace("^", "**")
     expected = ureg.Quantity(2.5, pint_unit).to(DIMENSIONS[kind][0]).magnitude
     assert parse_quantity(f"2.5 {unit}", kind, "--x") == pytest.approx(expected, rel=1e-15)
 

@@ -86,6 +86,7 @@ __all__ = [
     "Atmosphere",
     "Background",
     "Cloud",
+    "FalseTargets",
     "ModelChoices",
     "Scenario",
     "ScenarioError",
@@ -172,6 +173,12 @@ TemperatureDifference = Annotated[
 Extinction = Annotated[float, _quantity("extinction")]
 Time = Annotated[float, _quantity("time")]
 Irradiance = Annotated[float, _quantity("irradiance")]
+AreaDensity = Annotated[float, _quantity("area density")]
+Power = Annotated[float, _quantity("power")]
+Frequency = Annotated[float, _quantity("frequency")]
+Speed = Annotated[float, _quantity("speed")]
+PowerRatio = Annotated[float, _quantity("power ratio")]
+"""A ratio of powers, written in dB in files (``"30 dB"``); linear inside."""
 
 
 def _show(value: Any) -> str:
@@ -732,6 +739,30 @@ class ModelChoices(_Strict):
         return self
 
 
+class FalseTargets(_Strict):
+    """False detections: target-like clutter objects declared targets (the ``[false_targets]``
+    table; the law is in :mod:`targetacq.false_targets`).
+
+    ``density`` [1/m²] of target-sized clutter objects on the ground, ``probability`` that an
+    object looked at long enough is declared a target, ``max_range`` [m] the farthest ground the
+    sensors search, and ``sensors`` the sensors that report false detections (default: every
+    sensor with a field of view).
+    """
+
+    density: AreaDensity
+    probability: Annotated[Number, Field(gt=0.0, le=1.0)]
+    max_range: Length
+    sensors: list[Name] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> FalseTargets:
+        if not self.density > 0:
+            raise ValueError("density must be > 0 (clutter objects per area, e.g. 4 /km^2)")
+        if not self.max_range > 0:
+            raise ValueError("max_range must be > 0")
+        return self
+
+
 class TimeGrid(_Strict):
     """Evaluation times: ``start`` to ``stop`` inclusive every ``step``."""
 
@@ -775,6 +806,7 @@ class Scenario(_Strict):
     atmosphere: Atmosphere = Atmosphere()
     model: ModelChoices = ModelChoices()
     time: TimeGrid = TimeGrid()
+    false_targets: FalseTargets | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Scenario:

@@ -36,6 +36,11 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "extinction": ("1 / meter", "0.4 /km (Np/km), 1.7 dB/km"),
     "time": ("second", "0.1 s, 60 s, 2 min"),
     "irradiance": ("watt / meter ** 2", "500 W/m^2"),
+    "power": ("watt", "100 kW, 1.5 MW, 10 mW"),
+    "frequency": ("hertz", "10 GHz, 35 GHz"),
+    "area density": ("1 / meter ** 2", "4 /km^2, 0.001 /m^2"),
+    "speed": ("meter / second", "10 m/s, 5 mm/h (a rain rate)"),
+    "power ratio": ("dimensionless", "30 dB, -20 dB, 3 dB (10 log10 of the ratio)"),
 }
 """Quantity kinds accepted at the boundary: the SI unit they become and an example."""
 
@@ -50,6 +55,11 @@ _PLAIN_UNITS: dict[str, dict[str, float]] = {
     "extinction": {"/m": 1.0, "/km": 1e-3, "1/m": 1.0, "1/km": 1e-3},
     "time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0},
     "irradiance": {"W/m^2": 1.0, "W/m**2": 1.0},
+    "power": {"W": 1.0, "mW": 1e-3, "kW": 1e3, "MW": 1e6},
+    "frequency": {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6, "GHz": 1e9},
+    "area density": {"/m^2": 1.0, "/m**2": 1.0, "/km^2": 1e-6, "/km**2": 1e-6},
+    "speed": {"m/s": 1.0, "km/h": 1.0 / 3.6, "mm/h": 1e-3 / 3600.0},
+    "power ratio": {},
 }
 
 # The SI unit of each pint base dimension, for converting any quantity to SI base units.
@@ -124,6 +134,10 @@ def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> fl
         raise ValueError(f"{name} needs a unit: got {text!r}; write e.g. {example}")
     if kind == "extinction" and unit.replace(" ", "") in ("dB/km", "db/km"):
         return value / _DB_PER_NEPER / 1000.0
+    if kind == "power ratio":
+        if unit.replace(" ", "") not in ("dB", "db"):
+            raise ValueError(f"{name}: a power ratio is given in dB, e.g. {example}; got {text!r}")
+        return 10.0 ** (value / 10.0)
     plain = _PLAIN_UNITS[kind].get(unit.replace(" ", ""))
     if plain is not None:
         return value * plain

@@ -141,6 +141,12 @@ class SensorArrays:
     has_noise : bool
         Whether any sensor has noise of its own (static, so the noise-free path stays exactly
         as it was when none has).
+    groups : tuple of str
+        The scenario sensor each row belongs to: its own name, or, for a band of a colour
+        camera, the camera's name. Rows of one group see the scene through the same optics: the
+        sensor-level fusion takes the best of them (:func:`targetacq.fusion.fuse_groups`) and the
+        step API draws their outcomes from the same random stream. Empty: every row is its own
+        group.
     """
 
     cycle: Any
@@ -155,6 +161,12 @@ class SensorArrays:
     types: tuple[str, ...] = _static()
     pointed: tuple[bool, ...] = _static()
     has_noise: bool = _static(False)
+    groups: tuple[str, ...] = _static(())
+
+    @property
+    def group_names(self) -> tuple[str, ...]:
+        """The group of every row: :attr:`groups`, or the row's own name where it is empty."""
+        return self.groups or self.names
 
 
 @pytree_record

@@ -102,6 +102,10 @@ def test_resolution_equations_9_1_and_9_2():
     assert radar.range_resolution(1e-6, math.pi / 6) == pytest.approx(C * 1e-6)  # sin 30° = 1/2
     assert radar.range_resolution(1e-6, math.pi / 2) == pytest.approx(C * 1e-6 / 2)
     assert radar.range_resolution(1e-6, 0.0) == math.inf  # straight down
+    assert radar.range_resolution(1e-6, math.pi) == math.inf  # straight up
+    # A target above the radar: the cell projected on the horizontal is that of π − θ.
+    above = radar.range_resolution(1e-6, 2 * math.pi / 3)
+    assert above == pytest.approx(radar.range_resolution(1e-6, math.pi / 3), rel=1e-15)
 
 
 def test_cells_on_target_is_the_root_of_the_cells_on_the_area():
@@ -177,6 +181,9 @@ def test_circular_polarization_is_eqs_4_5_at_45_degrees():
     up = math.pi / 2
     k_up = radar.rain_coefficients(f, "horizontal", elevation=up)[0]
     np.testing.assert_allclose(k_up, radar.rain_coefficients(f, "vertical", elevation=up)[0])
+    # Only cos²θ enters: a path sloping down is the same as one sloping up.
+    down = radar.rain_coefficients(f, "horizontal", elevation=-0.4)
+    np.testing.assert_array_equal(down, radar.rain_coefficients(f, "horizontal", elevation=0.4))
 
 
 def test_rain_table_holds_tables_1_to_4():
@@ -389,7 +396,7 @@ BAD = {
     "along_track_resolution": [("range", [-1.0]), ("beamwidth", [0.0, -0.1, math.pi, math.inf])],
     "range_resolution": [
         ("pulse_length", [0.0, -1e-6, math.inf]),
-        ("nadir_angle", [-0.1, 2.0, math.inf]),
+        ("nadir_angle", [-0.1, 3.5, math.inf]),
     ],
     "cells_on_target": [
         ("critical_dimension", [-1.0, math.inf]),
@@ -481,6 +488,15 @@ def test_documented_infinities():
     assert radar.detection_probability(math.inf, 1e-6, 3) == 1.0
 
 
+def test_keyword_inputs_are_checked():
+    with pytest.raises(ValueError, match=r"^elevation must be in \[-1.5708, 1.5708\] rad"):
+        radar.rain_specific_attenuation(5.0, 10e9, elevation=2.0)
+    with pytest.raises(ValueError, match=r"^elevation must "):
+        radar.rain_coefficients(10e9, elevation=[0.1, -3.0])
+    with pytest.raises(ValueError, match=r"^temperature must be > 0 K"):
+        radar.radar_constant(1e5, 1e3, 0.03, 1e-6, 2.0, 2.0, temperature=-5.0)
+
+
 def test_marcum_is_numpy_only():
     xps = pytest.importorskip("array_api_strict")
     with pytest.raises(TypeError, match="NumPy arrays only"):
@@ -515,7 +531,7 @@ def test_kernels_under_jax_jit_equal_numpy():
     f = np.array([[1e9, 3.3e9, 10e9], [35e9, 94e9, 1e12]])
     cases = [
         (lambda x: radar.along_track_resolution(x, 0.02), r),
-        (lambda x: radar.range_resolution(1e-7, x), np.array([0.0, 0.3, 1.0, np.pi / 2])),
+        (lambda x: radar.range_resolution(1e-7, x), np.array([0.0, 0.3, np.pi / 2, 2.0, np.pi])),
         (lambda x: radar.cells_on_target(3.0, x + 1.0, 2.0), r),
         (lambda x: radar.radar_constant(x, 1e3, 0.03, 1e-6, 2.0, 2.0), r[:, :2]),
         (lambda x: radar.radar_snr(x + 1.0, 2.0, 1e15, 0.8), r),

@@ -80,7 +80,7 @@ def _finite_positive(name: str, value: Any, xp: Any, unit: str) -> None:
 def along_track_resolution(range: Any, beamwidth: Any) -> Any:
     """Resolution along track (cross range) of a real-aperture radar, Eq. (9.1) in Sonesson (2004).
 
-    ``r_a = 2 R sin(θ_a / 2)``: the width of the beam at the target.
+    ``r_a = 2 R sin(θ_a / 2)`` [m]: the width of the beam at the target.
 
     Parameters
     ----------
@@ -88,11 +88,6 @@ def along_track_resolution(range: Any, beamwidth: Any) -> Any:
         Slant range R [m], >= 0 (+inf gives +inf).
     beamwidth : array_like
         Azimuth beamwidth θ_a [rad], in the open interval (0, π).
-
-    Returns
-    -------
-    array_like
-        r_a [m].
 
     Examples
     --------
@@ -112,20 +107,21 @@ def range_resolution(pulse_length: Any, nadir_angle: Any) -> Any:
     """Resolution across track on the ground, Eq. (9.2) in Sonesson (2004).
 
     ``r_r = c τ / (2 sin θ)`` with θ the angle of the line of sight from nadir: the slant-range
-    cell ``c τ / 2`` projected on the ground. Looking straight down (θ = 0) gives no ground-range
-    resolution, +inf. c is :data:`targetacq.constants.SPEED_OF_LIGHT` (CODATA, exact).
+    cell ``c τ / 2`` projected on the horizontal. Looking straight down (θ = 0) or up (θ = π)
+    gives no ground-range resolution, +inf; above π/2 the target is above the radar, and the
+    projection is that of π − θ. c is :data:`targetacq.constants.SPEED_OF_LIGHT` (exact).
 
     Parameters
     ----------
     pulse_length : array_like
         Compressed pulse length τ [s], > 0 and finite.
     nadir_angle : array_like
-        θ [rad], in [0, π/2] (π/2: grazing, the slant-range cell itself).
+        θ [rad], in [0, π] (π/2: level, the slant-range cell itself).
 
     Returns
     -------
     array_like
-        r_r [m], +inf where θ = 0.
+        r_r [m], +inf where θ = 0 or π.
 
     Examples
     --------
@@ -141,11 +137,10 @@ def range_resolution(pulse_length: Any, nadir_angle: Any) -> Any:
         pulse_length, nadir_angle, names=("pulse_length", "nadir_angle")
     )
     _finite_positive("pulse_length", tau, xp, "s")
-    _arrays.require_in_range("nadir_angle", theta, xp, 0.0, 0.5 * math.pi, "rad")
-    sine = xp.sin(theta)
-    down = sine <= 0.0
-    cell = 0.5 * SPEED_OF_LIGHT * tau / xp.where(down, 1.0, sine)
-    cell = xp.where(down, xp.inf, cell)
+    _arrays.require_in_range("nadir_angle", theta, xp, 0.0, math.pi, "rad")
+    vertical = (theta <= 0.0) | (theta >= math.pi)
+    cell = 0.5 * SPEED_OF_LIGHT * tau / xp.sin(xp.where(vertical, 1.0, theta))
+    cell = xp.where(vertical, xp.inf, cell)
     return _arrays.result(xp.where(xp.isnan(tau), xp.nan, cell))
 
 
@@ -165,11 +160,6 @@ def cells_on_target(critical_dimension: Any, along_track: Any, across_track: Any
     along_track, across_track : array_like
         r_a and r_r [m] (:func:`along_track_resolution`, :func:`range_resolution`), > 0;
         +inf (no resolution) gives 0 cells.
-
-    Returns
-    -------
-    array_like
-        n [1].
 
     Examples
     --------
@@ -404,7 +394,7 @@ def _rain_inputs(polarization: str, *values: Any) -> tuple[Any, list[Any], float
     names = ("frequency", "elevation", "rain_rate")[: len(values)]
     xp, arrays = _arrays.arrays(*values, names=names)
     _arrays.require_in_range("frequency", arrays[0], xp, 1e9, 1e12, "GHz", scale=1e-9)
-    _arrays.require_in_range("elevation", arrays[1], xp, 0.0, 0.5 * math.pi, "rad")
+    _arrays.require_in_range("elevation", arrays[1], xp, -0.5 * math.pi, 0.5 * math.pi, "rad")
     if len(arrays) > 2:
         _arrays.require_nonnegative("rain_rate", arrays[2], xp, "mm/h")
         _arrays.require_finite("rain_rate", arrays[2], xp, "mm/h")
@@ -443,7 +433,7 @@ def rain_coefficients(
     polarization : {"horizontal", "vertical", "circular"}
         :data:`POLARIZATIONS`.
     elevation : array_like
-        Path elevation θ [rad], in [0, π/2] (0: a horizontal path).
+        Path elevation θ [rad], in [−π/2, π/2] (0: a horizontal path; only cos²θ enters).
 
     Returns
     -------
@@ -479,7 +469,7 @@ def rain_specific_attenuation(
         f [Hz], in [1, 1000] GHz.
     polarization : {"horizontal", "vertical", "circular"}
     elevation : array_like
-        Path elevation [rad], in [0, π/2].
+        Path elevation [rad], in [−π/2, π/2].
 
     Returns
     -------
@@ -583,20 +573,12 @@ def _marcum_snr(pd: Any, pfa: Any, n: Any, xp: Any) -> Any:
 
 @dataclass(frozen=True)
 class DetectionModel:
-    """A detection model: P_d from the per-pulse SNR, P_fa and the number of pulses.
+    """A detection model of :data:`RADAR_DETECTION_MODELS`.
 
-    Attributes
-    ----------
-    name, description, source : str
-    probability : callable
-        ``probability(snr, false_alarm, pulses, xp) -> P_d`` on checked float arrays.
-    required : callable
-        ``required(detection, false_alarm, pulses, xp) -> SNR``, its inverse (0 where the
-        detection probability is reached without signal).
-    single_pulse : bool
-        Whether only ``pulses = 1`` is defined.
-    traceable : bool
-        Whether it runs on any array-API namespace and under ``jax.jit`` (False: NumPy only).
+    ``probability(snr, false_alarm, pulses, xp) -> P_d`` and its inverse
+    ``required(detection, false_alarm, pulses, xp) -> SNR`` act on checked float arrays;
+    ``single_pulse``: only ``pulses = 1`` is defined; ``traceable``: runs on any array-API
+    namespace and under ``jax.jit`` (False: NumPy only).
     """
 
     name: str

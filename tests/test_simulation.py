@@ -319,8 +319,8 @@ def test_bad_input():
         sim.step(2.0, 0.5, *good)
     with pytest.raises(ValueError, match="sensor_positions must have shape"):
         sim.probabilities(0.0, np.zeros((3, 3)), good[1])
-    with pytest.raises(ValueError, match=r"unknown sensor type 'radar'.*valid: thermal, tv"):
-        Simulation([{"name": "r", "type": "radar", "ifov": 1e-3}], [_TARGETS["truck"]], seed=1)
+    with pytest.raises(ValueError, match=r"unknown sensor type 'sonar'.*valid: thermal, tv"):
+        Simulation([{"name": "r", "type": "sonar", "ifov": 1e-3}], [_TARGETS["truck"]], seed=1)
     with pytest.raises(ScenarioError, match=r"background\.temperature is needed"):
         Simulation([_sensor("a", 0.0)], [_TARGETS["truck"]])
     for seed in (-1, 1.5):

@@ -56,19 +56,21 @@ the batch size, the order of the sensors or which other pairs are simulated. Fus
 
 :func:`simulate` runs a :class:`targetacq.model.ModelChain`'s scripted scenario for many runs
 at once; :class:`targetacq.Simulation` is the same machinery driven one step at a time by
-another simulation.
+another simulation. Both draw the false detections of a scenario's ``[false_targets]`` table
+(:mod:`targetacq.false_targets`) in each step, from streams of their own.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from targetacq import _arrays, limits
+from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.sampling import stream_key, uniforms
 
 __all__ = ["SimulationResult", "check_simulation_size", "search_probability", "simulate"]
@@ -325,6 +327,11 @@ class SimulationResult:
     sensors, targets : list of str
     duration : float
         [s]
+    false_detections : targetacq.false_targets.FalseDetections
+        Every run's false detections (the scenario's ``[false_targets]``; empty without one),
+        ordered by run, time and sensor: ``run``, ``sensor``, ``time`` [s] and ``position``
+        (east, north, up [m] on the ground); :meth:`~targetacq.false_targets.FalseDetections.frame`
+        gives them as a table.
     """
 
     times: dict[str, np.ndarray]
@@ -332,6 +339,7 @@ class SimulationResult:
     sensors: list[str]
     targets: list[str]
     duration: float
+    false_detections: FalseDetections = field(default_factory=FalseDetections.empty)
 
     def summary(self) -> Any:
         """Per target and task (fused over sensors): the fraction of runs where it happened
@@ -397,12 +405,15 @@ def simulate(
     Returns
     -------
     SimulationResult
+        With the false detections of a ``[false_targets]`` table (drawn in each step after the
+        first, :mod:`targetacq.false_targets`), the same for any ``batch``.
 
     Raises
     ------
     ValueError
         For a duration, step, runs, batch or seed outside its range, or a simulation too large
-        for memory (:func:`check_simulation_size`), before anything is allocated.
+        for memory (:func:`check_simulation_size`; the expected false detections too), before
+        anything is allocated.
 
     Examples
     --------
@@ -433,13 +444,19 @@ def simulate(
     )
     in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
     streams = _Streams(seed, chain.sensor_names, chain.target_names)
+    footprints = _false_target_footprints(chain, edges, runs, seed)
+    false_parts: list[FalseDetections] = []
     times = {task: np.full((runs, n_s, n_g), np.inf) for task in _TASKS}
+    at = edges.tolist()
     for first in range(0, runs, batch):
         state = _SearchState(
             streams, np.arange(first, min(first + batch, runs)), sc.model.search_time
         )
-        for k, t in enumerate(edges.tolist()):
+        for k, t in enumerate(at):
             state.advance(t, p[k], in_view[k])
+        if footprints is not None:  # every step after the first at once: counter-based
+            steps = [(k, at[k - 1], at[k], footprints[1][k]) for k in range(1, len(at))]
+            false_parts.append(footprints[0].draw(steps, state.runs[:, 0]))
         count = state.runs.shape[0]
         for j, task in enumerate(_TASKS):
             times[task][first : first + count] = state.first[j].reshape(count, n_s, n_g)
@@ -452,4 +469,38 @@ def simulate(
         sensors=list(chain.sensor_names),
         targets=list(chain.target_names),
         duration=float(duration),
+        false_detections=FalseDetections.concatenate(false_parts),
     )
+
+
+def _false_target_footprints(
+    chain: Any, edges: np.ndarray, runs: int, seed: int
+) -> tuple[FalseTargetSampler, list[Any]] | None:
+    """The scenario's false-target sampler and, per step time, each sensor's footprint and rate
+    (the same for every run: the scripted positions), after checking that the expected false
+    detections of all runs fit in memory; None without a ``[false_targets]`` table."""
+    sc = chain.scenario
+    if sc.false_targets is None:
+        return None
+    from targetacq.core import scenario_positions
+
+    scene = chain.compiled.scene
+    sampler = FalseTargetSampler(sc.false_targets, scene.sensors, sc.model.search_time, seed)
+    positions = scenario_positions(sc, edges)[0]  # (sensor rows or scenario sensors, steps, 3)
+    groups = scene.sensors.group_names
+    if positions.shape[0] != len(groups):  # one per scenario sensor: each row takes its own
+        index = {s.name: k for k, s in enumerate(sc.sensors)}
+        positions = positions[[index[g] for g in groups]]
+    footprints = [sampler.footprints(positions[:, k]) for k in range(edges.size)]
+    expected = runs * sum(
+        rate * (edges[k] - edges[k - 1])
+        for k in range(1, edges.size)
+        for _, _, rate in footprints[k]
+    )
+    limits.check_size(
+        expected,
+        96,
+        f"about {expected:.3g} false detections ({runs} runs)",
+        "use fewer runs, a shorter duration or a lower false_targets.density",
+    )
+    return sampler, footprints

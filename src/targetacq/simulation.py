@@ -11,6 +11,7 @@ positions of that moment from the caller, evaluates the array core once
     out.detection                  # (n_sensors, n_targets) P at `time`
     out.detected                   # (n_sensors, n_targets) detected at some time so far
     out.events                     # what happened within the step, with its times
+    out.false_detections           # clutter declared a target within the step ([false_targets])
 
 :meth:`Simulation.probabilities` is the pure part (no draws, no state): the per-pair and fused
 probabilities for positions, with NumPy or JAX arrays.
@@ -34,10 +35,16 @@ one implementation shared with :func:`targetacq.search.simulate`:
 - a NaN position gives NaN probabilities for its pairs, and nothing happens for a pair in a step
   with a NaN probability at either end; its episode goes on unchanged.
 
+False targets. With a ``[false_targets]`` table (:mod:`targetacq.false_targets`), each step
+also draws the false detections of the sensors with a field of view: a Poisson count with mean
+``density · A · probability · dt / t_s`` per sensor, ``A`` the ground in view at the step's time
+within ``max_range``, each with a time uniform in the step's interval and a position uniform in
+that area (none in the first step after a reset).
+
 Draws come from counter-based streams keyed by the seed and the sensor's and target's names, so
 a pair's outcomes do not depend on the order of the sensors or on which other sensors and
 targets are simulated; run ``r`` of :meth:`Simulation.reset` is run ``r`` of
-:func:`targetacq.search.simulate` with the same seed and steps.
+:func:`targetacq.search.simulate` with the same seed and steps (false detections included).
 """
 
 from __future__ import annotations
@@ -53,6 +60,7 @@ from pydantic import ValidationError
 
 from targetacq import _arrays, core, engines
 from targetacq.core.evaluate import footprint_scr
+from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
 from targetacq.search import _SearchState, _Streams, check_seed
@@ -134,6 +142,9 @@ class StepResult:
         The same by any sensor.
     events : Events
         What happened within this step, with its times.
+    false_detections : targetacq.false_targets.FalseDetections
+        Clutter declared a target within this step, ordered by time, with positions on the
+        ground (empty without a ``[false_targets]`` table, and in a first step).
     """
 
     time: float
@@ -151,6 +162,7 @@ class StepResult:
     fused_recognised: np.ndarray
     fused_identified: np.ndarray
     events: Events
+    false_detections: FalseDetections = dataclasses.field(default_factory=FalseDetections.empty)
 
 
 def _record(item: Any) -> Any:
@@ -181,6 +193,9 @@ class Simulation:
     atmosphere : targetacq.scenario.Atmosphere or mapping, optional
     model : targetacq.scenario.ModelChoices or mapping, optional
         Criterion, transform, noise model and the search time ``search_time`` [s].
+    false_targets : targetacq.scenario.FalseTargets or mapping, optional
+        Clutter objects declared targets (:mod:`targetacq.false_targets`): ``density``
+        [1/m²], ``probability``, ``max_range`` [m] and optionally ``sensors``.
     seed : int
         Seed of the random outcomes, >= 0.
     engine : str
@@ -231,6 +246,7 @@ class Simulation:
         model: Any = None,
         seed: int = 0,
         engine: str = "numpy",
+        false_targets: Any = None,
     ) -> None:
         chosen = engines.for_steps(engine)
         sensors = [_record(s) for s in sensors]
@@ -247,6 +263,8 @@ class Simulation:
                 data[name] = value
         if model is not None:
             data["model"] = model
+        if false_targets is not None:
+            data["false_targets"] = false_targets
         try:
             scenario = Scenario.model_validate(data)
         except ValidationError as error:
@@ -298,7 +316,19 @@ class Simulation:
         self._streams = _Streams(check_seed(seed), self.sensors, self.targets)
         none = np.empty(0, dtype=np.int64)
         self._empty = Events(none, none, none, np.empty(0), self.sensors, self.targets)
+        self._false = self._false_targets(self.seed)
         self.reset()
+
+    def _false_targets(self, seed: int) -> FalseTargetSampler | None:
+        table = self.scenario.false_targets
+        if table is None:
+            return None
+        try:
+            return FalseTargetSampler(
+                table, self._scene.sensors, self._scene.choices.search_time, seed
+            )
+        except ValueError as error:
+            raise ScenarioError(str(error)) from None
 
     @property
     def seed(self) -> int:
@@ -323,6 +353,7 @@ class Simulation:
         """
         if seed is not None and check_seed(seed) != self._streams.seed:
             self._streams = _Streams(seed, self.sensors, self.targets)
+            self._false = self._false_targets(self._streams.seed)
         if not isinstance(run, (int, np.integer)) or isinstance(run, bool) or not 0 <= run < 2**32:
             raise ValueError(f"run must be an integer in [0, 2**32), got {run!r}")
         self._state = _SearchState(self._streams, np.array([run]), self._scene.choices.search_time)
@@ -542,6 +573,16 @@ class Simulation:
                 )
         inputs = self._inputs(sensor_positions, target_positions, target_headings, sensor_pointing)
         found, probs = self._evaluate(*inputs)
+        false = FalseDetections.empty()
+        if self._false is not None and state.p is not None and t > state.time:
+            false = self._false.sample(
+                state.index,
+                state.time,
+                t,
+                state.runs[:, 0],
+                np.asarray(inputs[0], dtype=float),
+                None if inputs[3] is None else np.asarray(inputs[3], dtype=float),
+            )
         per_pair = [np.asarray(getattr(probs, task), dtype=float) for task in TASKS]
         in_view = np.asarray(found.in_view, dtype=bool)
         p = np.stack(per_pair).reshape(3, -1)
@@ -563,6 +604,7 @@ class Simulation:
             fused_recognised=done[1].any(axis=0),
             fused_identified=done[2].any(axis=0),
             events=self._events(interval),
+            false_detections=false,
         )
 
     def _events(self, interval: Any) -> Events:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from importlib import resources
 from typing import Annotated, Any
@@ -220,15 +221,33 @@ def simulate(
         ),
     ] = None,
     engine: EngineOption = "numpy",
+    false_detections: Annotated[
+        str | None,
+        typer.Option(
+            "--false-detections",
+            help="Write every run's false detections (the scenario's [false_targets] table: "
+            "clutter declared a target), one row each, ordered by run and time: run, sensor, "
+            "time [s], x, y, z [m] (east, north, up: on the ground, z = 0), ready to feed a "
+            "tracker: .csv, .json, .parquet, .nc or .zarr (units and provenance in all but CSV).",
+        ),
+    ] = None,
 ) -> None:
     """Random acquisition over time (field-of-view search model): per target, the fraction of
     runs with a detection / recognition / identification and the distribution of its first time.
+    With a [false_targets] table the runs also have false detections (clutter declared a target,
+    inside each sensor's field of view): counted in the table, written by --false-detections.
 
     Example: targetacq simulate examples/two_sensors_fused.toml --runs 200 --out sim.parquet
     """
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
         output_path(out, OUTPUT_FORMATS, "--out", directories=DIRECTORY_FORMATS)  # before work
+    if false_detections is not None:
+        output_path(
+            false_detections, OUTPUT_FORMATS, "--false-detections", directories=DIRECTORY_FORMATS
+        )
+        if out is not None and os.path.realpath(out) == os.path.realpath(false_detections):
+            raise ValueError("--false-detections and --out name the same file; give two")
     t_total = parse_quantity(duration, "time", "--duration")
     dt = parse_quantity(step, "time", "--step")
     if not t_total > 0 or not dt > 0:
@@ -238,6 +257,11 @@ def simulate(
     check_seed(seed, "--seed")
     get_engine(engine)
     loaded = load_scenario(scenario)
+    if false_detections is not None and loaded.false_targets is None:
+        raise ValueError(
+            f"--false-detections: {scenario} has no [false_targets] table (density, "
+            "probability, max_range), so there are no false detections to write"
+        )
     check_simulation_size(
         t_total,
         dt,
@@ -263,6 +287,8 @@ def simulate(
     summary = result.summary()
     if out is not None:
         _write_simulation(out, chain, result, summary, scenario, seed, dt)
+    if false_detections is not None:
+        _write_false_detections(false_detections, chain, result, scenario, seed, dt)
     if output_format == "table":
         lines = [
             f"{runs} runs, {t_total:g} s in steps of {dt:g} s, seed {seed}; first times over "
@@ -275,8 +301,16 @@ def simulate(
                 f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}"
                 f"{row['t10_s']:>9.3g}{row['t50_s']:>9.3g}{row['t90_s']:>9.3g}"
             )
-        if out is not None:
-            lines += ["", f"wrote {out}"]
+        if loaded.false_targets is not None:
+            count = len(result.false_detections)
+            lines += [
+                "",
+                f"false detections: {count} in {runs} runs ({count / runs:.3g} per run)"
+                + ("" if false_detections is not None else "; --false-detections FILE writes them"),
+            ]
+        written = [path for path in (out, false_detections) if path is not None]
+        if written:
+            lines += ["", f"wrote {', '.join(written)}"]
         typer.echo("\n".join(lines))
     else:
         rows = [dict(r) for r in summary.to_dict(orient="records")]
@@ -309,6 +343,43 @@ def _write_simulation(
         scenario_file_sha256=sha256_file(source),
     )
     write_output(Output(ds, meta, table=lambda: summary), out)
+
+
+_FALSE_COLUMNS: dict[str, tuple[str | None, str]] = {
+    "run": ("1", "index of the simulated run"),
+    "sensor": (None, "sensor that declared a target where there was none"),
+    "time": ("s", "time of the false detection (the scenario's clock)"),
+    "x": ("m", "east coordinate of the false detection"),
+    "y": ("m", "north coordinate of the false detection"),
+    "z": ("m", "up coordinate of the false detection (0: on the ground)"),
+}
+
+
+def _write_false_detections(
+    path: str, chain: ModelChain, result: Any, source: str, seed: int, step: float
+) -> None:
+    """Every run's false detections, one row each (run, sensor, time, x, y, z), with units and
+    provenance (the [false_targets] table among it)."""
+    import xarray as xr
+
+    from targetacq.datasets import Output, annotate, write_output
+
+    frame = result.false_detections.frame()
+    ds = xr.Dataset({name: ("false_detection", frame[name].to_numpy()) for name in _FALSE_COLUMNS})
+    annotate(ds, _FALSE_COLUMNS)
+    table = chain.scenario.false_targets
+    meta = chain.provenance()
+    meta.update(
+        title=f"targetacq simulate: false detections, {chain.scenario.name or 'scenario'}",
+        seed=int(seed),
+        runs=int(result.times["detection"].shape[0]),
+        duration_s=float(result.duration),
+        step_s=float(step),
+        false_targets=None if table is None else table.model_dump(),
+        scenario_file=source,
+        scenario_file_sha256=sha256_file(source),
+    )
+    write_output(Output(ds, meta, table=lambda: frame), path)
 
 
 def _stderr_console() -> Any:

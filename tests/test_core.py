@@ -127,13 +127,13 @@ def test_extinction_for_band_reads_table_7_1_per_band():
 
 
 def test_sensor_types_come_from_the_registry():
-    assert set(SENSOR_TYPES) == {"thermal", "tv"}
+    assert set(SENSOR_TYPES) == {"thermal", "tv", "colour", "radar", "laser_radar"}
     for kind in SENSOR_TYPES.values():
         assert get_sensor_type(kind.name) is kind
     with pytest.raises(ValueError, match="did you mean 'thermal'"):
         get_sensor_type("thermel")
-    with pytest.raises(ValueError, match="unknown sensor type 'radar'"):
-        Sensor(name="s", type="radar", band="lwir", ifov=1e-4, position=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="unknown sensor type 'sonar'"):
+        Sensor(name="s", type="sonar", band="lwir", ifov=1e-4, position=[0.0, 0.0, 0.0])
 
 
 def _scene():

@@ -274,6 +274,7 @@ NOT_KERNELS = {
     "transform",  # the registry below
     "inverse_transform",
     "fuse",  # test_fusion_keeps_nan_per_target
+    "fuse_groups",  # test_fusion_keeps_nan_per_target
     "central_level_bounds",
     "image_clutter",  # images: tests/test_clutter.py
     "terrain_clutter",  # weights summed over an axis: test_terrain_clutter_keeps_nan
@@ -833,6 +834,12 @@ def test_fusion_keeps_nan_per_target():
     assert np.isnan(upper).tolist() == [False, True, True] and upper[0] == 1.0
     with pytest.raises(TypeError, match=r"^probabilities must be real numbers"):
         ta.fuse(p.astype(complex))
+    # Grouped (colour bands): NaN in any member is NaN for the group and for the fusion.
+    grouped = ta.fuse_groups(np.vstack([p, [0.1, 0.2, 0.3]]), ["rgb", "rgb", "ir"])
+    assert np.isnan(grouped).tolist() == [False, True, True]
+    assert grouped[0] == pytest.approx(1 - 0.5 * 0.9)
+    with pytest.raises(ValueError, match="groups must name the group of each of the 3"):
+        ta.fuse_groups(np.vstack([p, p[:1]]), ["a", "b"])
 
 
 def test_path_transmittance_keeps_nan_per_path():

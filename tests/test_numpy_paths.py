@@ -20,6 +20,7 @@ import pytest
 
 import targetacq as ta
 from targetacq import acquisition, atmosphere, core, geometry, noise, transforms
+from targetacq.core import active
 from targetacq.core.records import derived
 from targetacq.scenario import load_scenario, parse_scenario
 
@@ -192,9 +193,22 @@ def _check_core(scene, sensors, targets, **given):
         given.get("scr"),
         np,
     )
+    tasks = None
+    if active.has_active(scene):  # radars and laser radars: their rows' own factors
+        generic = active.active_factors(scene, generic, sensors, targets)
+        tasks = active.active_probabilities(scene, generic)
     _same_factors(found, generic)
     # The probabilities of every pair computed generically, then masked by the field of view.
-    _same_probabilities(probs, EVALUATE._probabilities_generic(scene, generic))
+    expected = EVALUATE._probabilities_generic(scene, generic, tasks)
+    if scene.sensors.groups:  # colour cameras: the best band of each
+        expected = dataclasses.replace(
+            expected,
+            **{
+                f"fused_{task}": ta.fuse_groups(getattr(expected, task), scene.sensors.groups)
+                for task in ("detection", "recognition", "identification")
+            },
+        )
+    _same_probabilities(probs, expected)
     # Factors made otherwise (here a copy): the noise through the decibels, the same numbers.
     _same_probabilities(core.probabilities(scene, dataclasses.replace(found)), probs)
     return found

@@ -56,6 +56,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "fusion": (
         "central_level_bounds",
         "fuse",
+        "fuse_groups",
     ),
     "geometry": (
         "critical_dimension",
@@ -135,6 +136,7 @@ __all__ = [
     "extinction_from_visibility",
     "field_of_view",
     "fuse",
+    "fuse_groups",
     "gaussian_psf",
     "get_criterion",
     "ifov",
@@ -203,6 +205,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
     from targetacq.fusion import (
         central_level_bounds,
         fuse,
+        fuse_groups,
     )
     from targetacq.geometry import (
         critical_dimension,

@@ -43,6 +43,7 @@ from targetacq.datasets import OUTPUT_FORMATS, Output, annotate, provenance, wri
 from targetacq.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.registry import lookup
 from targetacq.scenario import Scenario
+from targetacq.sensors import get_sensor_type
 
 __all__ = ["OUTPUT_FORMATS", "STEPS", "ModelChain", "Results", "evaluate"]
 
@@ -167,11 +168,18 @@ def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
             hot_spot=t.hot_spot[targets],
             moving=t.moving[targets],
         ),
-        signature=core.SignatureArrays(
+        signature=dataclasses.replace(
+            sig,
             contrast=sig.contrast[:, targets],
             target=sig.target[:, targets],
             scr=None if sig.scr is None else sig.scr[:, targets],
         ),
+        radar=None
+        if scene.radar is None
+        else dataclasses.replace(scene.radar, rcs=scene.radar.rcs[:, targets]),
+        laser=None
+        if scene.laser is None
+        else dataclasses.replace(scene.laser, reflectance=scene.laser.reflectance[:, targets]),
     )
 
 
@@ -231,6 +239,7 @@ class ModelChain:
         self.criteria = np.array(self.compiled.criteria, dtype=object)
         self.contrast = scene.signature.contrast
         self.scr = scene.signature.scr
+        self._scr_per_position = self.compiled.terrain is not None or core.has_active(scene)
 
     def bound(self, scene: core.SceneArrays) -> engines.BoundEngine:
         """The chain's engine bound to ``scene`` (the whole scene, or a chunk's targets); the
@@ -268,7 +277,8 @@ class ModelChain:
         found = self.steps["clutter"](self, scene, found, positions[1], chosen)
         p = self.steps["probabilities"](self, scene, found)
         out = {
-            **({} if self.compiled.terrain is None else {"scr": found.scr}),
+            # The SCR per position: a terrain map's, or a radar's (its cell grows with range).
+            **({"scr": found.scr} if self._scr_per_position else {}),
             "range": found.range,
             "critical_dimension": found.critical_dimension,
             "cycles": found.cycles,
@@ -332,7 +342,9 @@ class ModelChain:
         rule and semantics are the scenario's, and so is a sensor's own noise (its
         noise-equivalent exitance against the pair's exitance contrast), with the pixels on
         target counted over the critical dimension squared (the fewest a target of that critical
-        dimension covers: the range curves do not follow the outline's other side).
+        dimension covers: the range curves do not follow the outline's other side). Imaging
+        sensors only: a radar's or laser radar's range performance comes from the core
+        (:func:`targetacq.core.pair_ranges.pair_performance`).
 
         Examples
         --------
@@ -357,8 +369,14 @@ class ModelChain:
             ]
             for s in range(len(sensors.names))
         ]
+        signature = scene.signature
+        rows = signature.clutter_rows or (signature.scr is not None,) * len(sensors.names)
+        clutter = [signature.scr[s] if given else None for s, given in enumerate(rows)]
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
+            if get_sensor_type(sensors.types[s]).kind != "imaging":
+                continue  # radars, laser radars: targetacq.core.pair_ranges
+            row_clutter = clutter[s]
             for g, target in enumerate(targets.names):
                 cases[f"{sensor} → {target}"] = RangeCase(
                     float(seen[s, g]),
@@ -368,7 +386,7 @@ class ModelChain:
                     transform=choices.transform,
                     options=dict(choices.options),
                     extinction=float(sensors.extinction[s]) if scene.path.attenuates else None,
-                    scr=None if scene.signature.scr is None else float(scene.signature.scr[s, g]),
+                    scr=None if row_clutter is None else float(row_clutter[g]),
                     region=choices.region,
                     hot_spot=targets.hot_spot[g],
                     moving=targets.moving[g],

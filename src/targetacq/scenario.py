@@ -174,6 +174,7 @@ Extinction = Annotated[float, _quantity("extinction")]
 Time = Annotated[float, _quantity("time")]
 Irradiance = Annotated[float, _quantity("irradiance")]
 AreaDensity = Annotated[float, _quantity("area density")]
+Area = Annotated[float, _quantity("area")]
 Power = Annotated[float, _quantity("power")]
 Frequency = Annotated[float, _quantity("frequency")]
 Speed = Annotated[float, _quantity("speed")]
@@ -296,6 +297,90 @@ def _sensor_type(value: Any) -> str:
     return get_sensor_type(value).name
 
 
+BandValues = dict[Name, Annotated[Number, Field(ge=0.0, le=1.0)]]
+"""A value per named colour band (``{red = 0.2, green = 0.3, blue = 0.1}``)."""
+
+
+class Radar(_Strict):
+    """A pulse radar's transmitter, antenna, receiver and detector (the ``radar`` table of a
+    ``type = "radar"`` sensor; the model is :mod:`targetacq.sensors.radar`).
+
+    ``power`` peak transmitted power, ``gain`` antenna gain and ``noise_figure``, ``losses`` as
+    power ratios in dB, ``frequency`` the carrier, ``pulse_length`` τ (matched filter: noise
+    bandwidth 1/τ, range resolution c τ / 2), ``beamwidth`` the antenna's azimuth beamwidth θ_a,
+    ``false_alarm`` the detector's P_fa, ``pulses`` integrated non-coherently, ``detector`` the
+    P_d(SNR, P_fa) model, ``polarization`` for the rain attenuation, and the cells on target of
+    P = 0.5 for recognition and identification (the project's criteria for radar).
+
+    The default detector is ``swerling1`` (a fluctuating target, one pulse: exact, and P_d → P_fa
+    as the SNR → 0). Albersheim's formula is meant for 0.1 <= P_d <= 0.9: below, it tends to a
+    floor (0.017 at P_fa = 1e-6) instead of P_fa, so a distant target keeps a small P_d per look;
+    ``marcum`` is exact for a steady target (NumPy only). See
+    :data:`targetacq.radar.RADAR_DETECTION_MODELS`.
+    """
+
+    power: Power
+    gain: PowerRatio
+    frequency: Frequency
+    pulse_length: Time
+    beamwidth: Angle
+    noise_figure: PowerRatio = 1.0
+    losses: PowerRatio = 1.0
+    false_alarm: Annotated[Number, Field(gt=0.0, lt=1.0)] = 1e-6
+    pulses: Annotated[WholeNumber, Field(ge=1)] = 1
+    detector: str = "swerling1"
+    polarization: Literal["horizontal", "vertical", "circular"] = "horizontal"
+    recognition_cells: Annotated[Number, Field(gt=0.0)] = 8.0
+    identification_cells: Annotated[Number, Field(gt=0.0)] = 12.8
+
+    @model_validator(mode="after")
+    def _check(self) -> Radar:
+        from targetacq.radar import RADAR_DETECTION_MODELS
+
+        for name in ("power", "frequency", "pulse_length", "gain"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"radar.{name} must be > 0")
+        if not 0 < self.beamwidth < math.pi:
+            raise ValueError("radar.beamwidth must be in (0, 180) degrees")
+        for name in ("noise_figure", "losses"):
+            if not getattr(self, name) >= 1:
+                raise ValueError(f"radar.{name} must be >= 0 dB")
+        model = lookup(RADAR_DETECTION_MODELS, self.detector, "radar detector")
+        if model.single_pulse and self.pulses > 1:
+            raise ValueError(
+                f"radar.detector {self.detector!r} is for one pulse; with pulses > 1 use "
+                "albersheim or marcum"
+            )
+        if self.identification_cells <= self.recognition_cells:
+            raise ValueError("radar.identification_cells must exceed recognition_cells")
+        return self
+
+
+class Laser(_Strict):
+    """A direct-detection laser radar's transmitter and receiver (the ``laser`` table of a
+    ``type = "laser_radar"`` sensor; the model is :mod:`targetacq.sensors.laser_radar`).
+
+    ``power`` transmitted (peak) power, ``aperture`` the receiver's diameter, ``timing`` the
+    shortest time that separates two returns (range resolution c t / 2), ``nep`` the receiver's
+    noise-equivalent power (0: no receiver noise), ``efficiency`` of the optics and detector.
+    """
+
+    power: Power
+    aperture: Length
+    timing: Time
+    nep: Power = 0.0
+    efficiency: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
+
+    @model_validator(mode="after")
+    def _check(self) -> Laser:
+        for name in ("power", "aperture", "timing"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"laser.{name} must be > 0")
+        if not self.nep >= 0:
+            raise ValueError("laser.nep must be >= 0 W")
+        return self
+
+
 class Sensor(_Strict):
     """An imaging sensor.
 
@@ -332,9 +417,15 @@ class Sensor(_Strict):
     netd: TemperatureDifference | None = None
     netd_temperature: Temperature = 300.0
     nec: Annotated[Number, Field(ge=0.0)] | None = None
+    bands: Annotated[list[Name], Field(min_length=1)] | None = None
+    radar: Radar | None = None
+    laser: Laser | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
+        self._check_type_tables()
+        if self.type == "radar":
+            return self._check_radar()
         ways = [
             self.pitch is not None or self.focal_length is not None,
             self.hfov is not None,
@@ -385,8 +476,38 @@ class Sensor(_Strict):
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
         if self.netd is not None and self.type != "thermal":
             raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
-        if self.nec is not None and self.type != "tv":
+        if self.nec is not None and self.type not in ("tv", "colour"):
             raise ValueError("nec is the noise-equivalent contrast of a TV sensor; give netd")
+        return self
+
+    def _check_type_tables(self) -> None:
+        """The tables that belong to one sensor type: bands (colour), radar, laser."""
+        for key, kind in (("bands", "colour"), ("radar", "radar"), ("laser", "laser_radar")):
+            given = getattr(self, key) is not None
+            if given and self.type != kind:
+                raise ValueError(f'{key} belongs to a type = "{kind}" sensor')
+            if not given and self.type == kind:
+                raise ValueError(f'a type = "{kind}" sensor needs its {key}')
+        if self.bands is not None and len(set(self.bands)) != len(self.bands):
+            raise ValueError("bands must be distinct names")
+
+    def _check_radar(self) -> Sensor:
+        """A radar's resolution is its antenna and pulse: no optics, no field of view."""
+        optics_given = [
+            key
+            for key in ("pixels", "pitch", "focal_length", "hfov", "ifov", "aperture", "band")
+            if getattr(self, key) is not None
+        ]
+        if optics_given:
+            raise ValueError(
+                f"{optics_given[0]} is an imaging sensor's; a radar's resolution is "
+                "radar.beamwidth and radar.pulse_length"
+            )
+        if self.look_at is not None or self.azimuth is not None:
+            raise ValueError("a radar here scans all around: it takes no look_at or azimuth")
+        if self.netd is not None or self.nec is not None:
+            raise ValueError("a radar's noise is its receiver: radar.noise_figure")
+        _one_place(self.position, self.waypoints, "sensor")
         return self
 
     @property
@@ -403,9 +524,11 @@ class Sensor(_Strict):
 
     @property
     def pixel_ifov(self) -> float:
-        """IFOV [rad] of the central pixel."""
+        """IFOV [rad] of the central pixel (a radar's: its beamwidth)."""
         from targetacq import optics
 
+        if self.radar is not None:
+            return self.radar.beamwidth
         if self.ifov is not None:
             return self.ifov
         if self.hfov is not None and self.pixels is not None:
@@ -447,7 +570,8 @@ class Target(_Strict):
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
     material: str | None = None
-    reflectance: Fraction | None = None
+    reflectance: Fraction | BandValues | None = None
+    rcs: Area | None = None
     position: Position | None = None
     waypoints: list[Waypoint] | None = None
     moving: Flag = False
@@ -519,14 +643,16 @@ class Background(_Strict):
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
     material: str | None = None
-    reflectance: Fraction | None = None
-    irradiance: Irradiance | None = None
+    reflectance: Fraction | BandValues | None = None
+    irradiance: Irradiance | dict[Name, Irradiance] | None = None
     clutter: Literal["low", "medium", "high"] | None = None
     scr: Annotated[Number, Field(ge=0.0)] | None = None
     clutter_std: TemperatureDifference | None = None
     image: str | None = None
     channel: Literal["luminance", "red", "green", "blue"] | None = None
     terrain: Terrain | None = None
+    sigma0: PowerRatio | None = None
+    relief_std: Length | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Background:
@@ -537,8 +663,14 @@ class Background(_Strict):
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.emissivity is not None and self.material is not None:
             raise ValueError("give emissivity or material, not both")
-        if self.irradiance is not None and not self.irradiance >= 0:
+        irradiance = self.irradiance
+        values = list(irradiance.values()) if isinstance(irradiance, dict) else [irradiance]
+        if not all(v is None or v >= 0 for v in values):
             raise ValueError("irradiance must be >= 0 W/m^2")
+        if self.sigma0 is not None and not self.sigma0 > 0:
+            raise ValueError("sigma0 must be > 0 (a power ratio in dB, e.g. -20 dB)")
+        if self.relief_std is not None and not self.relief_std >= 0:
+            raise ValueError("relief_std must be >= 0 m")
         if self.channel is not None and self.image is None:
             raise ValueError("channel picks the channel of background.image; give the image")
         return self
@@ -632,7 +764,8 @@ def _check_obscurant(text: str | None) -> None:
 class Atmosphere(_Strict):
     """The path: one of ``extinction``, ``obscurant`` ("haze" or "haze:high", per sensor band,
     Table 7.1) or ``visibility`` with its ``visibility_convention`` (visible band only);
-    ``segments`` near the sensor; local ``clouds``."""
+    ``segments`` near the sensor; local ``clouds``. ``rain_rate`` (e.g. "5 mm/h") attenuates
+    radars (ITU-R P.838-3); the optical extinctions above do not apply to a radar."""
 
     extinction: Extinction | None = None
     obscurant: str | None = None
@@ -640,6 +773,7 @@ class Atmosphere(_Strict):
     visibility_convention: Literal["koschmieder", "mor"] | None = None
     segments: list[Segment] = []
     clouds: list[Cloud] = []
+    rain_rate: Speed | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Atmosphere:
@@ -647,6 +781,8 @@ class Atmosphere(_Strict):
             raise ValueError("give one of extinction, obscurant and visibility")
         if self.extinction is not None and not self.extinction >= 0:
             raise ValueError("extinction must be >= 0")
+        if self.rain_rate is not None and not self.rain_rate >= 0:
+            raise ValueError("rain_rate must be >= 0 (e.g. 5 mm/h)")
         if self.visibility is not None:
             if not self.visibility > 0:
                 raise ValueError("visibility must be > 0")
@@ -743,8 +879,9 @@ class FalseTargets(_Strict):
     """False detections: target-like clutter objects declared targets (the ``[false_targets]``
     table; the law is in :mod:`targetacq.false_targets`).
 
-    ``density`` [1/m²] of target-sized clutter objects on the ground, ``probability`` that an
-    object looked at long enough is declared a target, ``max_range`` [m] the farthest ground the
+    ``density`` [1/m²] of target-sized clutter objects on the ground, ``probability`` the hazard
+    of declaring an object in view a target, in units of 1/t_s (about the probability that an
+    object looked at for one search time is declared), ``max_range`` [m] the farthest ground the
     sensors search, and ``sensors`` the sensors that report false detections (default: every
     sensor with a field of view).
     """
@@ -829,6 +966,10 @@ class Scenario(_Strict):
                 )
         for kind in dict.fromkeys(s.type for s in self.sensors):
             problems += get_sensor_type(kind).requirements(self)
+        if self.false_targets is not None:
+            from targetacq.false_targets import false_target_problems
+
+            problems += false_target_problems(self)
         image = self.background.image is not None
         for k, target in enumerate(self.targets):
             if image and target.image_box is None:

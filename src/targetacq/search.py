@@ -443,7 +443,8 @@ def simulate(
         np.stack([arrays[task] for task in _TASKS]).reshape(3, n_s * n_g, -1).transpose(2, 0, 1)
     )
     in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
-    streams = _Streams(seed, chain.sensor_names, chain.target_names)
+    # The bands of a colour camera draw from the camera's streams (as in the step API).
+    streams = _Streams(seed, chain.compiled.scene.sensors.group_names, chain.target_names)
     footprints = _false_target_footprints(chain, edges, runs, seed)
     false_parts: list[FalseDetections] = []
     times = {task: np.full((runs, n_s, n_g), np.inf) for task in _TASKS}

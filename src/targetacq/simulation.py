@@ -313,7 +313,9 @@ class Simulation:
         self.sensors: tuple[str, ...] = tuple(scene.sensors.names)
         self.targets: tuple[str, ...] = tuple(scene.targets.names)
         self._shape = (len(self.sensors), len(self.targets))
-        self._streams = _Streams(check_seed(seed), self.sensors, self.targets)
+        # The bands of a colour camera draw from the camera's streams: one look, not several.
+        self._stream_names = scene.sensors.group_names
+        self._streams = _Streams(check_seed(seed), self._stream_names, self.targets)
         none = np.empty(0, dtype=np.int64)
         self._empty = Events(none, none, none, np.empty(0), self.sensors, self.targets)
         self._false = self._false_targets(self.seed)
@@ -352,7 +354,7 @@ class Simulation:
             :func:`targetacq.search.simulate`).
         """
         if seed is not None and check_seed(seed) != self._streams.seed:
-            self._streams = _Streams(seed, self.sensors, self.targets)
+            self._streams = _Streams(seed, self._stream_names, self.targets)
             self._false = self._false_targets(self._streams.seed)
         if not isinstance(run, (int, np.integer)) or isinstance(run, bool) or not 0 <= run < 2**32:
             raise ValueError(f"run must be an integer in [0, 2**32), got {run!r}")

@@ -37,17 +37,26 @@ from targetacq.services.range_case import (
 @app.command()
 @range_case_options
 def dri(
+    scenario: Annotated[
+        str | None,
+        typer.Argument(help="A scenario file: the ranges of every sensor-target pair."),
+    ] = None,
+    *,
     case_options: dict[str, Any],
     output_format: FormatOption = "table",
 ) -> None:
     """Ranges at which each task (detection, recognition, identification) reaches a probability.
 
     Any option may take a comma-separated list: then `dri` prints the ranges of every
-    combination, as `targetacq sweep` does (same keys in JSON and CSV).
+    combination, as `targetacq sweep` does (same keys in JSON and CSV). Given a scenario file,
+    the ranges of each of its sensor-target pairs, any sensor type (takes --probability only).
 
     Example: targetacq dri --pitch 17um --focal-length 50mm,75mm --critical-dimension 2.3m
     """
     option_choice(output_format, FORMATS, "--format")
+    if scenario is not None:
+        typer.echo(_scenario_dri(scenario, case_options, output_format), nl=False)
+        return
     if option_lists(case_options):
         from targetacq.cli.sweep import render_sweep, run_sweep
 
@@ -56,6 +65,45 @@ def dri(
         return
     setup = range_setup(**typed_options(case_options, "dri"), default_probability="0.5")
     typer.echo(_render(dri_report(setup), output_format), nl=False)
+
+
+def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -> str:
+    """The DRI ranges of every sensor-target pair of a scenario, as ``targetacq report`` has
+    them (range cases for imagers, the core for radars and laser radars)."""
+    from targetacq.cli.figures import _scenario_performance
+    from targetacq.model import ModelChain
+    from targetacq.scenario import load_scenario
+    from targetacq.services.range_case import option_probabilities
+
+    given = sorted(k for k, v in case_options.items() if v not in (None, False))
+    unused = [k for k in given if k != "probability"]
+    if unused:
+        flags = ", ".join("--" + name.replace("_", "-") for name in unused)
+        raise ValueError(
+            f"a scenario's dri takes its sensors and targets from the file; it takes "
+            f"--probability and --format only, got {flags}"
+        )
+    probabilities = option_probabilities(case_options.get("probability") or "0.5")
+    chain = ModelChain(load_scenario(path))
+    performance, _ = _scenario_performance(chain, chain.range_cases(), None, probabilities)
+    rows = [
+        {
+            "pair": str(r["case"]),
+            "task": str(r["task"]),
+            "probability": float(r["probability"]),
+            "range_m": float(r["range_m"]) if r["reached"] else None,
+        }
+        for _, r in performance.dri.iterrows()
+    ]
+    if output_format == "json":
+        return json_text({"scenario": path, "ranges": rows})
+    if output_format == "csv":
+        return _csv(rows)
+    lines = [f"{path}: DRI ranges [m] of every sensor-target pair"]
+    for r in rows:
+        reach = "not reached" if r["range_m"] is None else f"{r['range_m']:,.0f}"
+        lines.append(f"  {r['pair']:<28} {r['task']:<15} P={r['probability']:<5g} {reach}")
+    return "\n".join(lines) + "\n"
 
 
 @app.command("atmosphere")

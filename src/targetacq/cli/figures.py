@@ -447,6 +447,34 @@ def _merged_sections(
     return merged
 
 
+def _scenario_performance(
+    chain: Any, cases: Mapping[str, RangeCase], max_range: str | None, probabilities: list[float]
+) -> tuple[Any, str]:
+    """Range performance of a scenario's pairs: the imagers' range cases, and the radars' and
+    laser radars' pairs through the core (:func:`targetacq.core.pair_ranges.pair_performance`),
+    on one range axis."""
+    import pandas as pd
+    import xarray as xr
+
+    from targetacq.core.pair_ranges import pair_performance
+    from targetacq.ranges import RangePerformance
+    from targetacq.sensors import get_sensor_type
+
+    types = chain.compiled.scene.sensors.types
+    rows = [k for k, kind in enumerate(types) if get_sensor_type(kind).kind != "imaging"]
+    if not rows:
+        return _performance(cases, max_range, probabilities)
+    limit = None if max_range is None else option_quantity(max_range, "length", "--max-range")
+    active = pair_performance(chain, rows, probabilities, max_range=limit)
+    if not cases:
+        r_max = float(active.curves["range"].values[-1])
+        return active, f"Curves to {r_max / 1e3:g} km (radars and laser radars: the core)."
+    performance, note = _performance(cases, max_range, probabilities)
+    curves = xr.concat([performance.curves, active.curves], dim="case", join="outer")
+    dri = pd.concat([performance.dri, active.dri], ignore_index=True)
+    return RangePerformance(curves=curves, dri=dri, cases=performance.cases), note
+
+
 def _scenario_report(
     path: str, max_range: str | None, title: str | None, probabilities: list[float]
 ) -> tuple[Any, ...]:
@@ -462,7 +490,7 @@ def _scenario_report(
     scenario = load_scenario(path)
     chain = ModelChain(scenario)
     cases = chain.range_cases()
-    performance, note = _performance(cases, max_range, probabilities)
+    performance, note = _scenario_performance(chain, cases, max_range, probabilities)
     heading = title or (scenario.name or path)
     model = scenario.model
     atm = scenario.atmosphere
@@ -473,6 +501,14 @@ def _scenario_report(
     )
     sensors = {}
     for s in scenario.sensors:
+        if s.radar is not None:
+            r = s.radar
+            sensors[s.name] = (
+                f"radar, {r.frequency / 1e9:.4g} GHz, peak power {r.power:g} W, beamwidth "
+                f"{math.degrees(r.beamwidth):.3g}°, pulse {r.pulse_length * 1e6:.3g} µs, "
+                f"P_fa {r.false_alarm:g}, detector {r.detector}"
+            )
+            continue
         fov = s.field_of_view
         field = (
             f"HFOV × VFOV {math.degrees(fov[0]):.3g}° × {math.degrees(fov[1]):.3g}° "
@@ -540,7 +576,10 @@ def _scenario_report(
         r_max = float(performance.curves["range"].values[-1])
         figures.update(
             _atmosphere_figures(
-                [s.limits for s in scenario.sensors], r_max, level or "nominal", conditions
+                [s.limits for s in scenario.sensors if s.radar is None],
+                r_max,
+                level or "nominal",
+                conditions,
             )
         )
     dataset = chain.evaluate().dataset

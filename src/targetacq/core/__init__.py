@@ -5,11 +5,19 @@ See :mod:`targetacq.core.records`, :mod:`targetacq.core.compile` and
 :class:`targetacq.Simulation`, ranges, the CLI) computes through here.
 """
 
-from targetacq.core.compile import CompiledScenario, compile_scenario, scenario_positions
+from targetacq.core.active import has_active
+from targetacq.core.compile import (
+    CompiledScenario,
+    compile_scenario,
+    scenario_positions,
+    sensor_rows,
+)
 from targetacq.core.evaluate import Factors, Probabilities, evaluate, factors, probabilities
 from targetacq.core.records import (
+    LaserArrays,
     ModelChoices,
     PathArrays,
+    RadarArrays,
     SceneArrays,
     SensorArrays,
     SignatureArrays,
@@ -20,9 +28,11 @@ from targetacq.core.records import (
 __all__ = [
     "CompiledScenario",
     "Factors",
+    "LaserArrays",
     "ModelChoices",
     "PathArrays",
     "Probabilities",
+    "RadarArrays",
     "SceneArrays",
     "SensorArrays",
     "SignatureArrays",
@@ -30,7 +40,9 @@ __all__ = [
     "compile_scenario",
     "evaluate",
     "factors",
+    "has_active",
     "probabilities",
     "register_pytrees",
     "scenario_positions",
+    "sensor_rows",
 ]

@@ -23,9 +23,12 @@ import numpy as np
 
 from targetacq import atmosphere, geometry
 from targetacq.clutter import signal_to_clutter_ratio
+from targetacq.constants import SPEED_OF_LIGHT
 from targetacq.core.records import (
+    LaserArrays,
     ModelChoices,
     PathArrays,
+    RadarArrays,
     SceneArrays,
     SensorArrays,
     SignatureArrays,
@@ -42,6 +45,7 @@ __all__ = [
     "check_runnable",
     "compile_scenario",
     "scenario_positions",
+    "sensor_rows",
 ]
 
 TASKS = ("detection", "recognition", "identification")
@@ -108,8 +112,21 @@ def _n50_rows(criteria: tuple[Criterion, ...]) -> np.ndarray:
     return np.array([rows[id(c)] for c in criteria], dtype=float).reshape(-1, 3)
 
 
-def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
-    sensors = scenario.sensors
+def sensor_rows(scenario: Any) -> list[Any]:
+    """The rows of the array core a scenario's sensors become, in order: each sensor itself,
+    a colour camera one row per band (:attr:`targetacq.sensors.SensorType.rows`)."""
+    return [row for s in scenario.sensors for row in get_sensor_type(s.type).rows(s)]
+
+
+def _band_extinction(s: Any, atm: Any, **weather: Any) -> float:
+    """The path's extinction in a sensor's band [Np/m]: 0 for a radar (the optical weather does
+    not apply at its wavelength; its rain is in :class:`RadarArrays`)."""
+    if get_sensor_type(s.type).kind == "radar":
+        return 0.0
+    return float(atmosphere.extinction_for_band(s.limits, **weather))
+
+
+def _sensors(scenario: Any, sensors: list[Any], seen: list[Signature]) -> SensorArrays:
     atm = scenario.atmosphere
     half = np.full((len(sensors), 2), np.nan)
     look_at = np.full((len(sensors), 3), np.nan)
@@ -123,8 +140,9 @@ def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
             pointing[k] = s.azimuth, s.depression
     extinction = np.array(
         [
-            atmosphere.extinction_for_band(
-                s.limits,
+            _band_extinction(
+                s,
+                atm,
                 extinction=atm.extinction,
                 obscurant=atm.obscurant,
                 visibility=atm.visibility,
@@ -136,9 +154,7 @@ def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
     segment_extinction = np.array(
         [
             [
-                atmosphere.extinction_for_band(
-                    s.limits, extinction=seg.extinction, obscurant=seg.obscurant
-                )
+                _band_extinction(s, atm, extinction=seg.extinction, obscurant=seg.obscurant)
                 for seg in atm.segments
             ]
             for s in sensors
@@ -167,6 +183,9 @@ def _sensors(scenario: Any, seen: list[Signature]) -> SensorArrays:
             for s in sensors
         ),
         has_noise=bool(np.any(noise > 0)),
+        groups=tuple(g.name for g in scenario.sensors for _ in get_sensor_type(g.type).rows(g))
+        if len(sensors) > len(scenario.sensors)
+        else (),
     )
 
 
@@ -201,9 +220,11 @@ def _image_scr(scenario: Any, pixels: np.ndarray) -> np.ndarray:
     return np.asarray(image_clutter(pixels, [t.image_box for t in scenario.targets]).scr)
 
 
-def _signature(scenario: Any, signatures: list[Signature], pixels: Any) -> SignatureArrays:
+def _signature(
+    scenario: Any, sensors: list[Any], signatures: list[Signature], pixels: Any
+) -> SignatureArrays:
     bg = scenario.background
-    shape = (len(scenario.sensors), len(scenario.targets))
+    shape = (len(sensors), len(scenario.targets))
     contrast, target = np.empty(shape), np.empty(shape)
     clutter = np.full(shape, np.nan)
     for k, seen in enumerate(signatures):
@@ -218,7 +239,98 @@ def _signature(scenario: Any, signatures: list[Signature], pixels: Any) -> Signa
         scr = np.broadcast_to(_image_scr(scenario, pixels), shape).copy()
     elif bg.clutter_std is not None:
         scr = np.asarray(signal_to_clutter_ratio(contrast, 0.0, clutter))
-    return SignatureArrays(contrast=contrast, target=target, scr=scr)
+    kinds = [get_sensor_type(s.type).kind for s in sensors]
+    if all(kind == "imaging" for kind in kinds):
+        return SignatureArrays(contrast=contrast, target=target, scr=scr)
+    # Radars and laser radars have clutter measures of their own: the rows differ.
+    imaging_clutter = scr is not None or bg.terrain is not None
+    rows = tuple(kind != "imaging" or imaging_clutter for kind in kinds)
+    full = np.full(shape, np.nan) if scr is None else np.array(scr, dtype=float)
+    for k, (s, kind) in enumerate(zip(sensors, kinds, strict=True)):
+        if kind == "laser_radar":
+            full[k] = _relief_scr(scenario, s)
+        elif kind == "radar":
+            full[k] = np.nan  # per position (the resolution cell grows with range)
+    return SignatureArrays(contrast=contrast, target=target, scr=full, clutter_rows=rows)
+
+
+def _relief_scr(scenario: Any, sensor: Any) -> np.ndarray:
+    """A laser radar's 3-D SCR of every target (:func:`targetacq.laser_radar.relief_scr`)."""
+    from targetacq import laser_radar
+
+    heights = np.array([t.dimensions[2] for t in scenario.targets], dtype=float)
+    visible = np.array([t.visible_fraction for t in scenario.targets], dtype=float)
+    return np.asarray(
+        laser_radar.relief_scr(
+            laser_radar.relief_seen(heights, visible),
+            scenario.background.relief_std,
+            laser_radar.range_resolution(sensor.laser.timing),
+        ),
+        dtype=float,
+    )
+
+
+def _radar(scenario: Any, sensors: list[Any]) -> RadarArrays | None:
+    from targetacq import radar
+
+    rows = tuple(k for k, s in enumerate(sensors) if get_sensor_type(s.type).kind == "radar")
+    if not rows:
+        return None
+    specs = [sensors[k].radar for k in rows]
+    rain = scenario.atmosphere.rain_rate
+    return RadarArrays(
+        constant=np.array(
+            [
+                radar.radar_constant(
+                    r.power,
+                    r.gain,
+                    SPEED_OF_LIGHT / r.frequency,
+                    r.pulse_length,
+                    r.noise_figure,
+                    r.losses,
+                )
+                for r in specs
+            ],
+            dtype=float,
+        ),
+        beamwidth=np.array([r.beamwidth for r in specs], dtype=float),
+        pulse_length=np.array([r.pulse_length for r in specs], dtype=float),
+        extinction=np.array(
+            [
+                0.0
+                if rain is None
+                else float(radar.rain_extinction(rain * 3.6e6, r.frequency, r.polarization))
+                for r in specs
+            ],
+            dtype=float,
+        ),
+        sigma0=np.full(len(rows), float(scenario.background.sigma0)),
+        false_alarm=np.array([r.false_alarm for r in specs], dtype=float),
+        pulses=np.array([r.pulses for r in specs], dtype=float),
+        cells50=np.array([[r.recognition_cells, r.identification_cells] for r in specs]),
+        rcs=np.array([[t.rcs for t in scenario.targets] for _ in rows], dtype=float).reshape(
+            len(rows), len(scenario.targets)
+        ),
+        rows=rows,
+        detectors=tuple(r.detector for r in specs),
+    )
+
+
+def _laser(scenario: Any, sensors: list[Any]) -> LaserArrays | None:
+    rows = tuple(k for k, s in enumerate(sensors) if get_sensor_type(s.type).kind == "laser_radar")
+    if not rows:
+        return None
+    specs = [sensors[k].laser for k in rows]
+    return LaserArrays(
+        power=np.array([lz.power for lz in specs], dtype=float),
+        aperture_area=np.array([np.pi * lz.aperture**2 / 4.0 for lz in specs], dtype=float),
+        efficiency=np.array([lz.efficiency for lz in specs], dtype=float),
+        nep=np.array([lz.nep for lz in specs], dtype=float),
+        reflectance=np.array(
+            [[t.reflectance for t in scenario.targets] for _ in rows], dtype=float
+        ).reshape(len(rows), len(scenario.targets)),
+        rows=rows,
+    )
 
 
 def _terrain(scenario: Any, grid: Any) -> TerrainArrays | None:
@@ -375,9 +487,10 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     if problems:
         raise ScenarioError(problems)
     criteria = _criteria(scenario)
+    sensors = sensor_rows(scenario)
     # Each sensor's signature once: the contrast and SCR and the sensor's noise both read it.
     signatures = []
-    for k, s in enumerate(scenario.sensors):
+    for k, s in enumerate(sensors):
         try:
             signatures.append(
                 get_sensor_type(s.type).signature(s, scenario.background, scenario.targets)
@@ -395,11 +508,13 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         semantics=model.semantics,
     )
     scene = SceneArrays(
-        sensors=_sensors(scenario, signatures),
+        sensors=_sensors(scenario, sensors, signatures),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
-        signature=_signature(scenario, signatures, pixels),
+        signature=_signature(scenario, sensors, signatures, pixels),
         choices=choices,
+        radar=_radar(scenario, sensors),
+        laser=_laser(scenario, sensors),
     )
     return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario, grid))
 
@@ -449,4 +564,4 @@ def scenario_positions(
                 [w.position for w in target.waypoints],
                 target.heading,
             )
-    return _path_positions(scenario.sensors, t), _path_positions(chosen, t), heading
+    return _path_positions(sensor_rows(scenario), t), _path_positions(chosen, t), heading

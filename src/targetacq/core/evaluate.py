@@ -82,6 +82,7 @@ from targetacq.acquisition import (
     ordered_probabilities,
 )
 from targetacq.clutter import signal_to_clutter_ratio
+from targetacq.core import active
 from targetacq.core.records import (
     ModelChoices,
     SceneArrays,
@@ -90,7 +91,7 @@ from targetacq.core.records import (
     derived,
     pytree_record,
 )
-from targetacq.fusion import _fused, fuse
+from targetacq.fusion import _fused, fuse, fuse_groups
 from targetacq.noise import NoiseModel, get_noise_model
 
 __all__ = [
@@ -857,8 +858,12 @@ def factors(
         if type(value) is not np.ndarray or not value.ndim or np.isinf(value).any():
             _arrays.require_finite(name, value, xp, "m")
     if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr):
-        return _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
-    return _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
+        found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
+    else:
+        found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
+    if active.has_active(scene):  # radars and laser radars: their rows' own factors
+        return active.active_factors(scene, found, s_pos, t_pos)
+    return found
 
 
 def _factors_generic(
@@ -1031,16 +1036,31 @@ def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
     depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
     same.
     """
-    if _numpy_factors(scene, found):
-        return _probabilities_numpy(scene, found)
-    return _probabilities_generic(scene, found)
+    if active.has_active(scene):
+        found_p = _probabilities_generic(scene, found, active.active_probabilities(scene, found))
+    elif _numpy_factors(scene, found):
+        found_p = _probabilities_numpy(scene, found)
+    else:
+        found_p = _probabilities_generic(scene, found)
+    if scene.sensors.groups:  # colour cameras: their bands are one look, not several
+        groups = scene.sensors.groups
+        found_p = dataclasses.replace(
+            found_p,
+            fused_detection=fuse_groups(found_p.detection, groups),
+            fused_recognition=fuse_groups(found_p.recognition, groups),
+            fused_identification=fuse_groups(found_p.identification, groups),
+        )
+    return found_p
 
 
-def _probabilities_generic(scene: SceneArrays, found: Factors) -> Probabilities:
+def _probabilities_generic(
+    scene: SceneArrays, found: Factors, tasks: tuple[Any, Any, Any] | None = None
+) -> Probabilities:
     """:func:`probabilities` in any array namespace: every pair, then the field of view."""
     xp, (rng,) = _arrays.arrays(found.range)
-    snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
-    tasks = task_probabilities(found.cycles, snr, found.scr, scene)
+    if tasks is None:
+        snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
+        tasks = task_probabilities(found.cycles, snr, found.scr, scene)
     unknown = xp.isnan(rng)
     out = [
         xp.where(unknown, xp.nan, xp.where(found.in_view, _arrays.as_float(p, xp), 0.0))

@@ -31,8 +31,10 @@ _R = TypeVar("_R")
 _V = TypeVar("_V")
 
 __all__ = [
+    "LaserArrays",
     "ModelChoices",
     "PathArrays",
+    "RadarArrays",
     "SceneArrays",
     "SensorArrays",
     "SignatureArrays",
@@ -237,11 +239,90 @@ class SignatureArrays:
     scr : array (n_s, n_g) or None
         Signal-to-clutter ratio where the clutter does not depend on the positions; None where
         the scenario gives no clutter measure (or a terrain map, evaluated per position).
+    clutter_rows : tuple of bool
+        Which sensor rows have a clutter measure (the SCR, a terrain map), where that differs
+        from row to row (a scene with radars or laser radars); empty: every row has one exactly
+        when ``scr`` is given (or an SCR is passed per position).
     """
 
     contrast: Any
     target: Any
     scr: Any = None
+    clutter_rows: tuple[bool, ...] = _static(())
+
+
+@pytree_record
+@dataclass(frozen=True)
+class RadarArrays:
+    """The radars of a scene (:mod:`targetacq.sensors.radar`), one row per radar.
+
+    Attributes
+    ----------
+    constant : array (n_r,)
+        ``K`` of the radar equation ``SNR = K σ τ² / R⁴`` [m²]
+        (:func:`targetacq.radar.radar_constant`).
+    beamwidth : array (n_r,)
+        Azimuth beamwidth [rad], Eq. (9.1).
+    pulse_length : array (n_r,)
+        [s], Eq. (9.2).
+    extinction : array (n_r,)
+        One-way power extinction of the rain at the radar's frequency [Np/m].
+    sigma0 : array (n_r,)
+        The ground's backscatter coefficient σ⁰ [m²/m²].
+    false_alarm : array (n_r,)
+        P_fa of the detector.
+    pulses : array (n_r,)
+        Pulses integrated.
+    cells50 : array (n_r, 2)
+        Cells on target for P = 0.5 of recognition and identification.
+    rcs : array (n_r, n_g)
+        The targets' radar cross-sections [m²].
+    rows : tuple of int
+        The radars' rows among the scene's sensors.
+    detectors : tuple of str
+        Each radar's P_d model (:data:`targetacq.radar.RADAR_DETECTION_MODELS`).
+    """
+
+    constant: Any
+    beamwidth: Any
+    pulse_length: Any
+    extinction: Any
+    sigma0: Any
+    false_alarm: Any
+    pulses: Any
+    cells50: Any
+    rcs: Any
+    rows: tuple[int, ...] = _static()
+    detectors: tuple[str, ...] = _static()
+
+
+@pytree_record
+@dataclass(frozen=True)
+class LaserArrays:
+    """The laser radars of a scene (:mod:`targetacq.sensors.laser_radar`), one row each.
+
+    Attributes
+    ----------
+    power : array (n_l,)
+        Transmitted power [W].
+    aperture_area : array (n_l,)
+        Receiver area [m²].
+    efficiency : array (n_l,)
+        Of the optics and detector [1].
+    nep : array (n_l,)
+        Noise-equivalent power [W]; 0: no receiver noise.
+    reflectance : array (n_l, n_g)
+        The targets' reflectances at the laser's wavelength.
+    rows : tuple of int
+        The laser radars' rows among the scene's sensors.
+    """
+
+    power: Any
+    aperture_area: Any
+    efficiency: Any
+    nep: Any
+    reflectance: Any
+    rows: tuple[int, ...] = _static()
 
 
 @dataclass(frozen=True)
@@ -285,6 +366,8 @@ class SceneArrays:
     path: PathArrays
     signature: SignatureArrays
     choices: ModelChoices = field(default_factory=ModelChoices, metadata={"static": True})
+    radar: RadarArrays | None = None
+    laser: LaserArrays | None = None
 
     @property
     def shape(self) -> tuple[int, int]:

@@ -28,6 +28,7 @@ from targetacq.acquisition import _low_clutter_scale
 from targetacq.core.evaluate import Factors, Probabilities, boresight
 from targetacq.core.records import SceneArrays
 from targetacq.engines import numba_kernels as kernels
+from targetacq.fusion import fuse_groups
 
 __all__ = ["NumbaScene", "supported"]
 
@@ -53,6 +54,11 @@ def supported(scene: SceneArrays) -> str | None:
     motion rule and semantics of the registries. A transform, noise model, motion rule or
     semantics given as an object of one's own runs on the NumPy engine only.
     """
+    if scene.radar is not None or scene.laser is not None:
+        return (
+            "the numba engine compiles the imaging sensors; radars and laser radars run on "
+            "engine='numpy' (or 'jax')"
+        )
     choices = scene.choices
     for what, value, codes in (
         ("transform", choices.transform, _TRANSFORM_CODES),
@@ -365,7 +371,10 @@ class NumbaScene:
                     whole_out[:, chosen] = part.reshape(n_s, members.size, size)
                 fused[:, chosen] = part_fused.reshape(3, members.size, size)
         tasks = [a.reshape(shape) for a in out]
-        together = [f.reshape((n_g, *shape[2:])) for f in fused]
+        if self.scene.sensors.groups:  # colour cameras: the best band of each (fuse_groups)
+            together = [fuse_groups(p, self.scene.sensors.groups) for p in tasks]
+        else:
+            together = [f.reshape((n_g, *shape[2:])) for f in fused]
         return Probabilities(*tasks, *together)
 
     def _run(

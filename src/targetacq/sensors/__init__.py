@@ -12,6 +12,14 @@ and one entry here.
     Emitted radiation in an infrared band (:mod:`targetacq.sensors.thermal`).
 ``tv``
     Reflected light in the visible band (:mod:`targetacq.sensors.tv`).
+``colour``
+    A TV camera per colour band, merged as correlated (:mod:`targetacq.sensors.colour`).
+``radar``
+    A pulse radar: cells on target, σ⁰ clutter, the radar equation
+    (:mod:`targetacq.sensors.radar`).
+``laser_radar``
+    A laser radar: detector spacing, 3-D clutter, two-way path and receiver noise
+    (:mod:`targetacq.sensors.laser_radar`).
 """
 
 from __future__ import annotations
@@ -22,7 +30,7 @@ from types import MappingProxyType
 from typing import Any
 
 from targetacq.registry import lookup
-from targetacq.sensors import imaging, thermal, tv
+from targetacq.sensors import colour, imaging, laser_radar, radar, thermal, tv
 
 __all__ = ["SENSOR_TYPES", "SensorType", "Signature", "get_sensor_type"]
 
@@ -68,6 +76,12 @@ class SensorType:
         ``noise_equivalent(sensor, signature) -> float`` [W/m²]: the signal difference equal
         to the sensor's own noise (0: none given), :mod:`targetacq.sensor_noise`.
     source : str
+    kind : str
+        How the core computes the type's pairs: "imaging" (the thesis's imaging model),
+        "radar" or "laser_radar" (:mod:`targetacq.core.active`).
+    rows : callable
+        ``rows(sensor) -> list``: the rows of the array core a scenario sensor becomes (itself;
+        a colour camera: one per band).
     """
 
     name: str
@@ -78,6 +92,8 @@ class SensorType:
     cycle_angle: Callable[[Any], float] = imaging.cycle_angle
     noise_equivalent: Callable[[Any, Signature], float] = imaging.no_noise
     source: str = ""
+    kind: str = "imaging"
+    rows: Callable[[Any], list[Any]] = imaging.one_row
 
 
 SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
@@ -99,6 +115,35 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             None,
             noise_equivalent=tv.noise_equivalent,
             source="Sonesson (2004) §6.2, §9.4.1",
+        ),
+        "colour": SensorType(
+            "colour",
+            "colour camera: a TV camera per colour band, merged as correlated",
+            colour.signature,
+            colour.requirements,
+            None,
+            noise_equivalent=colour.noise_equivalent,
+            source="Sonesson (2004) §9.4.2; the merge is the project's (comonotone bands)",
+            rows=colour.rows,
+        ),
+        "radar": SensorType(
+            "radar",
+            "pulse radar: resolution cells, sigma0 clutter, the radar equation",
+            radar.signature,
+            radar.requirements,
+            None,
+            cycle_angle=radar.cycle_angle,
+            source="Sonesson (2004) §9.4.3, Eqs. (9.1)-(9.2); Albersheim (1981)",
+            kind="radar",
+        ),
+        "laser_radar": SensorType(
+            "laser_radar",
+            "laser radar: detector spacing, 3-D clutter, two-way path and receiver noise",
+            laser_radar.signature,
+            laser_radar.requirements,
+            None,
+            source="Sonesson (2004) §9.4.4; the clutter and noise laws are the project's",
+            kind="laser_radar",
         ),
     }
 )

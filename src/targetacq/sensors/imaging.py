@@ -34,3 +34,8 @@ def emissivity(thing: Any, band: tuple[float, float]) -> float:
 def no_noise(sensor: Any, seen: Any) -> float:
     """A sensor type without a noise model of its own: no sensor noise (0 W/m²)."""
     return 0.0
+
+
+def one_row(sensor: Any) -> list[Any]:
+    """A sensor that is one row of the array core: itself."""
+    return [sensor]

@@ -47,6 +47,15 @@ def requirements(scenario: Any) -> list[str]:
         for k, t in enumerate(scenario.targets)
         if t.reflectance is None
     ]
+    problems += [
+        f"{where}: a table of bands is for colour cameras; a TV camera takes one value"
+        for where, value in [
+            ("background.reflectance", bg.reflectance),
+            ("background.irradiance", bg.irradiance),
+            *[(f"targets[{k}].reflectance", t.reflectance) for k, t in enumerate(scenario.targets)],
+        ]
+        if isinstance(value, dict)
+    ]
     if bg.clutter_std is not None:
         problems.append(
             "background.clutter_std: a temperature spread; for TV sensors give clutter or scr"

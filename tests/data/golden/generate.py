@@ -13,6 +13,11 @@ convention (``hfov`` over pixels is IFOV = hfov / pixels by default, features.to
 features.npz alone, for a bug fix: a hot spot evaluated beside a moving target of the same
 criterion lost its hot-spot curve (target ``hot``'s detection and fused detection only; see
 tests/test_target_independence.py).
+
+Added, not regenerated: colour_camera, radar_surveillance, laser_radar and
+fused_tv_thermal_radar (the chapter 9 sensors), first written when those examples were; they
+pin the numbers against later change, while tests/test_colour.py and
+tests/test_active_sensors.py check them against the published equations.
 """
 
 from pathlib import Path

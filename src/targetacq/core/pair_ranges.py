@@ -1,0 +1,190 @@
+"""Range performance of a scenario's sensor-target pairs through the array core.
+
+A range case (:class:`targetacq.core.cases.RangeCase`) describes an imager by its cycle and a
+path by its extinction; a radar's or a laser radar's probabilities depend on range through laws
+of their own (the radar equation, the resolution cell, the two-way path), which only the core
+computes. :func:`pair_performance` therefore moves each target along the ground, away from the
+sensor along the bearing it has at the scenario's start (its height kept), evaluates the core at
+every slant range of a grid (the field of view ignored: the curves are what the sensor can do
+where it looks), and finds each task's range for each probability by bisection on the core
+itself. Its result is a :class:`targetacq.ranges.RangePerformance`, the same as the imagers'
+range cases give, so the report and the figures take both side by side.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from targetacq.core.compile import scenario_positions
+from targetacq.core.evaluate import factors, probabilities
+
+__all__ = ["pair_performance"]
+
+TASKS = ("detection", "recognition", "identification")
+_FLOOR = 0.02  # the automatic grid ends where every task of every pair is below this
+_BISECTIONS = 48  # a range to 2^-48 of its bracket: far below a metre
+
+
+class _Pairs:
+    """The start geometry of the chosen sensor rows and every target."""
+
+    def __init__(self, chain: Any, rows: Sequence[int]) -> None:
+        self.chain, self.rows = chain, list(rows)
+        t0 = chain.scenario.time.start
+        s_pos, t_pos, heading = scenario_positions(chain.scenario, [t0])
+        self.sensors, self.targets, self.heading = s_pos[:, 0], t_pos[:, 0], heading[:, 0]
+
+    def along(self, row: int, slant: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Target positions ``(n_g, n, 3)`` at slant ranges ``(n,)`` (or ``(n_g, n)``, a
+        range per target) from sensor ``row`` along each target's start bearing (NaN where a
+        range is shorter than the height difference), and the sensors' ``(n_s, n, 3)``."""
+        s = self.sensors[row]
+        offset = self.targets - s
+        flat = np.hypot(offset[:, 0], offset[:, 1])[:, None]
+        safe = np.where(flat > 0, flat, 1.0)
+        east = np.where(flat > 0, offset[:, :1] / safe, 1.0)
+        north = np.where(flat > 0, offset[:, 1:2] / safe, 0.0)
+        r = np.broadcast_to(slant, (len(offset), slant.shape[-1]))
+        dz = offset[:, 2:3]
+        with np.errstate(invalid="ignore"):
+            ground = np.sqrt(r * r - dz * dz)
+        positions = np.stack(
+            [
+                s[0] + east * ground,
+                s[1] + north * ground,
+                np.broadcast_to(self.targets[:, 2:3], ground.shape),
+            ],
+            axis=-1,
+        )
+        sensors = np.broadcast_to(self.sensors[:, None, :], (len(self.sensors), slant.shape[-1], 3))
+        return np.ascontiguousarray(sensors), positions
+
+    def probabilities(self, row: int, slant: np.ndarray) -> np.ndarray:
+        """(3, n_g, n): the row's ordered probabilities at slant ranges ``(n,)`` or
+        ``(n_g, n)``."""
+        scene = self.chain.compiled.scene
+        sensors, targets = self.along(row, slant)
+        headings = np.ascontiguousarray(np.broadcast_to(self.heading[:, None], targets.shape[:-1]))
+        found = factors(scene, sensors, targets, headings)
+        found = dataclasses.replace(found, in_view=np.ones(found.range.shape, dtype=bool))
+        p = probabilities(scene, found)
+        return np.stack([getattr(p, task)[row] for task in TASKS])
+
+
+def _max_range(pairs: _Pairs, limit: float) -> float:
+    """The first of 1, 2, 4, … km at which every task of every pair is below the floor."""
+    r = 1e3
+    while r < limit:
+        if all(np.nanmax(pairs.probabilities(row, np.array([r]))) < _FLOOR for row in pairs.rows):
+            return r
+        r *= 2.0
+    return limit
+
+
+def _ranges(
+    pairs: _Pairs, row: int, grid: np.ndarray, curve: np.ndarray, probs: np.ndarray
+) -> np.ndarray:
+    """(3, n_g, n_p) range at which each task reaches each probability: the farthest grid
+    range with ``P >= p``, refined by bisection on the core against the next grid range; NaN
+    where never reached."""
+    n_g = curve.shape[1]
+    low = np.full((3, n_g, probs.size), np.nan)
+    high = np.full_like(low, np.nan)
+    for k, p in enumerate(probs):
+        above = curve >= p  # (3, n_g, n_r)
+        last = np.where(above.any(axis=-1), grid.size - 1 - np.argmax(above[..., ::-1], -1), -1)
+        reached = last >= 0
+        beyond = last == grid.size - 1
+        low[..., k] = np.where(reached, grid[np.maximum(last, 0)], np.nan)
+        high[..., k] = np.where(
+            reached & ~beyond, grid[np.minimum(last + 1, grid.size - 1)], np.nan
+        )
+    refine = ~np.isnan(high)
+    n_p = probs.size
+    for _ in range(_BISECTIONS):
+        if not refine.any():
+            break
+        mid = np.where(refine, np.sqrt(np.where(refine, low * high, 1.0)), grid[0])
+        # Every (task, probability) bracket of a target as one batch column of the core.
+        found = pairs.probabilities(row, mid.transpose(1, 0, 2).reshape(n_g, 3 * n_p))
+        p_mid = np.stack([found[t][:, t * n_p : (t + 1) * n_p] for t in range(3)])
+        hit = p_mid >= probs
+        low = np.where(refine & hit, mid, low)
+        high = np.where(refine & ~hit, mid, high)
+    return low
+
+
+def pair_performance(
+    chain: Any,
+    rows: Sequence[int],
+    probabilities: Any = (0.5, 0.8, 0.95),
+    max_range: float | None = None,
+    limit: float = 200e3,
+) -> Any:
+    """Range curves and DRI ranges of sensor rows against every target, through the core.
+
+    Parameters
+    ----------
+    chain : targetacq.model.ModelChain
+    rows : sequence of int
+        Sensor rows of the compiled scene.
+    probabilities : sequence of float
+        In (0, 1), for the DRI table.
+    max_range : float, optional
+        The grid's last slant range [m]; default the first of 1, 2, 4, … km where every
+        task of every pair is below 0.02 (at most ``limit``).
+    limit : float
+        [m].
+
+    Returns
+    -------
+    targetacq.ranges.RangePerformance
+        Cases labelled ``"sensor → target"``, with no :class:`RangeCase` behind them.
+    """
+    import pandas as pd
+    import xarray as xr
+
+    from targetacq.ranges import RangePerformance
+
+    probs = np.asarray(probabilities, dtype=float).reshape(-1)
+    if not np.all((probs > 0) & (probs < 1)):
+        raise ValueError(f"probabilities must be in (0, 1); got {probs.tolist()}")
+    pairs = _Pairs(chain, rows)
+    r_max = _max_range(pairs, limit) if max_range is None else float(max_range)
+    if not (r_max > 0 and math.isfinite(r_max)):
+        raise ValueError(f"max_range must be a finite range > 0 m; got {max_range!r}")
+    grid = r_max * np.arange(1, 601) / 600.0
+    scene = chain.compiled.scene
+    curves, labels, dri = [], [], []
+    for row in pairs.rows:
+        curve = pairs.probabilities(row, grid)  # (3, n_g, n_r)
+        reached = _ranges(pairs, row, grid, curve, probs)
+        for g, target in enumerate(scene.targets.names):
+            label = f"{scene.sensors.names[row]} → {target}"
+            labels.append(label)
+            curves.append(
+                xr.Dataset(
+                    {task: ("range", curve[t, g]) for t, task in enumerate(TASKS)},
+                    coords={"range": grid},
+                )
+            )
+            for t, task in enumerate(TASKS):
+                for k, p in enumerate(probs):
+                    r = float(reached[t, g, k])
+                    dri.append(
+                        {
+                            "case": label,
+                            "task": task,
+                            "probability": float(p),
+                            "range_m": r,
+                            "reached": not math.isnan(r),
+                        }
+                    )
+    dataset = xr.concat(curves, dim=pd.Index(labels, name="case"))
+    dataset["range"].attrs["units"] = "m"
+    return RangePerformance(curves=dataset, dri=pd.DataFrame(dri), cases={})

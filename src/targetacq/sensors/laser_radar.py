@@ -1,0 +1,55 @@
+"""Laser radars (Sonesson 2004 §9.4.4): three-dimensional pictures, with the model's factors.
+
+The kernels are in :mod:`targetacq.laser_radar`; the core computes a laser radar's pairs in
+:mod:`targetacq.core.active`:
+
+- **resolution**: as an imager's, from the detector spacing (the IFOV; two pixels a cycle), so
+  the cycles on target and the transforms are those of the imaging sensors;
+- **clutter**: a 3-D measure, the target's visible height over the background's relief spread
+  combined with the range resolution ``c t / 2`` (:func:`targetacq.laser_radar.relief_scr`);
+- **noise**: the atmosphere of Eq. (7.7) over the two-way path (the return travels the path
+  twice), combined in variance with the receiver's SNR from the range equation of an extended
+  Lambertian target (:func:`targetacq.laser_radar.received_power`) over its noise-equivalent
+  power.
+
+The project's assumptions are stated in :mod:`targetacq.laser_radar`; here, in addition: the
+target's reflectance (``targets.reflectance``) is at the laser's wavelength, and the sensor's
+``band`` holds that wavelength (for the path's extinction).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+
+def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
+    """The targets' reflectances at the laser's wavelength (the range equation's ρ)."""
+    from targetacq.sensors import Signature
+
+    reflectance = np.array([t.reflectance for t in targets], dtype=float)
+    return Signature(reflectance, 0.0, None)
+
+
+def requirements(scenario: Any) -> list[str]:
+    """What a scenario lacks for laser radars, each problem located (``table.key: what``)."""
+    problems = [
+        f"targets[{k}].reflectance: laser radars need one reflectance per target (at the "
+        "laser's wavelength)"
+        for k, t in enumerate(scenario.targets)
+        if t.reflectance is None or isinstance(t.reflectance, dict)
+    ]
+    if scenario.background.relief_std is None:
+        problems.append(
+            "background.relief_std: laser radars need the ground's relief spread (the 3-D "
+            "clutter, e.g. '0.3 m'; 0 for flat open ground)"
+        )
+    problems += [
+        f"sensors[{k}].band: a laser radar needs its band (the laser's wavelength, e.g. "
+        "'1.5-1.6 um')"
+        for k, s in enumerate(scenario.sensors)
+        if s.type == "laser_radar" and s.band is None
+    ]
+    return problems

@@ -312,3 +312,61 @@ def test_dri_and_report_of_a_scenario_on_the_command_line(tmp_path: Path) -> Non
     )
     page = out.read_text()
     assert "gsr → truck" in page and "radar, 10 GHz" in page
+
+
+@pytest.mark.parametrize(
+    ("document", "message"),
+    [
+        (_radar_document(rcs="-10 m^2"), r"targets\[0\]: rcs must be >= 0"),
+        (_radar_document(rain="2 mm/h", frequency="500 MHz"), r"sensors\[0\].radar.frequency"),
+        ({**_laser_document(), "atmosphere": {"obscurant": "haze"}}, "atmosphere.obscurant"),
+        (
+            {
+                **_laser_document(),
+                "atmosphere": {"visibility": "10 km", "visibility_convention": "mor"},
+            },
+            "atmosphere.visibility",
+        ),
+    ],
+    ids=["negative-rcs", "rain-below-1-GHz", "laser-obscurant", "laser-visibility"],
+)
+def test_active_sensor_mistakes_are_located(document: dict, message: str) -> None:
+    with pytest.raises(ScenarioError, match=message):
+        parse_scenario(document)
+
+
+def test_the_laser_radar_noise_is_its_receiver() -> None:
+    document = _laser_document()
+    document["sensors"][0]["netd"] = "50 mK"
+    with pytest.raises(ScenarioError, match=r"laser\.nep"):
+        parse_scenario(document)
+
+
+def test_a_radar_beside_imagers_changes_nothing_of_theirs() -> None:
+    """Adding a radar (and rain, which only a radar feels) leaves every imager's numbers as
+    they were: the rows are computed by kind, not mixed."""
+    scenario = load_scenario(EXAMPLES / "fused_tv_thermal_radar.toml")
+    times = np.asarray(scenario.time.times())
+    whole = ModelChain(scenario).compute(times)
+    imagers = scenario.model_copy(
+        update={
+            "sensors": scenario.sensors[:2],
+            "atmosphere": scenario.atmosphere.model_copy(update={"rain_rate": None}),
+        }
+    )
+    alone = ModelChain(imagers).compute(times)
+    for name in ("detection", "recognition", "identification", "snr", "cycles"):
+        # To rounding: with a radar the core takes its generic path (tests/test_numpy_paths.py)
+        np.testing.assert_allclose(
+            whole[name][:2], alone[name], rtol=1e-12, atol=1e-16, err_msg=name
+        )
+
+
+def test_the_jax_engine_says_marcum_is_numpy_only() -> None:
+    pytest.importorskip("jax")
+    document = _radar_document(detector="marcum")
+    document["sensors"][0]["radar"]["detector"] = "marcum"
+    scenario = parse_scenario(document)
+    with pytest.raises(ValueError, match="'radar': detector 'marcum' runs on NumPy only"):
+        ModelChain(scenario, engine="jax")
+    assert ModelChain(scenario).compute([0.0])["detection"].shape == (1, 1, 1)

@@ -9,6 +9,7 @@ Eq. (8.4)).
 from __future__ import annotations
 
 import copy
+import itertools
 
 import numpy as np
 import pytest
@@ -165,3 +166,88 @@ def test_colour_scenarios_are_checked(change, message) -> None:
 def test_a_tv_camera_refuses_a_table_of_bands() -> None:
     with pytest.raises(ScenarioError, match="a table of bands is for colour cameras"):
         parse_scenario(_document([_tv()], {"red": 0.2}, 0.1))
+
+
+def test_detection_rises_with_a_band_contrast() -> None:
+    """A property: more contrast in one band (the others matched) never lowers detection."""
+    peaks = []
+    for red in (0.11, 0.13, 0.16, 0.2, 0.3):
+        found = _run(
+            _document(
+                [_colour(["red", "green"])],
+                {"red": red, "green": 0.1},
+                {"red": 0.1, "green": 0.1},
+            )
+        )
+        peaks.append(found.fused_detection)
+    for lower, higher in itertools.pairwise(peaks):
+        assert np.all(higher >= lower) and np.any(higher > lower)
+
+
+def test_a_colour_camera_needs_its_noise_and_light_in_every_band() -> None:
+    document = _document([_colour(["red", "green"])], {"red": 0.1, "green": 0.1}, 0.1)
+    document["sensors"][0].pop("nec")
+    with pytest.raises(ScenarioError, match=r"sensors\[0\].nec"):
+        parse_scenario(document)
+    document = _document([_colour(["red", "green"])], {"red": 0.1, "green": 0.1}, 0.1)
+    document["background"]["irradiance"] = {"red": "0 W/m^2", "green": "300 W/m^2"}
+    with pytest.raises(ScenarioError, match="band 'red' has no background light"):
+        parse_scenario(document)
+
+
+@pytest.mark.parametrize(
+    ("reflectance", "message"),
+    [
+        ({"red": 0.2, "green": 1.5}, r"reflectance.green must be in \[0, 1\]; got 1.5"),
+        ({"red": 0.2, "green": "0.3"}, r"reflectance.green must be a number \(without quotes\)"),
+        ({}, "a table of bands needs at least one band"),
+    ],
+)
+def test_band_tables_say_which_band_is_wrong(reflectance: dict, message: str) -> None:
+    with pytest.raises(ScenarioError) as error:
+        parse_scenario(_document([_colour(["red", "green"])], reflectance, 0.1))
+    assert len(error.value.problems) == 1 and "function-" not in str(error.value)
+    assert error.value.problems[0].startswith("scenario: targets[0].reflectance")
+    assert __import__("re").search(message, error.value.problems[0])
+
+
+def test_the_bands_of_a_camera_take_one_position() -> None:
+    bands = ["red", "green"]
+    document = _document([_colour(bands)], dict.fromkeys(bands, 0.2), dict.fromkeys(bands, 0.1))
+    sim = Simulation.from_scenario(parse_scenario(document), seed=1)
+    target = np.array([[3000.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="rows of colour camera 'rgb'"):
+        sim.step(0.0, 1.0, np.array([[0.0, 0.0, 10.0], [0.0, 50.0, 10.0]]), target)
+    sim.step(0.0, 1.0, np.array([[0.0, 0.0, 10.0], [0.0, 0.0, 10.0]]), target)
+
+
+def test_a_colour_camera_beside_a_radar() -> None:
+    """A mixed scene: the colour rows are those of the camera alone, the fusion takes the
+    best band and the radar as independent."""
+    bands = ["red", "green"]
+    colour = _document([_colour(bands)], {"red": 0.25, "green": 0.1}, 0.1)
+    mixed = copy.deepcopy(colour)
+    mixed["sensors"].append(
+        {
+            "name": "radar",
+            "type": "radar",
+            "position": ["0 m", "0 m", "10 m"],
+            "radar": {
+                "power": "1 kW",
+                "gain": "30 dB",
+                "frequency": "10 GHz",
+                "pulse_length": "0.1 us",
+                "beamwidth": "1 deg",
+            },
+        }
+    )
+    mixed["targets"][0]["rcs"] = "10 m^2"
+    mixed["background"]["sigma0"] = "-30 dB"
+    alone, both = _run(colour), _run(mixed)
+    # To rounding: a scene with a radar takes the core's generic path, the camera alone the
+    # NumPy one (equal to about 1e-14, tests/test_numpy_paths.py).
+    np.testing.assert_allclose(both.detection[:2], alone.detection, rtol=1e-12, atol=1e-16)
+    best = np.maximum(both.detection[0], both.detection[1])
+    np.testing.assert_allclose(
+        both.fused_detection, fuse(np.stack([best, both.detection[2]]), axis=0), rtol=1e-12
+    )

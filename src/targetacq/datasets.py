@@ -66,18 +66,34 @@ ATTRIBUTES: dict[str, tuple[str | None, str]] = {
     "target": (None, "target name"),
     "time": ("s", "time since the scenario's start"),
     "critical_dimension": ("m", "critical dimension of the target as seen from the sensor"),
-    "cycles": ("1", "resolvable cycles across the critical dimension"),
+    "cycles": (
+        "1",
+        "resolvable cycles across the critical dimension (radars: resolution cells across it)",
+    ),
     "in_view": ("1", "target in the sensor's field of view and line of sight (boolean)"),
     "transmittance": ("1", "atmospheric transmittance of the path"),
-    "snr": ("dB", "signal-to-noise ratio of the path (Eq. 7.7)"),
+    "snr": (
+        "dB",
+        "signal-to-noise ratio: of the path (Eq. 7.7) and the sensor's own noise; radars: the "
+        "radar equation's (10 log10 of the power ratio); laser radars: the two-way path's and "
+        "the receiver's",
+    ),
     "detection": ("1", "probability of detection"),
     "recognition": ("1", "probability of recognition"),
     "identification": ("1", "probability of identification"),
     "fused_detection": ("1", "sensor-level fused probability of detection"),
     "fused_recognition": ("1", "sensor-level fused probability of recognition"),
     "fused_identification": ("1", "sensor-level fused probability of identification"),
-    "contrast": ("W m-2", "target-background exitance contrast in the sensor's band"),
-    "scr": ("1", "signal-to-clutter ratio"),
+    "contrast": (
+        "W m-2",
+        "target-background exitance contrast in the sensor's band (radars: the target's radar "
+        "cross-section in m2; laser radars: its reflectance)",
+    ),
+    "scr": (
+        "1",
+        "signal-to-clutter ratio (+inf: no clutter measure; radars: the power ratio "
+        "sigma / (sigma0 A); laser radars: height over 3-D relief)",
+    ),
     # sweeps
     "task": (None, "acquisition task"),
     "probability": ("1", "probability of the task"),

@@ -93,9 +93,12 @@ def fuse_groups(probabilities: Any, groups: Any, axis: int = 0) -> Any:
     >>> print(f"{ta.fuse_groups([0.5, 0.2, 0.5, 0.3], ['rgb', 'rgb', 'rgb', 'ir']):.4f}")
     0.6500
     """
-    xp, (p,) = _arrays.arrays(probabilities)
+    xp, (p,) = _arrays.arrays(probabilities, names=("probabilities",))
+    _arrays.require_unit_interval("probabilities", p, xp)
     p = xp.moveaxis(p, axis, 0) if axis != 0 else p
     names = list(groups)
+    if not names:
+        raise ValueError("groups must name at least one sensor's group")
     if len(names) != p.shape[0]:
         raise ValueError(
             f"groups must name the group of each of the {p.shape[0]} sensors; got {len(names)}"

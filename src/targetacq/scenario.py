@@ -297,8 +297,39 @@ def _sensor_type(value: Any) -> str:
     return get_sensor_type(value).name
 
 
-BandValues = dict[Name, Annotated[Number, Field(ge=0.0, le=1.0)]]
-"""A value per named colour band (``{red = 0.2, green = 0.3, blue = 0.1}``)."""
+def _band_table(kind: str | None) -> Any:
+    """A value, or a table of values per named colour band (``{red = 0.2, green = 0.3}``):
+    fractions in [0, 1] where ``kind`` is None, else quantities of ``kind``; each error names
+    the band."""
+
+    def parse(value: Any, info: ValidationInfo) -> Any:
+        name = info.field_name or "value"
+
+        def one(item: Any, where: str) -> float:
+            if kind is not None:
+                return to_si(item, kind, where, strict=_strict_units(info))
+            if not isinstance(item, numbers.Real) or isinstance(item, (bool, np.bool_)):
+                raise ValueError(f"{where} must be a number (without quotes); got {_show(item)}")
+            number = float(item)
+            if not 0.0 <= number <= 1.0:
+                raise ValueError(f"{where} must be in [0, 1]; got {number:g}")
+            return number
+
+        if isinstance(value, Mapping):
+            if not value:
+                raise ValueError(f"{name}: a table of bands needs at least one band")
+            if not all(isinstance(band, str) and band.strip() for band in value):
+                raise ValueError(f"{name}: band names are non-empty texts")
+            return {band: one(item, f"{name}.{band}") for band, item in value.items()}
+        return one(value, name)
+
+    return BeforeValidator(parse)
+
+
+BandFractions = Annotated[float | dict[str, float], _band_table(None)]
+"""A fraction, or one per named colour band (``{red = 0.2, green = 0.3, blue = 0.1}``)."""
+BandIrradiances = Annotated[float | dict[str, float], _band_table("irradiance")]
+"""An irradiance, or one per named colour band."""
 
 
 class Radar(_Strict):
@@ -313,8 +344,9 @@ class Radar(_Strict):
     P = 0.5 for recognition and identification (the project's criteria for radar).
 
     The default detector is ``swerling1`` (a fluctuating target, one pulse: exact, and P_d → P_fa
-    as the SNR → 0). Albersheim's formula is meant for 0.1 <= P_d <= 0.9: below, it tends to a
-    floor (0.017 at P_fa = 1e-6) instead of P_fa, so a distant target keeps a small P_d per look;
+    as the SNR → 0). Albersheim's formula is stated for 0.1 <= P_d <= 0.9 (within 0.2 dB of the
+    exact curve for P_d >= 0.4): below, it tends to a floor (0.017 at P_fa = 1e-6) instead of
+    P_fa, so a distant target keeps a small P_d per look;
     ``marcum`` is exact for a steady target (NumPy only). See
     :data:`targetacq.radar.RADAR_DETECTION_MODELS`.
     """
@@ -474,6 +506,8 @@ class Sensor(_Strict):
             )
         self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
+        if self.type == "laser_radar" and (self.netd is not None or self.nec is not None):
+            raise ValueError("a laser radar's noise is its receiver's: laser.nep")
         if self.netd is not None and self.type != "thermal":
             raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
         if self.nec is not None and self.type not in ("tv", "colour"):
@@ -570,7 +604,7 @@ class Target(_Strict):
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
     material: str | None = None
-    reflectance: Fraction | BandValues | None = None
+    reflectance: BandFractions | None = None
     rcs: Area | None = None
     position: Position | None = None
     waypoints: list[Waypoint] | None = None
@@ -588,6 +622,8 @@ class Target(_Strict):
     def _check(self) -> Target:
         if any(not d > 0 for d in self.dimensions):
             raise ValueError("dimensions must be > 0")
+        if self.rcs is not None and not self.rcs >= 0:
+            raise ValueError("rcs must be >= 0 m^2 (a radar cross-section)")
         _one_place(self.position, self.waypoints, "target")
         if self.image_box is not None:
             x, y, width, height = self.image_box
@@ -643,8 +679,8 @@ class Background(_Strict):
     temperature: Temperature | None = None
     emissivity: Fraction | None = None
     material: str | None = None
-    reflectance: Fraction | BandValues | None = None
-    irradiance: Irradiance | dict[Name, Irradiance] | None = None
+    reflectance: BandFractions | None = None
+    irradiance: BandIrradiances | None = None
     clutter: Literal["low", "medium", "high"] | None = None
     scr: Annotated[Number, Field(ge=0.0)] | None = None
     clutter_std: TemperatureDifference | None = None

@@ -487,11 +487,7 @@ def _false_target_footprints(
 
     scene = chain.compiled.scene
     sampler = FalseTargetSampler(sc.false_targets, scene.sensors, sc.model.search_time, seed)
-    positions = scenario_positions(sc, edges)[0]  # (sensor rows or scenario sensors, steps, 3)
-    groups = scene.sensors.group_names
-    if positions.shape[0] != len(groups):  # one per scenario sensor: each row takes its own
-        index = {s.name: k for k, s in enumerate(sc.sensors)}
-        positions = positions[[index[g] for g in groups]]
+    positions = scenario_positions(sc, edges)[0]  # (sensor rows, steps, 3)
     footprints = [sampler.footprints(positions[:, k]) for k in range(edges.size)]
     expected = runs * sum(
         rate * (edges[k] - edges[k - 1])

@@ -396,7 +396,24 @@ class Simulation:
             )
         if point is not None:
             self._check_pointing(point, xp)
+        if self._scene.sensors.groups and isinstance(s_pos, np.ndarray):
+            self._check_bands(s_pos, point)
         return s_pos, t_pos, head, point
+
+    def _check_bands(self, s_pos: np.ndarray, point: Any) -> None:
+        """The bands of a colour camera are one camera: one position and one pointing."""
+        groups = self._scene.sensors.groups
+        for name in dict.fromkeys(groups):
+            rows = [k for k, g in enumerate(groups) if g == name]
+            for label, value in (("sensor_positions", s_pos), ("sensor_pointing", point)):
+                if value is None:
+                    continue
+                part = np.asarray(value)[rows]
+                if not np.array_equal(part, np.broadcast_to(part[:1], part.shape), equal_nan=True):
+                    raise ValueError(
+                        f"{label}: the rows of colour camera {name!r} (rows {rows[0]} to "
+                        f"{rows[-1]}, one per band) must be equal: the bands are one camera"
+                    )
 
     @staticmethod
     def _check_pointing(point: Any, xp: Any) -> None:

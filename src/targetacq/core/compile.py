@@ -245,7 +245,8 @@ def _signature(
     # Radars and laser radars have clutter measures of their own: the rows differ.
     imaging_clutter = scr is not None or bg.terrain is not None
     rows = tuple(kind != "imaging" or imaging_clutter for kind in kinds)
-    full = np.full(shape, np.nan) if scr is None else np.array(scr, dtype=float)
+    # +inf where an imager has no clutter measure (as an imaging-only scene reports it).
+    full = np.full(shape, np.inf) if scr is None else np.array(scr, dtype=float)
     for k, (s, kind) in enumerate(zip(sensors, kinds, strict=True)):
         if kind == "laser_radar":
             full[k] = _relief_scr(scenario, s)

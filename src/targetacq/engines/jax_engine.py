@@ -46,6 +46,16 @@ class JaxScene:
     def __init__(self, scene: SceneArrays) -> None:
         import jax
 
+        if scene.radar is not None:
+            from targetacq.radar import RADAR_DETECTION_MODELS
+
+            for row, detector in zip(scene.radar.rows, scene.radar.detectors, strict=True):
+                if not RADAR_DETECTION_MODELS[detector].traceable:
+                    raise ValueError(
+                        f"radar {scene.sensors.names[row]!r}: detector {detector!r} runs on "
+                        "NumPy only (SciPy); use engine='numpy'"
+                    )
+
         self._jax = jax
         with jax.enable_x64(True):
             self.scene = as_jax(scene)

@@ -20,7 +20,8 @@ camera draw their outcomes from one random stream, the same coupling.
 
 Assumptions stated: the bands share the visible band's extinction (one path, narrow bands); a
 colour band's contrast acts through the camera's noise (``nec`` times the band's background
-exitance) and through a clutter given as an SCR or region, which applies to every band.
+exitance), which a colour camera must therefore have; a clutter given as an SCR or a region is
+the same for every band.
 """
 
 from __future__ import annotations
@@ -88,6 +89,22 @@ def requirements(scenario: Any) -> list[str]:
     check(bg.reflectance, "background.reflectance", "the reflectance (one value or one per band)")
     for k, t in enumerate(scenario.targets):
         check(t.reflectance, f"targets[{k}].reflectance", "a reflectance per band")
+    for k, s in enumerate(scenario.sensors):
+        if s.type == "colour" and not (s.nec or 0.0) > 0:
+            problems.append(
+                f"sensors[{k}].nec: a colour camera needs its noise-equivalent contrast (> 0): "
+                "a band's contrast acts through the camera's noise (without it, a target that "
+                "matches its background in every band would still be seen)"
+            )
+    for band in bands:
+        if problems:
+            break
+        level = band_value(bg.reflectance, band) * band_value(bg.irradiance, band)
+        if not level > 0:
+            problems.append(
+                f"background.irradiance: band {band!r} has no background light (reflectance x "
+                "irradiance is 0): the camera's noise is relative to it; give both > 0"
+            )
     for key in ("clutter_std", "terrain", "image"):
         if getattr(bg, key) is not None:
             problems.append(

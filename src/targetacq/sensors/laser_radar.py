@@ -24,6 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from targetacq import atmosphere
+
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """The targets' reflectances at the laser's wavelength (the range equation's ρ)."""
@@ -46,6 +48,24 @@ def requirements(scenario: Any) -> list[str]:
             "background.relief_std: laser radars need the ground's relief spread (the 3-D "
             "clutter, e.g. '0.3 m'; 0 for flat open ground)"
         )
+    atm = scenario.atmosphere
+    for k, s in enumerate(scenario.sensors):
+        if s.type != "laser_radar" or s.band is None:
+            continue
+        if atm.visibility is not None:
+            problems.append(
+                "atmosphere.visibility: gives the visible-band extinction; with laser radars "
+                "give extinction (at the laser's wavelength)"
+            )
+        if atm.obscurant is not None:
+            try:
+                atmosphere.extinction_for_band(s.limits, obscurant=atm.obscurant)
+            except ValueError:
+                problems.append(
+                    f"atmosphere.obscurant: the Table 7.1 obscurants are given for the visible, "
+                    f"mwir and lwir bands; for the laser radar sensors[{k}] (band {s.band}) give "
+                    "atmosphere.extinction"
+                )
     problems += [
         f"sensors[{k}].band: a laser radar needs its band (the laser's wavelength, e.g. "
         "'1.5-1.6 um')"

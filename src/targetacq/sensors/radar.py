@@ -19,7 +19,9 @@ The project's assumptions, stated:
 - the clutter in the resolution cell acts as noise (it adds to the receiver noise in power);
 - a radar here scans all around: every target is in its view (no field of view);
 - the optical extinctions of the scenario (extinction, obscurant, visibility, clouds) do not
-  apply at radar wavelengths; rain (``atmosphere.rain_rate``) does;
+  apply at radar wavelengths; rain (``atmosphere.rain_rate``) does, the same all along the slant
+  path (an airborne radar above the rain is attenuated too much), with the coefficients of a
+  level path (elevation 0) in the radar's polarisation;
 - recognition and identification need, at P = 0.5, 8 and 12.8 cells across the critical
   dimension (``radar.recognition_cells``, ``radar.identification_cells``): Johnson's 4 and 6.4
   cycles at two resolution cells per cycle, as a pixel samples an image; no published criteria
@@ -54,6 +56,13 @@ def requirements(scenario: Any) -> list[str]:
         for k, t in enumerate(scenario.targets)
         if t.rcs is None
     ]
+    if scenario.atmosphere.rain_rate is not None:
+        problems += [
+            f"sensors[{k}].radar.frequency: the rain attenuation (ITU-R P.838-3) is given for "
+            f"1 to 1000 GHz; got {s.radar.frequency / 1e9:g} GHz"
+            for k, s in enumerate(scenario.sensors)
+            if s.radar is not None and not 1e9 <= s.radar.frequency <= 1e12
+        ]
     if scenario.background.sigma0 is None:
         problems.append(
             "background.sigma0: radars need the ground's backscatter coefficient (e.g. '-20 dB')"

@@ -17,7 +17,10 @@ tests/test_target_independence.py).
 Added, not regenerated: colour_camera, radar_surveillance, laser_radar and
 fused_tv_thermal_radar (the chapter 9 sensors), first written when those examples were; they
 pin the numbers against later change, while tests/test_colour.py and
-tests/test_active_sensors.py check them against the published equations.
+tests/test_active_sensors.py check them against the published equations. Rewritten once
+before their first release: laser_radar.npz for a wider field of view in the example (the crate
+was never in view), fused_tv_thermal_radar.npz for the SCR of imagers without clutter in a
+scene with a radar, reported as +inf (no clutter measure) instead of NaN.
 """
 
 from pathlib import Path

@@ -15,9 +15,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 	touch $@
 
 # Tests cover the optional backends too: numba and JAX (the engines; the core under jit/grad),
-# Gymnasium, Dask, and the docs extension that renders the registries (Sphinx).
+# Gymnasium, Dask, the docs extension that renders the registries (Sphinx), and the web explorer
+# (FastAPI, driven in tests by Playwright with the system's Chromium).
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs]'
+	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web]'
 	touch $@
 
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/activate

@@ -93,22 +93,30 @@ async function loadRegistries() {
     const entries = registries[select.dataset.registry] || [];
     select.sources = {};
     for (const entry of entries) {
-      const option = document.createElement("option");
-      option.value = entry.name;
-      option.textContent = entry.name;
-      option.title = entry.description || "";
-      select.appendChild(option);
-      select.sources[entry.name] = entry;
+      // An obscurant's levels are choices of their own (haze:low), as on the CLI.
+      for (const name of [entry.name, ...(entry.levels || []).map((level) => `${entry.name}:${level}`)]) {
+        const option = document.createElement("option");
+        option.value = option.textContent = name;
+        option.title = entry.description || "";
+        select.appendChild(option);
+        select.sources[name] = entry;
+      }
     }
     showSource(select);
   }
 }
 
+// What a registry says of a choice: its description, band limits, levels and source.
 function showSource(select) {
   const box = form.querySelector(`[data-source-for="${select.id}"]`);
-  if (!box) return;
   const entry = select.sources && select.sources[select.value];
-  box.textContent = entry ? `${entry.description ? entry.description + ". " : ""}Source: ${entry.source}` : "";
+  if (!box) return;
+  const parts = [];
+  if (entry && entry.description) parts.push(entry.description);
+  if (entry && Array.isArray(entry.limits_m)) parts.push(entry.limits_m.map((m) => +(m * 1e6).toPrecision(4)).join("–") + " µm");
+  if (entry && entry.levels) parts.push(`levels: ${entry.levels.join(", ")}`);
+  if (entry && entry.source) parts.push(`Source: ${entry.source}`);
+  box.textContent = parts.join(". ");
 }
 
 // ---------- the range case ----------
@@ -141,6 +149,7 @@ async function update() {
   }
   if (request !== latestRequest) return; // a newer request is under way
   const failed = [dri, curves].find((r) => !r.ok);
+  document.getElementById("results").classList.toggle("stale", Boolean(failed));
   if (failed) {
     if (failed.status === 422 && failed.data && Array.isArray(failed.data.detail)) {
       const unplaced = showFieldErrors(problems(failed.data));

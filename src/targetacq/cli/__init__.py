@@ -79,6 +79,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("scenarios", "Random search over time: who is found, and when."),
     "validation": ("validation", "Write the validation page: published values vs the model's."),
     "examples": ("examples", "List the bundled examples, or copy them into a folder."),
+    "serve": ("serve", "Run the local web explorer and its JSON API (loopback by default)."),
 }
 """Command → (its module in ``targetacq.cli``, its summary in ``targetacq --help``), in the
 order listed. A command registers itself on :data:`app` when its module is imported; a test

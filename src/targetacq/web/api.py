@@ -1,0 +1,747 @@
+"""The JSON API of the web explorer (FastAPI).
+
+Endpoints
+---------
+``GET /registries``
+    The names the options take (sensor types, criteria, transforms, noise models, bands,
+    obscurants, c2nveo bounds, named targets), each with its description and source where the
+    registry has them.
+``POST /dri``
+    The body's keys are the options of ``targetacq dri`` in snake_case, each value the text
+    typed on the command line (units included; ``example`` a boolean); the answer is the
+    object ``targetacq dri --format json`` prints. One value per option (a comma-separated
+    sweep is refused; ``probability`` takes several).
+``POST /curves``
+    The same body and ``max_range``: the probabilities of detection, recognition and
+    identification on a grid of :data:`CURVE_POINTS` ranges, for the page's chart.
+``POST /evaluate``
+    ``{"scenario": TOML text, "format": "json" | "csv" | "parquet"}``: every sensor × target
+    × time of the scenario, as JSON or as a file to download.
+``POST /report``
+    ``{"scenario": TOML text, "probability": "0.5,0.8,0.95"}``: the HTML report of
+    ``targetacq report``.
+``POST /step``
+    One step of a :class:`targetacq.Simulation` kept in memory between requests (a session).
+
+Errors
+------
+Every error is JSON, ``{"detail": [{"loc": [...], "msg": "..."}]}``: 422 for input the library
+or the request's schema refuses (malformed JSON, an unknown field with a close match, a value
+without its unit, a scenario problem located in the scenario), 413 for a body over
+``max_body_bytes``, 404 for an unknown session. Only a bug gives 500.
+
+Files are never read over HTTP: a scenario that names an image or a terrain map, and an MRTD
+curve file, are refused.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import secrets
+import tempfile
+import threading
+import tomllib
+from collections import OrderedDict
+from collections.abc import Awaitable, Callable, Iterator, MutableMapping
+from contextlib import contextmanager
+from dataclasses import dataclass
+from difflib import get_close_matches
+from pathlib import Path
+from typing import Any, Literal
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi.staticfiles import StaticFiles
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    create_model,
+)
+
+from targetacq.outputs import json_text
+from targetacq.scenario import Scenario, ScenarioError, parse_scenario
+from targetacq.services.options import RANGE_CASE_OPTIONS
+
+__all__ = ["CURVE_POINTS", "MAX_SESSIONS", "STATIC", "create_app"]
+
+STATIC = Path(__file__).with_name("static")
+"""The page's files: ``index.html``, ``app.js``, ``style.css``."""
+
+CURVE_POINTS = 200
+"""Ranges on the grid of ``POST /curves``."""
+
+MAX_SESSIONS = 64
+"""Simulations kept for ``POST /step``; the oldest is dropped when a new one would exceed it."""
+
+_FILES_REFUSED = "files are not read over HTTP"
+
+Scope = MutableMapping[str, Any]
+Message = MutableMapping[str, Any]
+Receive = Callable[[], Awaitable[Message]]
+Send = Callable[[Message], Awaitable[None]]
+ASGIApp = Callable[[Scope, Receive, Send], Awaitable[None]]
+
+
+# --- errors ------------------------------------------------------------------------------------
+
+
+class ApiError(Exception):
+    """A request the API refuses: its HTTP status and its located problems.
+
+    Parameters
+    ----------
+    status : int
+        HTTP status (4xx).
+    problems : list of (list, str)
+        Each problem's location (``["body", "pitch"]``) and message.
+    """
+
+    def __init__(self, status: int, problems: list[tuple[list[Any], str]]) -> None:
+        super().__init__(problems[0][1] if problems else "")
+        self.status = status
+        self.problems = problems
+
+    def response(self) -> JSONResponse:
+        """The JSON response of this error."""
+        return JSONResponse(
+            {"detail": [{"loc": loc, "msg": msg} for loc, msg in self.problems]},
+            status_code=self.status,
+        )
+
+
+def _scenario_problems(error: ScenarioError) -> list[tuple[list[Any], str]]:
+    """Each problem of a scenario error, its location split from its message."""
+    problems: list[tuple[list[Any], str]] = []
+    for problem in error.problems:
+        text = problem.removeprefix("scenario: ")
+        where, colon, what = text.partition(": ")
+        if colon and " " not in where.strip("[]._"):
+            problems.append((["scenario", where], what))
+        else:
+            problems.append((["scenario"], text))
+    return problems
+
+
+def _named_option(message: str, names: list[str]) -> list[Any]:
+    """The location of a library error: the option its message names first (``--pitch``),
+    else the whole body."""
+    found = []
+    for name in names:
+        match = re.search(re.escape("--" + name.replace("_", "-")) + r"(?![-\w])", message)
+        if match:
+            found.append((match.start(), name))
+    return ["body", min(found)[1]] if found else ["body"]
+
+
+@contextmanager
+def _library_errors(names: list[str] | None = None) -> Iterator[None]:
+    """Turn the library's errors for bad input into 422 responses with located messages."""
+    try:
+        yield
+    except ApiError:
+        raise
+    except ScenarioError as error:
+        raise ApiError(422, _scenario_problems(error)) from None
+    except (ValueError, TypeError, KeyError) as error:
+        message = str(error.args[0]) if isinstance(error, KeyError) and error.args else str(error)
+        raise ApiError(422, [(_named_option(message, names or []), message)]) from None
+    except RecursionError:
+        raise ApiError(422, [(["body"], "input too deeply nested")]) from None
+    except MemoryError as error:
+        raise ApiError(
+            422, [(["body"], f"not enough memory for this request: {error or 'an allocation'}")]
+        ) from None
+
+
+# --- request bodies ----------------------------------------------------------------------------
+
+
+class _Body(BaseModel):
+    """A request body: unknown fields are refused (with a close match, if any)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+_OptionValue = StrictStr | StrictInt | StrictFloat | None
+
+
+def _option_fields() -> dict[str, Any]:
+    """The fields of the range-case options: each the text typed on the command line."""
+    fields: dict[str, Any] = {
+        spec.name: (_OptionValue, Field(default=None, description=spec.help))
+        for spec in RANGE_CASE_OPTIONS
+    }
+    fields["example"] = (
+        bool,
+        Field(default=False, description="Use the bundled example camera and target."),
+    )
+    return fields
+
+
+DriRequest = create_model(
+    "DriRequest",
+    __base__=_Body,
+    __doc__="The options of ``targetacq dri``, snake_case, values as typed (units included).",
+    **_option_fields(),
+)
+
+CurvesRequest = create_model(
+    "CurvesRequest",
+    __base__=_Body,
+    __doc__="The options of ``targetacq dri`` and the largest range of the curves.",
+    **_option_fields(),
+    max_range=(
+        str | None,
+        Field(
+            default=None,
+            description="Largest range of the curves, e.g. 8km (default: until every task's "
+            "probability is below 2 %).",
+        ),
+    ),
+)
+
+
+class EvaluateRequest(_Body):
+    """A scenario to evaluate, and the form of the results."""
+
+    scenario: str = Field(description="The scenario, as the text of a TOML file.")
+    format: Literal["json", "csv", "parquet"] = Field(
+        default="json", description="json: the arrays; csv or parquet: the table as a file."
+    )
+
+
+class ReportRequest(_Body):
+    """A scenario to report on."""
+
+    scenario: str = Field(description="The scenario, as the text of a TOML file.")
+    probability: str | None = Field(
+        default=None, description="Probabilities of the DRI table, e.g. 0.5,0.8,0.95."
+    )
+    max_range: str | None = Field(
+        default=None, description="Largest range of the curves, e.g. 8km."
+    )
+
+
+class StepRequest(_Body):
+    """One step of a simulation: positions at ``time`` of every sensor and target."""
+
+    session: str | None = Field(
+        default=None, description="A session from an earlier step; none to start one."
+    )
+    scenario: str | None = Field(
+        default=None,
+        description="The scenario (TOML text), to start a session; ignored with a session.",
+    )
+    seed: int = Field(default=0, ge=0, description="Seed of the random draws, >= 0.")
+    time: float = Field(description="Time of the step [s].")
+    dt: float = Field(description="Length of the step [s]; time − dt is the previous step.")
+    sensor_positions: list[list[float]] = Field(description="East, north, up of each sensor [m].")
+    target_positions: list[list[float]] = Field(description="East, north, up of each target [m].")
+    target_headings: list[float] | None = Field(
+        default=None, description="Heading of each target [rad]."
+    )
+    sensor_pointing: list[list[float]] | None = Field(
+        default=None, description="Azimuth and depression of each sensor's axis [rad]."
+    )
+
+
+_BODIES: dict[str, type[BaseModel]] = {
+    "/dri": DriRequest,
+    "/curves": CurvesRequest,
+    "/evaluate": EvaluateRequest,
+    "/report": ReportRequest,
+    "/step": StepRequest,
+}
+
+
+def _unknown_field(name: str, path: str) -> str:
+    """The message for an unknown field of the body of ``path``."""
+    model = _BODIES.get(path)
+    valid = list(model.model_fields) if model is not None else []
+    close = get_close_matches(name, valid, 1)
+    hint = f" (did you mean {close[0]!r}?)" if close else ""
+    return f"unknown field {name!r}{hint}; valid: {', '.join(valid)}"
+
+
+def _validation_problems(error: RequestValidationError, path: str) -> list[tuple[list, str]]:
+    problems: list[tuple[list[Any], str]] = []
+    for item in error.errors():
+        loc = list(item.get("loc", ()))
+        if item.get("type") == "extra_forbidden" and loc:
+            problems.append((loc, _unknown_field(str(loc[-1]), path)))
+        elif item.get("type") == "json_invalid":
+            reason = (item.get("ctx") or {}).get("error", "not JSON")
+            problems.append((["body"], f"malformed JSON: {reason} (at character {loc[-1]})"))
+        else:
+            message = str(item.get("msg", "invalid input")).removeprefix("Value error, ")
+            problems.append((loc, message))
+    return problems
+
+
+# --- request body size -------------------------------------------------------------------------
+
+
+class _BodyLimit:
+    """ASGI middleware: a request body over ``max_bytes`` (by its ``Content-Length`` or by the
+    bytes read) is answered 413, and the application never sees it."""
+
+    def __init__(self, app: ASGIApp, max_bytes: int) -> None:
+        self.app = app
+        self.max_bytes = max_bytes
+
+    async def _refuse(self, scope: Scope, receive: Receive, send: Send) -> None:
+        error = ApiError(
+            413,
+            [(["body"], f"request body too large: the limit is {self.max_bytes:,} bytes")],
+        )
+        await error.response()(scope, receive, send)
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        for key, value in scope.get("headers", ()):
+            if key.lower() == b"content-length":
+                try:
+                    declared = int(value)
+                except ValueError:
+                    declared = -1
+                if declared > self.max_bytes:
+                    await self._refuse(scope, receive, send)
+                    return
+        chunks: list[bytes] = []
+        total = 0
+        first: Message | None = None
+        while True:
+            message = await receive()
+            if message["type"] != "http.request":
+                first = message  # a disconnect: passed on as it came
+                break
+            body = message.get("body", b"")
+            total += len(body)
+            if total > self.max_bytes:
+                await self._refuse(scope, receive, send)
+                return
+            chunks.append(body)
+            if not message.get("more_body", False):
+                break
+        replayed = False
+
+        async def replay() -> Message:
+            nonlocal replayed
+            if not replayed:
+                replayed = True
+                if first is not None:
+                    return first
+                return {"type": "http.request", "body": b"".join(chunks), "more_body": False}
+            return await receive()
+
+        await self.app(scope, replay, send)
+
+
+# --- the handlers' work ------------------------------------------------------------------------
+
+
+def _json(document: Any) -> Response:
+    """Strict JSON: NaN → null, ±inf → "inf" / "-inf"."""
+    return Response(json_text(document, None), media_type="application/json")
+
+
+def _case_options(body: BaseModel) -> dict[str, Any]:
+    """The body's range-case options as the CLI hands them on: text, or None; ``example``."""
+    options: dict[str, Any] = {}
+    for spec in RANGE_CASE_OPTIONS:
+        value = getattr(body, spec.name)
+        if isinstance(value, bool):
+            raise ApiError(422, [(["body", spec.name], f"{spec.flag} takes text, not a boolean")])
+        options[spec.name] = None if value is None else str(value)
+    if options.get("mrtd") is not None:
+        raise ApiError(422, [(["body", "mrtd"], f"--mrtd names a file, and {_FILES_REFUSED}")])
+    options["example"] = bool(body.example)  # type: ignore[attr-defined]
+    return options
+
+
+_OPTION_NAMES = [spec.name for spec in RANGE_CASE_OPTIONS]
+
+
+def _setup(body: BaseModel) -> Any:
+    """The range setup of the body's options, as ``targetacq dri`` builds it."""
+    from targetacq.services.options import typed_options
+    from targetacq.services.range_case import range_setup
+
+    options = _case_options(body)
+    with _library_errors(_OPTION_NAMES):
+        return range_setup(**typed_options(options, "dri"), default_probability="0.5")
+
+
+def _curves(body: BaseModel) -> dict[str, Any]:
+    """The range-performance curves of the body's one case."""
+    from targetacq import ranges
+    from targetacq.cli.figures import _FLOOR, _MAX_AUTO_RANGE, _title
+    from targetacq.services.range_case import option_quantity
+
+    setup = _setup(body)
+    max_range = body.max_range  # type: ignore[attr-defined]
+    with _library_errors([*_OPTION_NAMES, "max_range"]):
+        if max_range is not None:
+            r_max = option_quantity(max_range, "length", "--max-range")
+        else:
+            reach = [
+                float(r)
+                for p in (_FLOOR, min(setup.probabilities))
+                for r in ranges.case_ranges(setup.case, p).values()
+            ]
+            finite = [r for r in reach if math.isfinite(r) and r > 0]
+            r_max = min(1.05 * max(finite), _MAX_AUTO_RANGE) if finite else 10e3
+        grid = [r_max * (k + 1) / CURVE_POINTS for k in range(CURVE_POINTS)]
+        label = _title(setup)
+        curves = ranges.range_performance(grid, {label: setup.case}, setup.probabilities).curves
+    out: dict[str, Any] = {"range_m": grid}
+    for task in ("detection", "recognition", "identification"):
+        out[task] = (
+            [float(p) for p in curves[task].sel(case=label).values] if task in curves else None
+        )
+    out["case"] = label
+    return out
+
+
+def _scenario(text: str) -> Scenario:
+    """A scenario from TOML text; one that names a file is refused."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ApiError(422, [(["body", "scenario"], f"malformed TOML: {error}")]) from None
+    except RecursionError:
+        raise ApiError(422, [(["body", "scenario"], "malformed TOML: nested too deeply")]) from None
+    background = data.get("background")
+    if isinstance(background, dict):
+        for key in ("image", "terrain"):
+            if background.get(key) is not None:
+                raise ApiError(
+                    422,
+                    [
+                        (
+                            ["scenario", f"background.{key}"],
+                            f"{_FILES_REFUSED}: give a scenario without background.{key} "
+                            "(run it with targetacq evaluate FILE instead)",
+                        )
+                    ],
+                )
+    with _library_errors():
+        return parse_scenario(data, source="scenario")
+
+
+def _evaluate(body: EvaluateRequest) -> Response:
+    from targetacq.model import ModelChain
+
+    scenario = _scenario(body.scenario)
+    with _library_errors():
+        results = ModelChain(scenario).evaluate()
+        if body.format != "json":
+            with tempfile.TemporaryDirectory(prefix="targetacq-web-") as folder:
+                name = f"results.{body.format}"
+                written = results.write(Path(folder) / name)
+                content = written.read_bytes()
+            media = "text/csv" if body.format == "csv" else "application/vnd.apache.parquet"
+            return Response(
+                content,
+                media_type=media,
+                headers={"Content-Disposition": f"attachment; filename={name}"},
+            )
+    ds = results.dataset
+    document: dict[str, Any] = {
+        "name": scenario.name,
+        "time_s": ds["time"].values,
+        "sensors": [str(s) for s in ds["sensor"].values],
+        "targets": [str(t) for t in ds["target"].values],
+    }
+    for task in ("detection", "recognition", "identification"):
+        document[f"fused_{task}"] = ds[f"fused_{task}"].transpose("target", "time").values
+    for task in ("detection", "recognition", "identification"):
+        document[task] = ds[task].transpose("sensor", "target", "time").values
+    return _json(document)
+
+
+def _report(body: ReportRequest) -> str:
+    from targetacq import __version__
+    from targetacq.cli.figures import _REPORT_PROBABILITIES, _scenario_report
+    from targetacq.report import render_report
+    from targetacq.services.range_case import option_probabilities
+
+    scenario = _scenario(body.scenario)  # refuses files and locates problems first
+    with _library_errors(["probability", "max_range"]):
+        probabilities = option_probabilities(body.probability or _REPORT_PROBABILITIES)
+        with tempfile.TemporaryDirectory(prefix="targetacq-web-") as folder:
+            path = Path(folder) / "scenario.toml"
+            path.write_text(body.scenario, encoding="utf-8")
+            title = scenario.name or "scenario"
+            heading, performance, sections, figures, captions = _scenario_report(
+                str(path), body.max_range, title, probabilities
+            )
+        sections = {
+            section: {
+                key: ("scenario (sent to the explorer)" if value == str(path) else value)
+                for key, value in items.items()
+            }
+            for section, items in sections.items()
+        }
+        return render_report(
+            performance, sections, figures, title=heading, version=__version__, captions=captions
+        )
+
+
+@dataclass
+class _Session:
+    simulation: Any
+    lock: threading.Lock
+
+
+class _Sessions:
+    """The simulations of ``POST /step``, by id; at most ``limit``, the oldest dropped."""
+
+    def __init__(self, limit: int = MAX_SESSIONS) -> None:
+        self.limit = limit
+        self._items: OrderedDict[str, _Session] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def add(self, simulation: Any) -> str:
+        key = secrets.token_urlsafe(16)
+        with self._lock:
+            self._items[key] = _Session(simulation, threading.Lock())
+            while len(self._items) > self.limit:
+                self._items.popitem(last=False)
+        return key
+
+    def get(self, key: str) -> _Session:
+        with self._lock:
+            session = self._items.get(key)
+        if session is None:
+            raise ApiError(
+                404,
+                [
+                    (
+                        ["body", "session"],
+                        f"unknown session {key!r}: it never existed or was dropped (the "
+                        f"server keeps the {self.limit} newest); start a new one by sending "
+                        "the scenario without a session",
+                    )
+                ],
+            )
+        return session
+
+
+def _count(value: Any) -> int:
+    if isinstance(value, list):
+        return sum(_count(item) for item in value)
+    return 1
+
+
+def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> dict[str, Any]:
+    from targetacq.simulation import Simulation
+
+    arrays = ("sensor_positions", "target_positions", "target_headings", "sensor_pointing")
+    for name in arrays:
+        value = getattr(body, name)
+        if value is not None and _count(value) > max_elements:
+            raise ApiError(
+                422,
+                [
+                    (
+                        ["body", name],
+                        f"{name} has {_count(value):,} numbers; the limit is {max_elements:,}",
+                    )
+                ],
+            )
+    if body.session is not None:
+        key = body.session
+        session = sessions.get(key)
+    else:
+        if body.scenario is None:
+            raise ApiError(
+                422, [(["body", "scenario"], "give the scenario (TOML text) or a session")]
+            )
+        scenario = _scenario(body.scenario)
+        with _library_errors(["seed"]):
+            simulation = Simulation.from_scenario(scenario, seed=body.seed)
+        key = sessions.add(simulation)
+        session = sessions.get(key)
+    with session.lock, _library_errors(list(arrays)):
+        simulation = session.simulation
+        result = simulation.step(
+            body.time,
+            body.dt,
+            body.sensor_positions,
+            body.target_positions,
+            target_headings=body.target_headings,
+            sensor_pointing=body.sensor_pointing,
+        )
+    false = result.false_detections
+    return {
+        "session": key,
+        "time": result.time,
+        "sensors": list(simulation.sensors),
+        "targets": list(simulation.targets),
+        "detection": result.detection,
+        "recognition": result.recognition,
+        "identification": result.identification,
+        "fused_detection": result.fused_detection,
+        "fused_recognition": result.fused_recognition,
+        "fused_identification": result.fused_identification,
+        "in_view": result.in_view,
+        "events": [
+            {"sensor": e.sensor, "target": e.target, "task": e.task, "time": e.time}
+            for e in result.events
+        ],
+        "false_detections": [
+            {
+                "sensor": str(s),
+                "time": float(t),
+                "x": float(p[0]),
+                "y": float(p[1]),
+                "z": float(p[2]),
+            }
+            for s, t, p in zip(false.sensor, false.time, false.position, strict=True)
+        ],
+    }
+
+
+def _registries() -> dict[str, Any]:
+    """Every registry's names, with descriptions and sources where it has them."""
+    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
+    from targetacq.bands import BANDS
+    from targetacq.criteria import CRITERIA
+    from targetacq.noise import NOISE_MODELS
+    from targetacq.sensors import SENSOR_TYPES
+    from targetacq.targets import TARGETS
+    from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
+
+    def items(registry: Any) -> list[dict[str, Any]]:
+        out = []
+        for name in registry:
+            entry = registry[name] if hasattr(registry, "keys") else None
+            item: dict[str, Any] = {"name": name}
+            for key in ("description", "source"):
+                text = getattr(entry, key, None)
+                if isinstance(text, str) and text:
+                    item[key] = text
+            out.append(item)
+        return out
+
+    targets = items(TARGETS)
+    for item in targets:
+        item["critical_dimension_m"] = TARGETS[item["name"]].critical_dimension
+    bands = [{"name": name, "limits_m": list(limits)} for name, limits in BANDS.items()]
+    obscurants = [{"name": name, "levels": list(EXTINCTION_LEVELS)} for name in OBSCURANTS]
+    return {
+        "sensor_types": items(SENSOR_TYPES),
+        "criteria": items(CRITERIA),
+        "transforms": items(TRANSFORMS),
+        "noise_models": items(NOISE_MODELS),
+        "bands": bands,
+        "obscurants": obscurants,
+        "bounds": items(C2NVEO_BOUNDS),
+        "targets": targets,
+    }
+
+
+# --- the application ---------------------------------------------------------------------------
+
+
+def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) -> FastAPI:
+    """The explorer's application: the JSON API and the page.
+
+    Parameters
+    ----------
+    max_body_bytes : int
+        Largest request body [bytes]; a larger one is answered 413.
+    max_elements : int
+        Most numbers in one array of a request; more is answered 422.
+
+    Returns
+    -------
+    fastapi.FastAPI
+        Serve it with uvicorn (``targetacq serve``), or test it with FastAPI's ``TestClient``.
+
+    Examples
+    --------
+    >>> app = create_app(max_body_bytes=100_000)
+    >>> sorted(path for path in app.openapi()["paths"])
+    ['/curves', '/dri', '/evaluate', '/registries', '/report', '/step']
+    """
+    from targetacq import __version__
+
+    if max_body_bytes < 1 or max_elements < 1:
+        raise ValueError("max_body_bytes and max_elements must be >= 1")
+    app = FastAPI(
+        title="targetacq explorer",
+        version=__version__,
+        description="Probabilities of detection, recognition and identification of targets "
+        "by imaging sensors (Sonesson 2004): the library's range cases, scenarios and "
+        "simulations over JSON.",
+    )
+    app.add_middleware(_BodyLimit, max_bytes=max_body_bytes)
+    sessions = _Sessions()
+    app.state.sessions = sessions
+
+    @app.exception_handler(ApiError)
+    async def api_error(request: Request, error: ApiError) -> JSONResponse:
+        return error.response()
+
+    @app.exception_handler(RequestValidationError)
+    async def invalid_request(request: Request, error: RequestValidationError) -> JSONResponse:
+        return ApiError(422, _validation_problems(error, request.url.path)).response()
+
+    @app.exception_handler(Exception)
+    async def internal_error(request: Request, error: Exception) -> JSONResponse:
+        return JSONResponse(
+            {"detail": [{"loc": [], "msg": f"internal error ({type(error).__name__})"}]},
+            status_code=500,
+        )
+
+    @app.get("/", include_in_schema=False)
+    def index() -> Response:
+        page = STATIC / "index.html"
+        if not page.is_file():
+            return JSONResponse(
+                {"detail": [{"loc": [], "msg": "the page is not installed"}]}, status_code=404
+            )
+        return FileResponse(page, media_type="text/html")
+
+    if STATIC.is_dir():
+        app.mount("/static", StaticFiles(directory=STATIC), name="static")
+
+    @app.get("/registries", summary="The names the options take")
+    def registries() -> Response:
+        return _json(_registries())
+
+    @app.post("/dri", summary="DRI ranges of one sensor and target (targetacq dri)")
+    def dri(body: DriRequest) -> Response:  # type: ignore[valid-type]
+        from targetacq.services.range_case import dri_report
+
+        setup = _setup(body)
+        with _library_errors(_OPTION_NAMES):
+            return _json(dri_report(setup))
+
+    @app.post("/curves", summary="Probability against range of one sensor and target")
+    def curves(body: CurvesRequest) -> Response:  # type: ignore[valid-type]
+        return _json(_curves(body))
+
+    @app.post("/evaluate", summary="Every sensor × target × time of a scenario")
+    def evaluate(body: EvaluateRequest) -> Response:
+        return _evaluate(body)
+
+    @app.post("/report", summary="The HTML report of a scenario (targetacq report)")
+    def report(body: ReportRequest) -> Response:
+        return Response(_report(body), media_type="text/html")
+
+    @app.post("/step", summary="One step of a simulation kept between requests")
+    def step(body: StepRequest) -> Response:
+        return _json(_step(body, sessions, max_elements))
+
+    return app

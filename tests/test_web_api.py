@@ -1,0 +1,381 @@
+"""The JSON API of the web explorer (targetacq.web.api) and `targetacq serve`."""
+
+import csv
+import io
+import json
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fastapi")
+
+with warnings.catch_warnings():
+    # Starlette's test client announces its move to httpx2; the project tests with httpx.
+    warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+    from fastapi.testclient import TestClient
+
+from targetacq import Simulation
+from targetacq.model import ModelChain
+from targetacq.scenario import load_scenario
+from targetacq.sensors import SENSOR_TYPES
+from targetacq.transforms import TRANSFORMS
+from targetacq.web.api import MAX_SESSIONS, create_app
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+FUSED = EXAMPLES / "two_sensors_fused.toml"
+
+
+@pytest.fixture(scope="module")
+def client():
+    # raise_server_exceptions: a handler that fails with a bug raises here, so any test below
+    # that reached the 500 handler would fail rather than see a 500.
+    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as c:
+        yield c
+
+
+def _cli_dri(options):
+    args = [sys.executable, "-m", "targetacq", "dri", "--format", "json"]
+    for name, value in options.items():
+        flag = "--" + name.replace("_", "-")
+        args += [flag] if value is True else [flag, value]
+    done = subprocess.run(args, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"pitch": "17um", "focal_length": "50mm", "critical_dimension": "2.3m"},
+        {"hfov": "12deg", "pixels": "640", "critical_dimension": "0.75m", "probability": "0.5,0.9"},
+        {
+            "pitch": "17um",
+            "focal_length": "50mm",
+            "critical_dimension": "2.3m",
+            "probability": "0.5,0.8",
+            "obscurant": "haze",
+            "netd": "50mK",
+            "delta_t": "2K",
+            "band": "lwir",
+        },
+        {"example": True, "target": "person", "criterion": "johnson", "transform": "ttpf"},
+    ],
+)
+def test_dri_is_what_the_cli_prints(client, options):
+    response = client.post("/dri", json=options)
+    assert response.status_code == 200, response.text
+    assert response.headers["content-type"] == "application/json"
+    assert response.json() == _cli_dri(options)
+
+
+def test_dri_takes_numbers_for_numeric_options(client):
+    given = {"hfov": "12deg", "pixels": 640, "critical_dimension": "2.3m", "scr": 2.5}
+    response = client.post("/dri", json=given)
+    assert response.status_code == 200, response.text
+    texts = {**given, "pixels": "640", "scr": "2.5"}
+    assert response.json() == _cli_dri(texts)
+
+
+def _problem(response, status=422):
+    assert response.status_code == status, response.text
+    detail = response.json()["detail"]
+    assert isinstance(detail, list)
+    assert detail
+    assert all(set(item) >= {"loc", "msg"} for item in detail)
+    return detail
+
+
+def test_malformed_json_is_refused(client):
+    response = client.post(
+        "/dri", content=b'{"pitch": ', headers={"content-type": "application/json"}
+    )
+    (item,) = _problem(response)
+    assert "malformed JSON" in item["msg"]
+    (item,) = _problem(client.post("/dri", json=[1, 2]))
+    assert item["loc"] == ["body"]
+
+
+def test_a_value_without_its_unit_is_located(client):
+    body = {"pitch": "17", "focal_length": "50mm", "critical_dimension": "2.3m"}
+    (item,) = _problem(client.post("/dri", json=body))
+    assert item["loc"] == ["body", "pitch"]
+    assert "--pitch" in item["msg"]
+
+
+def test_an_unknown_field_is_named_with_a_close_match(client):
+    (item,) = _problem(client.post("/dri", json={"pitchh": "17um"}))
+    assert item["loc"] == ["body", "pitchh"]
+    assert "did you mean 'pitch'" in item["msg"]
+    detail = _problem(client.post("/step", json=_step_body(sesion="x")))
+    assert [item["loc"] for item in detail] == [["body", "sesion"]]
+    assert "did you mean 'session'" in detail[0]["msg"]
+
+
+def test_lists_a_file_and_a_boolean_text_are_refused_for_dri(client):
+    base = {"focal_length": "50mm", "critical_dimension": "2.3m"}
+    (item,) = _problem(client.post("/dri", json={**base, "pitch": "17um,12um"}))
+    assert item["loc"] == ["body", "pitch"]
+    assert "one value per option" in item["msg"]
+    (item,) = _problem(client.post("/dri", json={**base, "pitch": "17um", "mrtd": "/etc/passwd"}))
+    assert item["loc"] == ["body", "mrtd"]
+    assert "files are not read over HTTP" in item["msg"]
+    _problem(client.post("/dri", json={**base, "pitch": True}))
+
+
+def test_a_huge_body_is_413_naming_the_limit(client):
+    body = b'{"pitch": "' + b"x" * 300_000 + b'"}'
+    response = client.post("/dri", content=body, headers={"content-type": "application/json"})
+    (item,) = _problem(response, 413)
+    assert "200,000 bytes" in item["msg"]
+
+
+def test_a_body_streamed_past_the_limit_is_413():
+    app = create_app(max_body_bytes=100)
+
+    def chunks():
+        for _ in range(10):
+            yield b" " * 50
+
+    with TestClient(app) as c:
+        response = c.post("/dri", content=chunks(), headers={"content-type": "application/json"})
+    assert response.status_code == 413
+
+
+def _step_body(**extra):
+    body = {
+        "time": 0.0,
+        "dt": 0.0,
+        "sensor_positions": [[0.0, 0.0, 15.0], [0.0, 0.0, 15.0]],
+        "target_positions": [[2000.0, 0.0, 0.0], [1800.0, 50.0, 0.0]],
+    }
+    return {**body, **extra}
+
+
+def test_a_huge_array_in_step_is_refused_naming_the_field(client):
+    body = _step_body(scenario=FUSED.read_text(), target_positions=[[1.0, 2.0, 0.0]] * 400)
+    (item,) = _problem(client.post("/step", json=body))
+    assert item["loc"] == ["body", "target_positions"]
+    assert "1,000" in item["msg"]
+
+
+def test_a_toml_syntax_error_is_refused(client):
+    (item,) = _problem(client.post("/evaluate", json={"scenario": "name = \n[[["}))
+    assert item["loc"] == ["body", "scenario"]
+    assert "malformed TOML" in item["msg"]
+
+
+def test_a_scenario_problem_is_located_in_the_scenario(client):
+    text = FUSED.read_text().replace('temperature = "306 K"', 'temperature = "306"')
+    detail = _problem(client.post("/evaluate", json={"scenario": text}))
+    assert ["scenario", "targets[0].temperature"] in [item["loc"] for item in detail]
+    assert all(not item["msg"].startswith("scenario:") for item in detail)
+
+
+@pytest.mark.parametrize(
+    ("table", "key"),
+    [
+        ('image = "/etc/passwd"', "image"),
+        ('terrain = { map = "/etc/passwd", classes = [] }', "terrain"),
+    ],
+)
+@pytest.mark.parametrize("path", ["/evaluate", "/report", "/step"])
+def test_a_scenario_naming_a_file_is_refused(client, table, key, path):
+    text = FUSED.read_text().replace('clutter = "medium"', table)
+    body = _step_body(scenario=text) if path == "/step" else {"scenario": text}
+    (item,) = _problem(client.post(path, json=body))
+    assert item["loc"] == ["scenario", f"background.{key}"]
+    assert "files are not read over HTTP" in item["msg"]
+
+
+def test_an_unknown_session_is_404(client):
+    (item,) = _problem(client.post("/step", json=_step_body(session="nope")), 404)
+    assert "unknown session 'nope'" in item["msg"]
+
+
+def test_a_step_without_session_or_scenario_is_refused(client):
+    (item,) = _problem(client.post("/step", json=_step_body()))
+    assert item["loc"] == ["body", "scenario"]
+
+
+def test_a_step_with_wrong_shapes_is_422(client):
+    body = _step_body(scenario=FUSED.read_text(), sensor_positions=[[0.0, 0.0]])
+    _problem(client.post("/step", json=body))
+
+
+def test_evaluate_json_is_the_model_chain(client):
+    response = client.post("/evaluate", json={"scenario": FUSED.read_text()})
+    assert response.status_code == 200, response.text
+    got = response.json()
+    ds = ModelChain(load_scenario(FUSED)).evaluate().dataset
+    assert got["sensors"] == list(ds["sensor"].values)
+    assert got["targets"] == list(ds["target"].values)
+    np.testing.assert_array_equal(got["time_s"], ds["time"].values)
+    np.testing.assert_array_equal(
+        got["fused_detection"], ds["fused_detection"].transpose("target", "time").values
+    )
+    np.testing.assert_array_equal(
+        got["detection"], ds["detection"].transpose("sensor", "target", "time").values
+    )
+
+
+def test_evaluate_csv_is_a_download(client):
+    body = {"scenario": FUSED.read_text(), "format": "csv"}
+    response = client.post("/evaluate", json=body)
+    assert response.status_code == 200, response.text
+    assert response.headers["content-disposition"] == "attachment; filename=results.csv"
+    rows = list(csv.DictReader(io.StringIO(response.text)))
+    frame = ModelChain(load_scenario(FUSED)).evaluate().to_dataframe()
+    assert len(rows) == len(frame)
+    assert float(rows[-1]["fused_detection"]) == pytest.approx(frame["fused_detection"].iloc[-1])
+
+
+def test_evaluate_parquet_is_a_download(client):
+    pytest.importorskip("pyarrow")
+    response = client.post("/evaluate", json={"scenario": FUSED.read_text(), "format": "parquet"})
+    assert response.status_code == 200, response.text
+    assert response.headers["content-disposition"] == "attachment; filename=results.parquet"
+    assert response.content[:4] == b"PAR1"
+
+
+def test_step_is_the_simulation_for_two_steps(client):
+    text = FUSED.read_text()
+    first = client.post("/step", json=_step_body(scenario=text, seed=3))
+    assert first.status_code == 200, first.text
+    session = first.json()["session"]
+    moved = [[1500.0, 0.0, 0.0], [1800.0, 50.0, 0.0]]
+    second = client.post(
+        "/step", json=_step_body(session=session, time=5.0, dt=5.0, target_positions=moved)
+    )
+    assert second.status_code == 200, second.text
+    sim = Simulation.from_scenario(FUSED, seed=3)
+    body = _step_body()
+    expected = [
+        sim.step(0.0, 0.0, body["sensor_positions"], body["target_positions"]),
+        sim.step(5.0, 5.0, body["sensor_positions"], moved),
+    ]
+    for response, result in zip((first, second), expected, strict=True):
+        got = response.json()
+        assert got["session"] == session
+        assert got["sensors"] == list(sim.sensors)
+        for name in ("detection", "identification", "fused_detection", "in_view"):
+            np.testing.assert_array_equal(got[name], getattr(result, name))
+        assert got["events"] == [
+            {"sensor": e.sensor, "target": e.target, "task": e.task, "time": e.time}
+            for e in result.events
+        ]
+
+
+def test_sessions_are_bounded_oldest_dropped():
+    with TestClient(create_app()) as c:
+        text = FUSED.read_text()
+        first = c.post("/step", json=_step_body(scenario=text)).json()["session"]
+        for _ in range(MAX_SESSIONS):
+            assert c.post("/step", json=_step_body(scenario=text)).status_code == 200
+        body = _step_body(session=first, time=1.0, dt=1.0)
+        assert c.post("/step", json=body).status_code == 404
+
+
+def test_registries_list_the_registries(client):
+    got = client.get("/registries").json()
+    assert [item["name"] for item in got["sensor_types"]] == list(SENSOR_TYPES)
+    assert [item["name"] for item in got["transforms"]] == list(TRANSFORMS)
+    assert got["transforms"][0]["source"] == next(iter(TRANSFORMS.values())).source
+    assert {"sensor_types", "criteria", "noise_models", "bands", "obscurants", "bounds"} <= set(got)
+    assert "person" in [item["name"] for item in got["targets"]]
+
+
+def test_curves_of_one_case(client):
+    body = {"pitch": "17um", "focal_length": "50mm", "critical_dimension": "2.3m"}
+    got = client.post("/curves", json={**body, "max_range": "8km"}).json()
+    assert len(got["range_m"]) == 200
+    assert got["range_m"][-1] == pytest.approx(8000.0)
+    p = np.asarray(got["detection"])
+    assert p[0] > 0.99
+    assert np.all(np.diff(p) <= 1e-12)
+    dri = client.post("/dri", json={**body, "probability": "0.5"}).json()
+    r50 = next(row["range_m"] for row in dri["ranges"] if row["task"] == "detection")
+    assert np.interp(r50, got["range_m"], p) == pytest.approx(0.5, abs=0.01)
+    auto = client.post("/curves", json=body).json()
+    assert auto["detection"][-1] < 0.05
+    (item,) = _problem(client.post("/curves", json={**body, "max_range": "8"}))
+    assert item["loc"] == ["body", "max_range"]
+
+
+def test_report_is_html(client):
+    response = client.post("/report", json={"scenario": FUSED.read_text(), "probability": "0.5"})
+    assert response.status_code == 200, response.text
+    assert response.headers["content-type"].startswith("text/html")
+    assert "TV and thermal on a mast, fused" in response.text
+    (item,) = _problem(client.post("/report", json={"scenario": FUSED.read_text(), "x": 1}))
+    assert item["loc"] == ["body", "x"]
+
+
+def test_the_openapi_schema_lists_the_six_paths(client):
+    paths = client.get("/openapi.json").json()["paths"]
+    assert set(paths) == {"/registries", "/dri", "/curves", "/evaluate", "/report", "/step"}
+    assert "pitch" in json.dumps(paths["/dri"]) or "DriRequest" in json.dumps(paths["/dri"])
+
+
+def test_serve_help_and_loopback_default():
+    from targetacq.cli.serve import DEFAULT_HOST, is_loopback
+
+    assert DEFAULT_HOST == "127.0.0.1"
+    done = subprocess.run(
+        [sys.executable, "-m", "targetacq", "serve", "--help"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "--host" in done.stdout
+    assert "127.0.0.1" in done.stdout
+    assert is_loopback("::1")
+    assert not is_loopback("0.0.0.0")
+
+
+def test_serve_refuses_a_port_in_use_in_one_line():
+    import socket
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        done = subprocess.run(
+            [sys.executable, "-m", "targetacq", "serve", "--port", str(port)],
+            capture_output=True,
+            text=True,
+            timeout=30,
+        )
+    assert done.returncode == 2
+    assert done.stderr.startswith("targetacq: error: cannot listen on 127.0.0.1:")
+    assert done.stderr.count("\n") == 1
+
+
+def test_serve_answers_on_its_port():
+    import httpx
+
+    process = subprocess.Popen(
+        [sys.executable, "-m", "targetacq", "serve", "--port", "0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert process.stdout is not None
+        line = process.stdout.readline()
+        assert line.startswith("targetacq explorer on http://127.0.0.1:")
+        url = line.split()[3]
+        for _ in range(100):
+            try:
+                response = httpx.get(url + "registries", timeout=5)
+                break
+            except httpx.TransportError:
+                import time
+
+                time.sleep(0.1)
+        assert response.status_code == 200
+    finally:
+        process.terminate()
+        process.communicate(timeout=30)

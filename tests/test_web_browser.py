@@ -1,0 +1,171 @@
+"""The explorer page in a real browser: the app served by uvicorn, driven by Playwright.
+
+Runs Debian's Chromium headless (installed by .ci/run); skipped where no Chromium is found.
+"""
+
+import json
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
+if BROWSER is None:
+    pytest.skip("no Chromium (chromium, chromium-browser) on the PATH", allow_module_level=True)
+
+import uvicorn  # noqa: E402
+from playwright.sync_api import sync_playwright  # noqa: E402
+
+from targetacq.scenario import load_scenario  # noqa: E402
+from targetacq.web.api import create_app  # noqa: E402
+
+ROOT = Path(__file__).parents[1]
+SCENARIO = ROOT / "examples" / "two_sensors_fused.toml"
+SCREENSHOT = ROOT / "build" / "web-explorer.png"
+WAIT_MS = 30_000
+
+DETECTION_AT_HALF = 'tr[data-task="detection"] td[data-probability="0.5"]'
+
+
+@pytest.fixture(scope="module")
+def base_url():
+    """The real app on a free port (uvicorn picks it), stopped after the module's tests."""
+    config = uvicorn.Config(create_app(), host="127.0.0.1", port=0, log_level="warning")
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started:
+        if not thread.is_alive() or time.monotonic() > deadline:
+            server.should_exit = True
+            thread.join(10)
+            pytest.fail("the explorer app did not start")
+        time.sleep(0.05)
+    port = server.servers[0].sockets[0].getsockname()[1]
+    try:
+        yield f"http://127.0.0.1:{port}"
+    finally:
+        server.should_exit = True
+        thread.join(30)
+
+
+@pytest.fixture
+def page(base_url):
+    """A fresh page of headless Chromium on the explorer; fails the test on any script error."""
+    script_errors = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=BROWSER, headless=True, args=["--no-sandbox"])
+        try:
+            page = browser.new_page(viewport={"width": 1280, "height": 900})
+            page.on("pageerror", lambda error: script_errors.append(str(error)))
+            page.goto(f"{base_url}/")
+            yield page
+        finally:
+            browser.close()
+    assert script_errors == []
+
+
+def cli_detection_range(focal_length):
+    """The detection range at P = 0.5 that `targetacq dri --format json` prints."""
+    args = ["--pitch", "17um", "--focal-length", focal_length, "--critical-dimension", "2.3m"]
+    done = subprocess.run(
+        [sys.executable, "-m", "targetacq", "dri", *args, "--format", "json"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    )
+    ranges = json.loads(done.stdout)["ranges"]
+    (row,) = [r for r in ranges if r["task"] == "detection" and r["probability"] == 0.5]
+    return row["range_m"]
+
+
+def shown_detection_range(page):
+    return float(page.get_attribute(DETECTION_AT_HALF, "data-range-m"))
+
+
+def wait_for_range(page, *, near=None, away_from=None):
+    """Wait until the table's detection range at P = 0.5 is ``near`` a value (or leaves one)."""
+    page.wait_for_function(
+        """([selector, near, away]) => {
+            const cell = document.querySelector(selector);
+            if (!cell || !cell.dataset.rangeM) return false;
+            const value = Number(cell.dataset.rangeM);
+            if (near !== null && Math.abs(value - near) > 1e-9 * Math.abs(near)) return false;
+            return away === null || value !== away;
+        }""",
+        arg=[DETECTION_AT_HALF, near, away_from],
+        timeout=WAIT_MS,
+    )
+
+
+def curve_cases(page):
+    return set(page.eval_on_selector_all("path.curve", "paths => paths.map(p => p.dataset.case)"))
+
+
+def test_explorer_page(page):
+    at_50mm = cli_detection_range("50mm")
+    at_100mm = cli_detection_range("100mm")
+    assert at_100mm != pytest.approx(at_50mm, rel=1e-6)
+
+    # The form, filled as the CLI's options; the table follows it.
+    page.wait_for_selector("#band option:nth-child(2)", state="attached", timeout=WAIT_MS)
+    page.fill("#pitch", "17um")
+    page.fill("#focal_length", "50mm")
+    page.fill("#critical_dimension", "2.3m")
+    page.fill("#probability", "0.5,0.8")
+    wait_for_range(page, near=at_50mm)
+    assert page.locator("#dri-table tbody tr").count() >= 3
+    assert page.get_attribute('label[for="focal_length"]', "for") == "focal_length"
+
+    page.fill("#focal_length", "100mm")
+    wait_for_range(page, away_from=shown_detection_range(page))
+    shown = shown_detection_range(page)
+    assert shown == pytest.approx(at_100mm, rel=1e-9)
+    assert shown != pytest.approx(at_50mm, rel=1e-6)
+    labels = page.eval_on_selector_all("#curves .axis-label", "ts => ts.map(t => t.textContent)")
+    assert labels == ["slant range [km]", "P"]
+    assert curve_cases(page) == {"live"}
+
+    # A frozen configuration beside the live one.
+    page.click("#add-comparison")
+    page.fill("#focal_length", "75mm")
+    wait_for_range(page, away_from=at_100mm)
+    assert len(curve_cases(page)) == 2
+    assert page.locator("#legend li[data-case]").count() == 2
+    page.click("#clear-comparison")
+    assert curve_cases(page) == {"live"}
+
+    # A value without its unit: the message beside the field, gone once fixed.
+    pitch_error = ".error[data-for=pitch]"
+    page.fill("#pitch", "17")
+    page.wait_for_function(
+        f"document.querySelector('{pitch_error}').textContent.trim() !== ''", timeout=WAIT_MS
+    )
+    page.fill("#pitch", "17um")
+    page.wait_for_function(
+        f"document.querySelector('{pitch_error}').textContent.trim() === ''", timeout=WAIT_MS
+    )
+
+    # A scenario: one fused-detection path per target, and the downloads offered.
+    names = [target.name for target in load_scenario(SCENARIO).targets]
+    page.set_input_files("#scenario-file", str(SCENARIO))
+    page.wait_for_function(
+        "n => document.querySelectorAll('path.timeline').length === n",
+        arg=len(names),
+        timeout=WAIT_MS,
+    )
+    shown_targets = page.eval_on_selector_all(
+        "path.timeline", "paths => paths.map(p => p.dataset.target)"
+    )
+    assert sorted(shown_targets) == sorted(names)
+    assert page.locator("#scenario-errors li").count() == 0
+    assert page.is_enabled("#download-csv")
+
+    SCREENSHOT.parent.mkdir(exist_ok=True)
+    page.screenshot(path=str(SCREENSHOT), full_page=True)
+    assert SCREENSHOT.stat().st_size > 10_000

@@ -379,3 +379,22 @@ def test_serve_answers_on_its_port():
     finally:
         process.terminate()
         process.communicate(timeout=30)
+
+
+def test_a_bug_is_answered_500_in_json(monkeypatch):
+    from targetacq.web import api
+
+    def broken():
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(api, "_registries", broken)
+    with TestClient(create_app(), raise_server_exceptions=False) as c:
+        response = c.get("/registries")
+    assert response.status_code == 500
+    assert response.json()["detail"][0]["msg"] == "internal error (RuntimeError)"
+
+
+def test_importing_the_web_package_imports_no_web_framework():
+    code = "import sys, targetacq.web; print('fastapi' in sys.modules)"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"

@@ -91,6 +91,7 @@ api_modules = [
     "targetacq.model",
     "targetacq.engines",
     "targetacq.streaming",
+    "targetacq.web",
     "targetacq.scenario",
     "targetacq.sensors",
     "targetacq.sensors.imaging",

@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from targetacq import atmosphere, optics, ranges
 from targetacq.acquisition import ACQUISITION_SEMANTICS
 from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
@@ -620,9 +622,11 @@ def range_setup(
 def dri_report(setup: RangeSetup) -> dict[str, Any]:
     case, crit = setup.case, setup.criterion
     rows = []
-    for p in setup.probabilities:
-        for task, r in ranges.case_ranges(case, p).items():
-            value = float(r)
+    # Every probability in one solve (the bisection runs over them together).
+    found = ranges.case_ranges(case, np.asarray(setup.probabilities, dtype=float))
+    for k, p in enumerate(setup.probabilities):
+        for task, r in found.items():
+            value = float(np.broadcast_to(r, (len(setup.probabilities),))[k])
             rows.append(
                 {
                     "task": task,

@@ -169,3 +169,89 @@ def test_explorer_page(page):
     SCREENSHOT.parent.mkdir(exist_ok=True)
     page.screenshot(path=str(SCREENSHOT), full_page=True)
     assert SCREENSHOT.stat().st_size > 10_000
+
+
+def wait_for_case(page, **options):
+    """Wait until the table and curves show a case with these options (``None``: left out)."""
+    page.wait_for_function(
+        """expected => {
+            const shown = document.getElementById("results").dataset.shown;
+            if (!shown) return false;
+            const options = JSON.parse(shown);
+            const same = ([key, value]) => (options[key] ?? null) === value;
+            return Object.entries(expected).every(same);
+        }""",
+        arg=options,
+        timeout=WAIT_MS,
+    )
+
+
+def field_errors(page):
+    """The messages beside the form's fields that are not empty."""
+    return page.eval_on_selector_all(
+        "#case-form .error",
+        "spans => spans.map(s => s.textContent.trim()).filter(Boolean)",
+    )
+
+
+def wait_for_registries(page):
+    page.wait_for_selector("#transform option:nth-child(2)", state="attached", timeout=WAIT_MS)
+
+
+def test_detection_only_transform_keeps_the_table(page):
+    """A transform for detection alone: the table shows, the curves lack what it cannot give."""
+    wait_for_registries(page)
+    page.select_option("#transform", "schmieder-weathersby")
+    page.fill("#scr", "2")
+    wait_for_case(page, transform="schmieder-weathersby", scr="2")
+    assert page.locator('#dri-table tr[data-task="detection"]').count() >= 1
+    assert shown_detection_range(page) > 0
+    assert "stale" not in (page.get_attribute("#results", "class") or "")
+    assert field_errors(page) == []
+    live = page.eval_on_selector_all(
+        'path.curve[data-case="live"]', "paths => paths.map(p => p.dataset.task)"
+    )
+    assert set(live) <= {"detection"}
+    if not live:  # no curves for this case (null tasks or a 422): the reason is shown
+        assert page.text_content("#status").strip().startswith("No curves: ")
+
+
+def test_visibility_with_its_convention(page):
+    wait_for_registries(page)
+    options = page.eval_on_selector_all(
+        "#visibility_convention option", "os => os.map(o => o.value)"
+    )
+    assert {"koschmieder", "mor"} <= set(options)
+    page.select_option("#visibility_convention", "koschmieder")
+    page.fill("#visibility", "10km")
+    wait_for_case(page, visibility="10km", visibility_convention="koschmieder")
+    assert page.text_content(".error[data-for=visibility]").strip() == ""
+    assert field_errors(page) == []
+    assert page.text_content("#status").strip() == ""
+    assert shown_detection_range(page) > 0
+
+    # Back to none: the convention is not sent at all.
+    page.fill("#visibility", "")
+    page.select_option("#visibility_convention", "")
+    wait_for_case(page, visibility=None, visibility_convention=None)
+    assert field_errors(page) == []
+
+
+def test_named_target_disables_the_critical_dimension(page):
+    page.wait_for_selector("#target option:nth-child(2)", state="attached", timeout=WAIT_MS)
+    name = page.eval_on_selector("#target option:nth-child(2)", "o => o.value")
+    assert page.input_value("#critical_dimension") == "2.3m"
+    page.select_option("#target", name)
+    assert page.is_disabled("#critical_dimension")
+    assert page.input_value("#critical_dimension") == ""
+    wait_for_case(page, target=name, critical_dimension=None)
+    assert field_errors(page) == []
+    assert page.text_content("#status").strip() == ""
+    assert shown_detection_range(page) > 0
+
+    # Back to none: the field is enabled and given its value again.
+    page.select_option("#target", "")
+    assert page.is_enabled("#critical_dimension")
+    assert page.input_value("#critical_dimension") == "2.3m"
+    wait_for_case(page, target=None, critical_dimension="2.3m")
+    assert field_errors(page) == []

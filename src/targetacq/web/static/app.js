@@ -16,6 +16,7 @@ let liveCurves = null; // the /curves answer for the form as it is
 let liveOptions = {};
 let compared = []; // [{options, curves, colour}]
 let latestRequest = 0;
+let latestScenario = 0; // the last scenario sent: an earlier upload's late answer is dropped
 let timer = null;
 let scenarioText = null;
 let scenarioName = "scenario";
@@ -71,9 +72,18 @@ function problems(data) {
   }));
 }
 
+// A problem as "where: what", its location without the leading "body" (the request itself).
+function located(p) {
+  const where = p.loc.filter((part) => part !== "body").join(".");
+  return where ? `${where}: ${p.msg}` : p.msg;
+}
+
+// The server's message for a failed answer, whatever the shape of its detail.
 function errorText(result) {
   const detail = result.data && result.data.detail;
-  if (typeof detail === "string") return `${result.status}: ${detail}`;
+  if (typeof detail === "string") return result.status ? `${result.status}: ${detail}` : detail;
+  const list = problems(result.data);
+  if (list.length) return `${result.status}: ${list.map(located).join("; ")}`;
   if (result.status === 413) return "413: the request is too large";
   return `${result.status}: the request failed`;
 }
@@ -90,9 +100,22 @@ async function loadRegistries() {
     return;
   }
   for (const select of form.querySelectorAll("select[data-registry]")) {
-    const entries = registries[select.dataset.registry] || [];
+    // Choices written into the page (the visibility conventions) stand until the registry lists its own.
     select.sources = {};
-    for (const entry of entries) {
+    for (const option of select.options) {
+      if (option.value) select.sources[option.value] = { name: option.value, description: option.title };
+    }
+    const listed = registries[select.dataset.registry];
+    if (!Array.isArray(listed)) {
+      showSource(select);
+      continue;
+    }
+    if (listed.length) {
+      for (const option of [...select.options]) if (option.value !== "") option.remove();
+      select.sources = {};
+    }
+    for (const item of listed) {
+      const entry = typeof item === "string" ? { name: item } : item;
       // An obscurant's levels are choices of their own (haze:low), as on the CLI.
       for (const name of [entry.name, ...(entry.levels || []).map((level) => `${entry.name}:${level}`)]) {
         const option = document.createElement("option");
@@ -137,35 +160,46 @@ function showFieldErrors(list) {
   return unplaced;
 }
 
+// A request that failed to reach the server reads as an answer with no status.
+function unanswered(err) {
+  return { ok: false, status: 0, data: { detail: `the server did not answer: ${err}` } };
+}
+
 async function update() {
   const request = ++latestRequest;
   const options = formOptions();
-  let dri, curves;
-  try {
-    [dri, curves] = await Promise.all([postJSON("/dri", options), postJSON("/curves", options)]);
-  } catch (err) {
-    if (request === latestRequest) setStatus(`The server did not answer: ${err}`);
-    return;
-  }
+  // The table needs only /dri: a failed /curves (a transform for detection only, say) costs the curves alone.
+  const [dri, curves] = await Promise.all([
+    postJSON("/dri", options).catch(unanswered),
+    postJSON("/curves", options).catch(unanswered),
+  ]);
   if (request !== latestRequest) return; // a newer request is under way
-  const failed = [dri, curves].find((r) => !r.ok);
-  document.getElementById("results").classList.toggle("stale", Boolean(failed));
-  if (failed) {
-    if (failed.status === 422 && failed.data && Array.isArray(failed.data.detail)) {
-      const unplaced = showFieldErrors(problems(failed.data));
+  const results = document.getElementById("results");
+  results.classList.toggle("stale", !dri.ok);
+  if (!dri.ok) {
+    if (dri.status === 422 && dri.data && Array.isArray(dri.data.detail)) {
+      const unplaced = showFieldErrors(problems(dri.data));
       setStatus(unplaced.join("\n"));
     } else {
       showFieldErrors([]);
-      setStatus(errorText(failed));
+      setStatus(errorText(dri));
     }
     return;
   }
   showFieldErrors([]);
-  setStatus("");
   liveOptions = options;
-  liveCurves = curves.data;
   renderTable(dri.data);
+  if (curves.ok && curves.data && Array.isArray(curves.data.range_m)) {
+    liveCurves = curves.data;
+    const note = typeof liveCurves.note === "string" ? liveCurves.note : "";
+    if (TASKS.some((task) => Array.isArray(liveCurves[task]))) setStatus(note);
+    else setStatus(`No curves: ${note || "this case gives no probability against range."}`);
+  } else {
+    liveCurves = null;
+    setStatus(curves.ok ? "No curves: the server gave none." : `No curves: ${errorText(curves)}`);
+  }
   drawCurves();
+  results.dataset.shown = JSON.stringify(options); // the case the table and curves show
 }
 
 function formatRange(row) {
@@ -282,10 +316,10 @@ function drawCurves() {
   const cases = compared.map((c, i) => ({ id: `c${i + 1}`, ...c }));
   if (liveCurves) cases.push({ id: "live", options: liveOptions, curves: liveCurves, colour: LIVE_COLOUR });
   let xMax = 0;
-  for (const c of cases) for (const r of c.curves.range_m) if (Number.isFinite(r)) xMax = Math.max(xMax, r / 1000);
+  for (const c of cases) for (const r of c.curves.range_m || []) if (Number.isFinite(r)) xMax = Math.max(xMax, r / 1000);
   const scale = drawAxes(svg, xMax > 0 ? xMax : 1, "slant range [km]", "P");
   for (const c of cases) {
-    const km = c.curves.range_m.map((r) => r / 1000);
+    const km = (c.curves.range_m || []).map((r) => r / 1000);
     for (const task of TASKS) {
       if (!Array.isArray(c.curves[task])) continue;
       const path = svgEl("path", {
@@ -335,7 +369,9 @@ function clearComparison() {
 
 function showScenarioErrors(lines) {
   const list = document.getElementById("scenario-errors");
-  list.replaceChildren(...lines.map((text) => Object.assign(document.createElement("li"), { textContent: text })));
+  const items = document.createDocumentFragment(); // no spread: the list may be long
+  for (const text of lines) items.appendChild(Object.assign(document.createElement("li"), { textContent: text }));
+  list.replaceChildren(items);
 }
 
 function setDownloads(enabled) {
@@ -344,19 +380,25 @@ function setDownloads(enabled) {
   }
 }
 
-async function evaluateScenario(text) {
-  scenarioText = text;
-  setDownloads(false);
+function clearTimeline() {
   document.getElementById("timeline").replaceChildren();
   document.getElementById("timeline-legend").replaceChildren();
+}
+
+async function evaluateScenario(text) {
+  const request = ++latestScenario;
+  scenarioText = text;
+  setDownloads(false);
+  clearTimeline();
   showScenarioErrors([]);
   let result;
   try {
     result = await postJSON("/evaluate", { scenario: text, format: "json" });
   } catch (err) {
-    showScenarioErrors([`The server did not answer: ${err}`]);
+    if (request === latestScenario) showScenarioErrors([`The server did not answer: ${err}`]);
     return;
   }
+  if (request !== latestScenario) return; // a later upload's answer is the one shown
   if (!result.ok) {
     const list = problems(result.data);
     showScenarioErrors(list.length
@@ -364,17 +406,29 @@ async function evaluateScenario(text) {
       : [errorText(result)]);
     return;
   }
-  drawTimeline(result.data);
+  try {
+    drawTimeline(result.data);
+  } catch (err) {
+    clearTimeline();
+    showScenarioErrors([`Could not draw the timeline: ${err}`]);
+    return;
+  }
   setDownloads(true);
+}
+
+// The last finite time (times ascend); never Math.max(...times), which overflows the stack for long timelines.
+function lastFinite(values) {
+  for (let i = values.length - 1; i >= 0; i--) if (Number.isFinite(values[i])) return values[i];
+  return NaN;
 }
 
 function drawTimeline(data) {
   const svg = document.getElementById("timeline");
   const times = data.time_s || [];
-  const tMax = times.length ? Math.max(...times) : 1;
-  const scale = drawAxes(svg, tMax > 0 ? tMax : 1, "time [s]", "fused P");
+  const tMax = lastFinite(times);
+  const scale = drawAxes(svg, Number.isFinite(tMax) && tMax > 0 ? tMax : 1, "time [s]", "fused P");
   const legend = document.getElementById("timeline-legend");
-  data.targets.forEach((target, i) => {
+  (data.targets || []).forEach((target, i) => {
     const colour = COLOURS[i % COLOURS.length];
     const name = typeof target === "string" ? target : target.name;
     for (const task of TASKS) {
@@ -399,7 +453,13 @@ function drawTimeline(data) {
 }
 
 async function download(url, body, fallbackName) {
-  const response = await post(url, body);
+  let response;
+  try {
+    response = await post(url, body);
+  } catch (err) {
+    showScenarioErrors([`The server did not answer: ${err}`]);
+    return;
+  }
   if (!response.ok) {
     showScenarioErrors([errorText(await readJSON(response))]);
     return;
@@ -417,9 +477,24 @@ async function download(url, body, fallbackName) {
 
 // ---------- wiring ----------
 
+// A named target brings its own critical dimension: the field is cleared and disabled while one is chosen,
+// and given back its value when the choice returns to none.
+function syncTarget() {
+  const named = document.getElementById("target").value !== "";
+  const dimension = document.getElementById("critical_dimension");
+  if (named && !dimension.disabled) {
+    dimension.dataset.kept = dimension.value;
+    dimension.value = "";
+  } else if (!named && dimension.disabled && dimension.value === "") {
+    dimension.value = dimension.dataset.kept || "";
+  }
+  dimension.disabled = named;
+}
+
 form.addEventListener("input", schedule);
 form.addEventListener("change", (event) => {
   if (event.target.tagName === "SELECT") showSource(event.target);
+  if (event.target.id === "target") syncTarget();
   schedule();
 });
 form.addEventListener("submit", (event) => event.preventDefault());
@@ -441,4 +516,7 @@ document.getElementById("download-parquet").addEventListener("click", () =>
 document.getElementById("download-report").addEventListener("click", () =>
   download("/report", { scenario: scenarioText }, `${scenarioName}-report.html`));
 
-loadRegistries().then(update);
+loadRegistries().then(() => {
+  syncTarget();
+  return update();
+});

@@ -398,3 +398,106 @@ def test_importing_the_web_package_imports_no_web_framework():
     code = "import sys, targetacq.web; print('fastapi' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+# --- after review: work limits, strict bodies, located errors ---------------------------------
+
+
+def _fused_toml() -> str:
+    return (EXAMPLES / "two_sensors_fused.toml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    "pitch", ["17 um**2**2**2**2**2**2", "17 " + "micro" * 10_000 + "meter"], ids=["tower", "long"]
+)
+def test_unit_text_that_would_take_pint_minutes_is_refused_at_once(client, pitch) -> None:
+    import time
+
+    began = time.perf_counter()
+    answer = client.post(
+        "/dri", json={"pitch": pitch, "focal_length": "50mm", "critical_dimension": "2m"}
+    )
+    assert answer.status_code == 422 and time.perf_counter() - began < 5.0
+    (problem,) = answer.json()["detail"]
+    assert problem["loc"][-1] == "pitch" and "unknown unit" in problem["msg"]
+    assert len(problem["msg"]) < 300  # the input is not echoed whole
+
+
+def test_a_small_file_asking_for_a_large_run_is_refused() -> None:
+    text = _fused_toml().replace('stop = "60 s"', 'stop = "1000000 s"')
+    assert 'stop = "1000000 s"' in text
+    client = TestClient(create_app(max_evaluations=100_000))
+    assert client.post("/evaluate", json={"scenario": _fused_toml()}).status_code == 200
+    for path in ("/evaluate", "/report"):
+        answer = client.post(path, json={"scenario": text})
+        assert answer.status_code == 422, path
+        (problem,) = answer.json()["detail"]
+        assert problem["loc"] == ["scenario", "time.step"] and "limit" in problem["msg"]
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"sensor_positions": [[0, 0, 15], [0, 0]]}, "sensor_positions"),
+        ({"time": "5"}, "time"),
+        ({"seed": 2**129}, "seed"),
+        ({"sensor_positions": [[True, 0, 15], [0, 0, 15]]}, "sensor_positions"),
+    ],
+    ids=["ragged", "text-time", "huge-seed", "boolean"],
+)
+def test_step_inputs_are_strict_and_located(client, change, field) -> None:
+    body = {
+        "scenario": _fused_toml(),
+        "time": 0.0,
+        "dt": 1.0,
+        "sensor_positions": [[0, 0, 15], [0, 0, 15]],
+        "target_positions": [[3000, 0, 0], [2000, 100, 0]],
+        **change,
+    }
+    answer = client.post("/step", json=body)
+    assert answer.status_code == 422
+    assert any(field in map(str, p["loc"]) for p in answer.json()["detail"])
+
+
+def test_nan_literals_are_refused(client) -> None:
+    body = (
+        '{"scenario": ' + json.dumps(_fused_toml()) + ', "time": 0, "dt": 1, '
+        '"sensor_positions": [[NaN, 0, 15], [0, 0, 15]], "target_positions": [[3000, 0, 0], '
+        "[2000, 100, 0]]}"
+    )
+    answer = client.post("/step", content=body, headers={"Content-Type": "application/json"})
+    assert answer.status_code == 422
+
+
+def test_framework_errors_have_the_same_shape(client) -> None:
+    missing = client.get("/no-such-page")
+    assert missing.status_code == 404 and isinstance(missing.json()["detail"], list)
+    deep = client.post("/dri", content="[" * 100_000, headers={"Content-Type": "application/json"})
+    assert deep.status_code == 422 and isinstance(deep.json()["detail"], list)
+
+
+def test_curves_of_a_detection_only_transform_say_why_there_are_none(client) -> None:
+    body = {
+        "pitch": "17um",
+        "focal_length": "50mm",
+        "critical_dimension": "2.3m",
+        "transform": "schmieder-weathersby",
+        "scr": "2",
+    }
+    assert client.post("/dri", json=body).status_code == 200
+    answer = client.post("/curves", json=body)
+    assert answer.status_code == 200
+    found = answer.json()
+    assert found["detection"] is None and "detection in clutter only" in found["note"]
+
+
+def test_too_many_probabilities_are_refused(client) -> None:
+    body = {"example": True, "probability": ",".join(["0.5"] * 50)}
+    answer = client.post("/dri", json=body)
+    assert answer.status_code == 422 and answer.json()["detail"][0]["loc"][-1] == "probability"
+
+
+def test_a_loopback_server_answers_loopback_names_only() -> None:
+    app = create_app(trusted_hosts=["127.0.0.1", "localhost"])
+    assert TestClient(app, base_url="http://127.0.0.1").get("/registries").status_code == 200
+    assert TestClient(app, base_url="http://rebound.example").get("/registries").status_code == 400

@@ -77,6 +77,17 @@ _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s
 # Python's float() reads these words; a quantity never is one of them.
 _NOT_FINITE = re.compile(r"^\s*[-+]?(?:nan|inf)", re.IGNORECASE)
 _DB_PER_NEPER = 10.0 / math.log(10.0)  # as targetacq.atmosphere.DB_PER_NEPER
+# A unit as people write it: names (letters, µ, °) joined by spaces, "*" or "/", each with at
+# most a one-digit power ("m^2", "m**2", "s-1"); at most 40 characters. pint gets nothing else.
+_PLAIN_UNIT_TEXT = re.compile(
+    r"^(?=.{1,40}$)[A-Za-zµ°Ωμ_]+(?:(?:\*\*|\^)-?\d)?"
+    r"(?:\s*(?:\*|/|\s)\s*(?:1|[A-Za-zµ°Ωμ_]+)(?:(?:\*\*|\^)-?\d)?)*$"
+)
+
+
+def _shown(text: str, limit: int = 80) -> str:
+    """``text`` as it goes into a message: quoted, cut after ``limit`` characters."""
+    return repr(text) if len(text) <= limit else repr(text[:limit]) + f"… ({len(text)} characters)"
 
 
 @functools.cache
@@ -145,11 +156,15 @@ def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> fl
         unit = "1" + unit
     if kind == "temperature difference":
         unit = {"degC": "delta_degC", "°C": "delta_degC", "degF": "delta_degF"}.get(unit, unit)
+    if not _PLAIN_UNIT_TEXT.match(unit):
+        # pint evaluates what it is given: a tower of powers ("um**2**2**2…") or a long text
+        # takes minutes and gigabytes. A unit is a few names with at most small powers.
+        raise ValueError(f"{name}: unknown unit in {_shown(text)} (e.g. {example})")
     ureg = _registry()
     try:
         quantity = ureg.Quantity(value, unit)
     except Exception as error:  # pint raises several unrelated types for bad text
-        raise ValueError(f"{name}: unknown unit in {text!r} (e.g. {example})") from error
+        raise ValueError(f"{name}: unknown unit in {_shown(text)} (e.g. {example})") from error
     try:
         return float(quantity.to(si_unit).magnitude)
     except OverflowError:

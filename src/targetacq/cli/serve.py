@@ -98,7 +98,10 @@ def serve(
         )
     sys.stdout.flush()
     sys.stderr.flush()
-    config = uvicorn.Config(create_app(), log_level="warning")
+    # Bound to loopback, only requests addressed to loopback names are answered: a web page
+    # elsewhere cannot reach the server through a name it re-points at 127.0.0.1.
+    trusted = ["127.0.0.1", "localhost", "::1", "[::1]"] if is_loopback(host) else None
+    config = uvicorn.Config(create_app(trusted_hosts=trusted), log_level="warning")
     try:
         uvicorn.Server(config).run(sockets=[sock])
     finally:

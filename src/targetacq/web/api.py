@@ -43,12 +43,12 @@ import tempfile
 import threading
 import tomllib
 from collections import OrderedDict
-from collections.abc import Awaitable, Callable, Iterator, MutableMapping
+from collections.abc import Awaitable, Callable, Iterator, MutableMapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from difflib import get_close_matches
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -63,6 +63,7 @@ from pydantic import (
     StrictStr,
     create_model,
 )
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from targetacq.outputs import json_text
 from targetacq.scenario import Scenario, ScenarioError, parse_scenario
@@ -78,6 +79,9 @@ CURVE_POINTS = 200
 
 MAX_SESSIONS = 64
 """Simulations kept for ``POST /step``; the oldest is dropped when a new one would exceed it."""
+
+MAX_PROBABILITIES = 20
+"""Probabilities of one ``/dri`` or ``/curves`` request."""
 
 _FILES_REFUSED = "files are not read over HTTP"
 
@@ -165,7 +169,8 @@ def _library_errors(names: list[str] | None = None) -> Iterator[None]:
 class _Body(BaseModel):
     """A request body: unknown fields are refused (with a close match, if any)."""
 
-    model_config = ConfigDict(extra="forbid")
+    # Strict: no text read as a number, no NaN or Infinity literals (a position is a number).
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
 
 
 _OptionValue = StrictStr | StrictInt | StrictFloat | None
@@ -228,6 +233,10 @@ class ReportRequest(_Body):
     )
 
 
+_Triple = Annotated[list[float], Field(min_length=3, max_length=3)]
+_Pair = Annotated[list[float], Field(min_length=2, max_length=2)]
+
+
 class StepRequest(_Body):
     """One step of a simulation: positions at ``time`` of every sensor and target."""
 
@@ -238,15 +247,17 @@ class StepRequest(_Body):
         default=None,
         description="The scenario (TOML text), to start a session; ignored with a session.",
     )
-    seed: int = Field(default=0, ge=0, description="Seed of the random draws, >= 0.")
+    seed: int = Field(
+        default=0, ge=0, le=2**128 - 1, description="Seed of the random draws, in [0, 2^128)."
+    )
     time: float = Field(description="Time of the step [s].")
     dt: float = Field(description="Length of the step [s]; time − dt is the previous step.")
-    sensor_positions: list[list[float]] = Field(description="East, north, up of each sensor [m].")
-    target_positions: list[list[float]] = Field(description="East, north, up of each target [m].")
+    sensor_positions: list[_Triple] = Field(description="East, north, up of each sensor [m].")
+    target_positions: list[_Triple] = Field(description="East, north, up of each target [m].")
     target_headings: list[float] | None = Field(
         default=None, description="Heading of each target [rad]."
     )
-    sensor_pointing: list[list[float]] | None = Field(
+    sensor_pointing: list[_Pair] | None = Field(
         default=None, description="Azimuth and depression of each sensor's axis [rad]."
     )
 
@@ -376,8 +387,30 @@ def _setup(body: BaseModel) -> Any:
     from targetacq.services.range_case import range_setup
 
     options = _case_options(body)
+    listed = (options.get("probability") or "").count(",") + 1
+    if listed > MAX_PROBABILITIES:
+        raise ApiError(
+            422,
+            [(["body", "probability"], f"at most {MAX_PROBABILITIES} probabilities; got {listed}")],
+        )
     with _library_errors(_OPTION_NAMES):
         return range_setup(**typed_options(options, "dri"), default_probability="0.5")
+
+
+def _no_curves(setup: Any) -> str | None:
+    """Why a case has no probability curves (None when it has): a pixel-density criterion
+    gives thresholds, a detection-only transform needs the clutter given with another one."""
+    from targetacq.transforms import get_transform
+
+    if not setup.criterion.gives_probabilities:
+        return f"criterion {setup.criterion.name} gives pixel-density ranges, not probabilities"
+    chosen = get_transform(setup.case.transform)
+    if chosen.tasks == ("detection",):
+        return (
+            f"transform {chosen.name} covers detection in clutter only: its ranges are in the "
+            "table; choose a transform for all tasks (e.g. ttpf) with the clutter for curves"
+        )
+    return None
 
 
 def _curves(body: BaseModel) -> dict[str, Any]:
@@ -387,6 +420,14 @@ def _curves(body: BaseModel) -> dict[str, Any]:
     from targetacq.services.range_case import option_quantity
 
     setup = _setup(body)
+    unsupported = _no_curves(setup)
+    if unsupported is not None:  # the table (/dri) has ranges; there are no curves to draw
+        return {
+            "range_m": [],
+            **dict.fromkeys(("detection", "recognition", "identification")),
+            "case": _title(setup),
+            "note": unsupported,
+        }
     max_range = body.max_range  # type: ignore[attr-defined]
     with _library_errors([*_OPTION_NAMES, "max_range"]):
         if max_range is not None:
@@ -437,10 +478,33 @@ def _scenario(text: str) -> Scenario:
         return parse_scenario(data, source="scenario")
 
 
-def _evaluate(body: EvaluateRequest) -> Response:
+def _check_work(scenario: Scenario, limit: int, *, times: bool = True) -> None:
+    """A scenario whose evaluation (sensor rows × targets × times) exceeds ``limit`` is refused:
+    the body limit bounds what is sent, this what it asks to be computed."""
+    from targetacq.core import sensor_rows
+
+    pairs = len(sensor_rows(scenario)) * len(scenario.targets)
+    count = pairs * (scenario.time.count if times else 1)
+    if count > limit:
+        where = ["scenario", "time.step"] if times else ["scenario", "targets"]
+        what = "sensor rows × targets × times" if times else "sensor rows × targets"
+        raise ApiError(
+            422,
+            [
+                (
+                    where,
+                    f"the scenario asks for {count:,} evaluations ({what}); the server's limit "
+                    f"is {limit:,}: run it with targetacq evaluate instead",
+                )
+            ],
+        )
+
+
+def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
     from targetacq.model import ModelChain
 
     scenario = _scenario(body.scenario)
+    _check_work(scenario, max_evaluations)
     with _library_errors():
         results = ModelChain(scenario).evaluate()
         if body.format != "json":
@@ -468,13 +532,14 @@ def _evaluate(body: EvaluateRequest) -> Response:
     return _json(document)
 
 
-def _report(body: ReportRequest) -> str:
+def _report(body: ReportRequest, max_evaluations: int) -> str:
     from targetacq import __version__
     from targetacq.cli.figures import _REPORT_PROBABILITIES, _scenario_report
     from targetacq.report import render_report
     from targetacq.services.range_case import option_probabilities
 
     scenario = _scenario(body.scenario)  # refuses files and locates problems first
+    _check_work(scenario, max_evaluations)
     with _library_errors(["probability", "max_range"]):
         probabilities = option_probabilities(body.probability or _REPORT_PROBABILITIES)
         with tempfile.TemporaryDirectory(prefix="targetacq-web-") as folder:
@@ -567,6 +632,7 @@ def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> dict[str
                 422, [(["body", "scenario"], "give the scenario (TOML text) or a session")]
             )
         scenario = _scenario(body.scenario)
+        _check_work(scenario, max_elements, times=False)  # a session keeps its pairs' state
         with _library_errors(["seed"]):
             simulation = Simulation.from_scenario(scenario, seed=body.seed)
         key = sessions.add(simulation)
@@ -653,7 +719,13 @@ def _registries() -> dict[str, Any]:
 # --- the application ---------------------------------------------------------------------------
 
 
-def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) -> FastAPI:
+def create_app(
+    *,
+    max_body_bytes: int = 1_000_000,
+    max_elements: int = 100_000,
+    max_evaluations: int = 2_000_000,
+    trusted_hosts: Sequence[str] | None = None,
+) -> FastAPI:
     """The explorer's application: the JSON API and the page.
 
     Parameters
@@ -661,7 +733,15 @@ def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) 
     max_body_bytes : int
         Largest request body [bytes]; a larger one is answered 413.
     max_elements : int
-        Most numbers in one array of a request; more is answered 422.
+        Most numbers in one array of a request, and most sensor rows × targets of a ``/step``
+        session; more is answered 422.
+    max_evaluations : int
+        Most sensor rows × targets × times of one ``/evaluate`` or ``/report``; more is
+        answered 422 (a small file can ask for a large run).
+    trusted_hosts : sequence of str, optional
+        The host names a request may be addressed to (its ``Host`` header), e.g. the loopback
+        names for a server bound to loopback, so that a web page elsewhere cannot reach it by
+        DNS rebinding; None: any.
 
     Returns
     -------
@@ -676,8 +756,8 @@ def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) 
     """
     from targetacq import __version__
 
-    if max_body_bytes < 1 or max_elements < 1:
-        raise ValueError("max_body_bytes and max_elements must be >= 1")
+    if min(max_body_bytes, max_elements, max_evaluations) < 1:
+        raise ValueError("max_body_bytes, max_elements and max_evaluations must be >= 1")
     app = FastAPI(
         title="targetacq explorer",
         version=__version__,
@@ -686,12 +766,24 @@ def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) 
         "simulations over JSON.",
     )
     app.add_middleware(_BodyLimit, max_bytes=max_body_bytes)
+    if trusted_hosts is not None:
+        from starlette.middleware.trustedhost import TrustedHostMiddleware
+
+        app.add_middleware(TrustedHostMiddleware, allowed_hosts=list(trusted_hosts))
     sessions = _Sessions()
     app.state.sessions = sessions
 
     @app.exception_handler(ApiError)
     async def api_error(request: Request, error: ApiError) -> JSONResponse:
         return error.response()
+
+    @app.exception_handler(StarletteHTTPException)
+    async def http_error(request: Request, error: StarletteHTTPException) -> JSONResponse:
+        # The framework's own answers (no such path, a body that is not JSON) in the same
+        # shape as every other error: a list of located messages.
+        if error.status_code == 400:
+            return ApiError(422, [(["body"], f"malformed JSON: {error.detail}")]).response()
+        return ApiError(error.status_code, [([], str(error.detail))]).response()
 
     @app.exception_handler(RequestValidationError)
     async def invalid_request(request: Request, error: RequestValidationError) -> JSONResponse:
@@ -734,11 +826,11 @@ def create_app(*, max_body_bytes: int = 1_000_000, max_elements: int = 100_000) 
 
     @app.post("/evaluate", summary="Every sensor × target × time of a scenario")
     def evaluate(body: EvaluateRequest) -> Response:
-        return _evaluate(body)
+        return _evaluate(body, max_evaluations)
 
     @app.post("/report", summary="The HTML report of a scenario (targetacq report)")
     def report(body: ReportRequest) -> Response:
-        return Response(_report(body), media_type="text/html")
+        return Response(_report(body, max_evaluations), media_type="text/html")
 
     @app.post("/step", summary="One step of a simulation kept between requests")
     def step(body: StepRequest) -> Response:

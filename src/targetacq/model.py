@@ -174,12 +174,6 @@ def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
             target=sig.target[:, targets],
             scr=None if sig.scr is None else sig.scr[:, targets],
         ),
-        radar=None
-        if scene.radar is None
-        else dataclasses.replace(scene.radar, rcs=scene.radar.rcs[:, targets]),
-        laser=None
-        if scene.laser is None
-        else dataclasses.replace(scene.laser, reflectance=scene.laser.reflectance[:, targets]),
     )
 
 
@@ -370,7 +364,7 @@ class ModelChain:
             for s in range(len(sensors.names))
         ]
         signature = scene.signature
-        rows = signature.clutter_rows or (signature.scr is not None,) * len(sensors.names)
+        rows = signature.rows_with_clutter(len(sensors.names), signature.scr is not None)
         clutter = [signature.scr[s] if given else None for s, given in enumerate(rows)]
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):

@@ -53,6 +53,18 @@ def _given(case_options: dict[str, Any]) -> set[str]:
     return {name for name, value in case_options.items() if value not in (None, False)}
 
 
+def _check_scenario_options(case_options: dict[str, Any], command: str, takes: str) -> None:
+    """A command given a scenario file takes its sensors and targets from the file: any other
+    range-case option than --probability is a ``ValueError`` naming the options it got."""
+    unused = _given(case_options) - {"probability"}
+    if unused:
+        flags = ", ".join("--" + name.replace("_", "-") for name in sorted(unused))
+        raise ValueError(
+            f"{command} takes its sensors and targets from the file; it takes {takes} only, "
+            f"got {flags}"
+        )
+
+
 def _sources() -> str:
     """The model's source as a report prints it: the thesis, and where our errata and
     assumptions are written down (targetacq.report, with matplotlib, is imported on use)."""
@@ -336,15 +348,10 @@ def report(
     _, kind = output_path(out, REPORT_FORMATS, "the report file")  # before any work
     if kind == "pdf":
         require_browser()
-    given = _given(case_options)
     if scenario is not None:
-        unused = given - {"probability"}
-        if unused:
-            flags = ", ".join("--" + name.replace("_", "-") for name in sorted(unused))
-            raise ValueError(
-                f"a scenario report takes its sensors and targets from the file; it takes "
-                f"--probability, --max-range and --title only, got {flags}"
-            )
+        _check_scenario_options(
+            case_options, "a scenario report", "--probability, --max-range and --title"
+        )
         probability = case_options.get("probability") or _REPORT_PROBABILITIES
         parts = _scenario_report(scenario, max_range, title, option_probabilities(probability))
     else:

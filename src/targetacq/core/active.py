@@ -47,6 +47,12 @@ def _per_row(value: Any, ndim: int, xp: Any) -> Any:
     return xp.reshape(value, (value.shape[0],) + (1,) * (ndim - 1))
 
 
+def _per_pair(value: Any, rows: tuple[int, ...], ndim: int, xp: Any) -> Any:
+    """The ``rows`` of a per-pair array ``(n_s, n_g)`` → ``(n, n_g, 1, …)`` of ``ndim`` axes."""
+    part = _rows(_arrays.as_float(value, xp), rows, xp)
+    return xp.reshape(part, part.shape + (1,) * (ndim - 2))
+
+
 def _scatter(whole: Any, rows: tuple[int, ...], part: Any, xp: Any) -> Any:
     """``whole`` with its ``rows`` replaced by ``part`` (array-API: a stack of the rows)."""
     if isinstance(whole, np.ndarray):
@@ -103,7 +109,7 @@ def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> An
         cells = radar.cells_on_target(_rows(crit, rows, xp), along, across)
         rain = _per_row(arrays.extinction, ndim, xp) * r
         one_way = xp.exp(-rain)
-        rcs = xp.reshape(arrays.rcs, arrays.rcs.shape + (1,) * (ndim - 2))
+        rcs = _per_pair(scene.signature.target, rows, ndim, xp)  # the radar's signal: σ
         with np.errstate(divide="ignore"):
             power = radar.radar_snr(r, rcs, _per_row(arrays.constant, ndim, xp), one_way)
             ratio = radar.signal_to_clutter(
@@ -118,7 +124,7 @@ def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> An
     if scene.laser is not None:
         laser, rows = scene.laser, scene.laser.rows
         one_way_depth = _rows(depth, rows, xp)
-        reflectance = xp.reshape(laser.reflectance, laser.reflectance.shape + (1,) * (ndim - 2))
+        reflectance = _per_pair(scene.signature.target, rows, ndim, xp)  # its signal: ρ
         received = laser_radar.received_power(
             xp.maximum(_rows(rng, rows, xp), 1e-9),
             _per_row(laser.power, ndim, xp),
@@ -134,21 +140,11 @@ def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> An
             own = laser_radar.laser_snr(received, _per_row(laser.nep, ndim, xp))
             total = sensor_noise.combined_snr(path, own)
         snr = _scatter(snr, rows, total, xp)
-        seen = xp.reshape(
-            _rows(_arrays.as_float(scene.signature.scr, xp), rows, xp),
-            (len(rows), rng.shape[1]) + (1,) * (ndim - 2),
-        )
+        seen = _per_pair(scene.signature.scr, rows, ndim, xp)
         scr = _scatter(scr, rows, xp.broadcast_to(seen, (len(rows), *rng.shape[1:])), xp)
     return dataclasses.replace(
         found, cycles=cycles, snr=snr, scr=scr, optical_depth=depth, transmittance=tau
     )
-
-
-def _clutter_rows(scene: SceneArrays, found: Any) -> tuple[bool, ...]:
-    rows = scene.signature.clutter_rows
-    if rows:
-        return rows
-    return (found.scr is not None,) * scene.shape[0]
 
 
 def _radar_tasks(scene: SceneArrays, found: Any, xp: Any) -> tuple[Any, Any, Any]:
@@ -168,14 +164,7 @@ def _radar_tasks(scene: SceneArrays, found: Any, xp: Any) -> tuple[Any, Any, Any
     for k, method in enumerate(arrays.detectors):
         detection.append(
             radar.detection_probability(
-                interference[k],
-                float(arrays.false_alarm[k])
-                if isinstance(arrays.false_alarm, np.ndarray)
-                else arrays.false_alarm[k],
-                int(arrays.pulses[k])
-                if isinstance(arrays.pulses, np.ndarray)
-                else arrays.pulses[k],
-                method=method,
+                interference[k], arrays.false_alarm[k], arrays.pulses[k], method=method
             )
         )
     p_d = xp.stack([_arrays.as_float(p, xp) for p in detection], axis=0)
@@ -206,7 +195,7 @@ def active_probabilities(scene: SceneArrays, found: Any) -> tuple[Any, Any, Any]
     n_s = scene.shape[0]
     radar_rows = () if scene.radar is None else scene.radar.rows
     laser_rows = () if scene.laser is None else scene.laser.rows
-    clutter = _clutter_rows(scene, found)
+    clutter = scene.signature.rows_with_clutter(n_s, found.scr is not None)
     noisy = scene.path.attenuates or scene.sensors.has_noise
     groups: dict[tuple[bool, bool], list[int]] = {}
     for row in range(n_s):

@@ -112,10 +112,15 @@ def _n50_rows(criteria: tuple[Criterion, ...]) -> np.ndarray:
     return np.array([rows[id(c)] for c in criteria], dtype=float).reshape(-1, 3)
 
 
+def _owned_rows(scenario: Any) -> list[tuple[str, Any]]:
+    """Each row of the array core with the name of the scenario sensor it comes from."""
+    return [(s.name, row) for s in scenario.sensors for row in get_sensor_type(s.type).rows(s)]
+
+
 def sensor_rows(scenario: Any) -> list[Any]:
     """The rows of the array core a scenario's sensors become, in order: each sensor itself,
     a colour camera one row per band (:attr:`targetacq.sensors.SensorType.rows`)."""
-    return [row for s in scenario.sensors for row in get_sensor_type(s.type).rows(s)]
+    return [row for _, row in _owned_rows(scenario)]
 
 
 def _band_extinction(s: Any, atm: Any, **weather: Any) -> float:
@@ -126,7 +131,9 @@ def _band_extinction(s: Any, atm: Any, **weather: Any) -> float:
     return float(atmosphere.extinction_for_band(s.limits, **weather))
 
 
-def _sensors(scenario: Any, sensors: list[Any], seen: list[Signature]) -> SensorArrays:
+def _sensors(
+    scenario: Any, sensors: list[Any], groups: tuple[str, ...], seen: list[Signature]
+) -> SensorArrays:
     atm = scenario.atmosphere
     half = np.full((len(sensors), 2), np.nan)
     look_at = np.full((len(sensors), 3), np.nan)
@@ -183,9 +190,7 @@ def _sensors(scenario: Any, sensors: list[Any], seen: list[Signature]) -> Sensor
             for s in sensors
         ),
         has_noise=bool(np.any(noise > 0)),
-        groups=tuple(g.name for g in scenario.sensors for _ in get_sensor_type(g.type).rows(g))
-        if len(sensors) > len(scenario.sensors)
-        else (),
+        groups=groups if len(sensors) > len(scenario.sensors) else (),
     )
 
 
@@ -309,9 +314,6 @@ def _radar(scenario: Any, sensors: list[Any]) -> RadarArrays | None:
         false_alarm=np.array([r.false_alarm for r in specs], dtype=float),
         pulses=np.array([r.pulses for r in specs], dtype=float),
         cells50=np.array([[r.recognition_cells, r.identification_cells] for r in specs]),
-        rcs=np.array([[t.rcs for t in scenario.targets] for _ in rows], dtype=float).reshape(
-            len(rows), len(scenario.targets)
-        ),
         rows=rows,
         detectors=tuple(r.detector for r in specs),
     )
@@ -327,9 +329,6 @@ def _laser(scenario: Any, sensors: list[Any]) -> LaserArrays | None:
         aperture_area=np.array([np.pi * lz.aperture**2 / 4.0 for lz in specs], dtype=float),
         efficiency=np.array([lz.efficiency for lz in specs], dtype=float),
         nep=np.array([lz.nep for lz in specs], dtype=float),
-        reflectance=np.array(
-            [[t.reflectance for t in scenario.targets] for _ in rows], dtype=float
-        ).reshape(len(rows), len(scenario.targets)),
         rows=rows,
     )
 
@@ -488,7 +487,8 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     if problems:
         raise ScenarioError(problems)
     criteria = _criteria(scenario)
-    sensors = sensor_rows(scenario)
+    owned = _owned_rows(scenario)
+    sensors = [row for _, row in owned]
     # Each sensor's signature once: the contrast and SCR and the sensor's noise both read it.
     signatures = []
     for k, s in enumerate(sensors):
@@ -509,7 +509,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         semantics=model.semantics,
     )
     scene = SceneArrays(
-        sensors=_sensors(scenario, sensors, signatures),
+        sensors=_sensors(scenario, sensors, tuple(owner for owner, _ in owned), signatures),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
         signature=_signature(scenario, sensors, signatures, pixels),

@@ -235,7 +235,8 @@ class SignatureArrays:
     contrast : array (n_s, n_g)
         ``|target − background|`` signal at the scene [W/m²].
     target : array (n_s, n_g)
-        Target signal [W/m²].
+        Target signal [W/m²] (a radar's row: the radar cross-section [m²]; a laser radar's:
+        the reflectance at its wavelength).
     scr : array (n_s, n_g) or None
         Signal-to-clutter ratio where the clutter does not depend on the positions; None where
         the scenario gives no clutter measure (or a terrain map, evaluated per position).
@@ -249,6 +250,11 @@ class SignatureArrays:
     target: Any
     scr: Any = None
     clutter_rows: tuple[bool, ...] = _static(())
+
+    def rows_with_clutter(self, n_rows: int, given: bool) -> tuple[bool, ...]:
+        """Whether each of ``n_rows`` rows has a clutter measure: :attr:`clutter_rows`, or
+        ``given`` (an SCR at hand) for every row where that is empty."""
+        return self.clutter_rows or (given,) * n_rows
 
 
 @pytree_record
@@ -275,8 +281,6 @@ class RadarArrays:
         Pulses integrated.
     cells50 : array (n_r, 2)
         Cells on target for P = 0.5 of recognition and identification.
-    rcs : array (n_r, n_g)
-        The targets' radar cross-sections [m²].
     rows : tuple of int
         The radars' rows among the scene's sensors.
     detectors : tuple of str
@@ -291,7 +295,6 @@ class RadarArrays:
     false_alarm: Any
     pulses: Any
     cells50: Any
-    rcs: Any
     rows: tuple[int, ...] = _static()
     detectors: tuple[str, ...] = _static()
 
@@ -311,8 +314,6 @@ class LaserArrays:
         Of the optics and detector [1].
     nep : array (n_l,)
         Noise-equivalent power [W]; 0: no receiver noise.
-    reflectance : array (n_l, n_g)
-        The targets' reflectances at the laser's wavelength.
     rows : tuple of int
         The laser radars' rows among the scene's sensors.
     """
@@ -321,7 +322,6 @@ class LaserArrays:
     aperture_area: Any
     efficiency: Any
     nep: Any
-    reflectance: Any
     rows: tuple[int, ...] = _static()
 
 

@@ -63,6 +63,7 @@ another simulation. Both draw the false detections of a scenario's ``[false_targ
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -70,13 +71,26 @@ from typing import Any
 import numpy as np
 
 from targetacq import _arrays, limits
+from targetacq.core.evaluate import boresight
+from targetacq.engagement import RedrawRule, get_redraw_rule, view_crossings
 from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.sampling import stream_key, uniforms
 
-__all__ = ["SimulationResult", "check_simulation_size", "search_probability", "simulate"]
+__all__ = [
+    "ShortVisit",
+    "ShortVisitWarning",
+    "SimulationResult",
+    "check_simulation_size",
+    "pair_crossings",
+    "search_probability",
+    "short_visit_message",
+    "simulate",
+]
 
 _TASKS = ("detection", "recognition", "identification")
-_CAPABILITY, _CLOCK = 1, 2  # purposes of the draws
+# Purposes of the draws. The capability and the clock are counted by the pair's own draws (not
+# the step), so the same seed gives the same draws whatever the step and the pointing pattern.
+_CAPABILITY, _CLOCK = 3, 4
 
 
 def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> Any:
@@ -190,10 +204,32 @@ class _Streams:
 @dataclass
 class _Interval:
     """What happened in one step: the pairs looked at (flat indices) and, per task, the time of
-    the event in this step for each run and pair (+inf where none), shape (3, runs, pairs)."""
+    the event in this step for each run and pair (+inf where none), shape (3, runs, pairs), and
+    whether it was the first time since the start (else a reacquisition), same shape."""
 
     pairs: np.ndarray
     times: np.ndarray
+    first: np.ndarray
+
+
+@dataclass(frozen=True)
+class ShortVisit:
+    """A target in a sensor's view for less than one step (the first seen in a run).
+
+    Attributes
+    ----------
+    pair : int
+        Flat index ``sensor · n_targets + target``.
+    entered, left : float
+        When it came into and went out of view [s].
+    step : float
+        The step [s] it was shorter than.
+    """
+
+    pair: int
+    entered: float
+    left: float
+    step: float
 
 
 class _SearchState:
@@ -201,12 +237,26 @@ class _SearchState:
 
     Arrays are (runs, pairs) with the pairs flattened (sensor-major); the probabilities and the
     field of view, which do not depend on the run, are (pairs,). See the module docstring for
-    the law.
+    the law and :mod:`targetacq.engagement` for the draw rule.
     """
 
-    def __init__(self, streams: _Streams, runs: np.ndarray, search_time: float) -> None:
+    def __init__(
+        self,
+        streams: _Streams,
+        runs: np.ndarray,
+        search_time: float,
+        redraw: str | RedrawRule = "never",
+        decorrelation_time: float | None = None,
+    ) -> None:
         if not (search_time > 0 and math.isfinite(search_time)):
             raise ValueError(f"search_time must be > 0 s, got {search_time!r}")
+        self.rule = get_redraw_rule(redraw)
+        if self.rule.uses_time and (decorrelation_time is None or not decorrelation_time >= 0):
+            raise ValueError(
+                f"redraw {self.rule.name!r} needs decorrelation_time >= 0 s, got "
+                f"{decorrelation_time!r}"
+            )
+        self.decorrelation_time = math.inf if decorrelation_time is None else decorrelation_time
         self.streams = streams
         self.runs = np.asarray(runs, dtype=np.int64).reshape(-1, 1)
         self.search_time = float(search_time)
@@ -216,44 +266,97 @@ class _SearchState:
         self.clock = np.zeros(shape)
         self.hazard = np.zeros(shape)
         self.level = np.zeros(shape, dtype=np.int8)  # tasks done in this episode: 0..3
+        self.renew = np.zeros(shape, dtype=bool)  # the last search ended in a detection
+        self.searches = np.zeros(shape, dtype=np.int64)  # clocks drawn so far
+        self.draws = np.zeros(size, dtype=np.int64)  # capability draws so far (per pair)
         self.first = np.full((3, *shape), np.inf)  # first time of each task since the start
         self.view = np.zeros(size, dtype=bool)
+        self.left = np.full(size, -np.inf)  # when each pair last went out of view
+        self.entered = np.full(size, np.nan)  # when its current episode began
         self.p: np.ndarray | None = None  # (3, pairs) at the previous step's time
         self.time = -math.inf
         self.index = 0  # steps taken
+        self.short: ShortVisit | None = None  # the first visit shorter than a step
 
-    def _start(self, new: np.ndarray) -> None:
-        """New episodes for the pairs ``new`` (flat indices): new draws, nothing done yet."""
+    def _start(self, new: np.ndarray, at: np.ndarray) -> None:
+        """New episodes for the pairs ``new`` (flat indices) beginning at times ``at``: new
+        capability draws where the rule says so, a new search clock where the last search
+        ended in a detection (or the draws are new), nothing done yet in the episode."""
         keys = self.streams.keys(new)
-        self.u[:, new] = uniforms(keys, self.index, self.runs, _CAPABILITY)
-        self.clock[:, new] = -np.log(uniforms(keys, self.index, self.runs, _CLOCK))
-        self.hazard[:, new] = 0.0
+        fresh = self.rule.fresh(at - self.left[new], self.decorrelation_time)
+        if fresh.any():
+            pairs = new[fresh]
+            key = (keys[0][fresh], keys[1][fresh])
+            self.u[:, pairs] = uniforms(key, self.draws[pairs], self.runs, _CAPABILITY)
+            self.draws[pairs] += 1
+            self.renew[:, pairs] = True
+        renew = self.renew[:, new]
+        if renew.any():
+            count = self.searches[:, new]
+            clock = -np.log(uniforms(keys, count, self.runs, _CLOCK))
+            self.clock[:, new] = np.where(renew, clock, self.clock[:, new])
+            self.hazard[:, new] = np.where(renew, 0.0, self.hazard[:, new])
+            self.searches[:, new] = count + renew
+            self.renew[:, new] = False
         self.level[:, new] = 0
+        self.entered[new] = at
 
-    def advance(self, time: float, p: np.ndarray, in_view: np.ndarray) -> _Interval | None:
+    def advance(
+        self,
+        time: float,
+        p: np.ndarray,
+        in_view: np.ndarray,
+        crossings: np.ndarray | None = None,
+    ) -> _Interval | None:
         """Advance over ``(self.time, time]`` to ``time``.
 
         ``p`` (3, pairs): detection, recognition and identification at ``time``; ``in_view``
-        (pairs,). The caller checks that time does not go back. Returns what happened, or None
-        where nothing could (the first step, a step of zero length, nothing in view).
+        (pairs,); ``crossings`` (pairs,): where a pair's view changes in this step, the moment
+        it does as a fraction of the step (:func:`targetacq.engagement.view_crossings`; NaN or
+        absent: the middle). The caller checks that time does not go back. Returns what
+        happened, or None where nothing could (the first step, a step of zero length, nothing in
+        view).
         """
         known = ~np.isnan(p[0])
         view = np.where(known, in_view, self.view)
+        dt = time - self.time
+        started = self.p is not None and dt > 0
+        changed = view != self.view
+        fraction = None
+        if started and changed.any():
+            fraction = np.full(view.size, 0.5)
+            if crossings is not None:
+                fraction = np.where(np.isnan(crossings), 0.5, crossings)
         new = np.flatnonzero(view & ~self.view)
         if new.size:
-            self._start(new)
+            at = np.full(new.size, time) if fraction is None else self.time + fraction[new] * dt
+            self._start(new, at)
         out = None
-        dt = time - self.time
-        if self.p is not None and dt > 0:
-            live = (self.view | view) & known & ~np.isnan(self.p[0])
+        previous = self.p
+        if started and previous is not None:
+            live = (self.view | view) & known & ~np.isnan(previous[0])
             if live.all():
-                out = self._interval(slice(None), self.p, p, view, time, dt)
+                out = self._interval(slice(None), previous, p, view, fraction, time, dt)
             elif live.any():
                 pairs = np.flatnonzero(live)
-                out = self._interval(pairs, self.p[:, pairs], p[:, pairs], view[pairs], time, dt)
+                part = None if fraction is None else fraction[pairs]
+                out = self._interval(
+                    pairs, previous[:, pairs], p[:, pairs], view[pairs], part, time, dt
+                )
         ended = np.flatnonzero(self.view & ~view)
         if ended.size:
             self.level[:, ended] = 0  # out of view: the episode is over
+            gone = (
+                np.full(ended.size, time) if fraction is None else self.time + fraction[ended] * dt
+            )
+            self.left[ended] = gone
+            if self.short is None and started:
+                brief = gone - self.entered[ended] < dt * (1.0 - 1e-9)
+                if brief.any():
+                    k = int(np.argmax(brief))
+                    self.short = ShortVisit(
+                        int(ended[k]), float(self.entered[ended[k]]), float(gone[k]), float(dt)
+                    )
         self.view = view
         self.p = p
         self.time = time
@@ -261,22 +364,33 @@ class _SearchState:
         return out
 
     def _interval(
-        self, pairs: Any, a: np.ndarray, b: np.ndarray, view: np.ndarray, time: float, dt: float
+        self,
+        pairs: Any,
+        a: np.ndarray,
+        b: np.ndarray,
+        view: np.ndarray,
+        fraction: np.ndarray | None,
+        time: float,
+        dt: float,
     ) -> _Interval:
         u = self.u[:, pairs]
         level = self.level[:, pairs]
         was = self.view[pairs]
-        if not (was.all() and view.all()):
-            # Entering or leaving the view: in view for the half of the step next to the end
-            # where it is, with that end's probabilities.
+        # The part of the interval in view: all of it, or from the crossing (entering) or up
+        # to it (leaving), with the probabilities of the end in view held over it.
+        window_lo: Any = 0.0
+        window_hi: Any = 1.0
+        if fraction is not None and not (was.all() and view.all()):
             a, b = np.where(was, a, b), np.where(view, b, a)
+            window_lo = np.where(was, 0.0, fraction)
+            window_hi = np.where(view, 1.0, fraction)
         slope = (b - a)[:, None]  # (3, 1, m)
         a = a[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             root = np.minimum(np.maximum((u - a) / slope, 0.0), 1.0)  # P(s) = u, (3, runs, m)
-        capable = np.maximum(a, b[:, None]) > u
-        lo = np.where(slope > 0, root, np.where(was, 0.0, 0.5))
-        hi = np.where(slope < 0, root, np.where(view, 1.0, 0.5))
+        lo = np.maximum(np.where(slope > 0, root, 0.0), window_lo)
+        hi = np.minimum(np.where(slope < 0, root, 1.0), window_hi)
+        capable = (np.maximum(a, b[:, None]) > u) & (lo <= hi)
         # Detection: the hazard P/t_s integrated over the capable part of the interval.
         a0, slope0, lo0, hi0 = a[0], slope[0], lo[0], hi[0]
         p_lo = a0 + slope0 * lo0
@@ -294,6 +408,7 @@ class _SearchState:
             times[0] = np.where(hit, np.minimum(crossing, hi0), np.inf)
             start = np.where(hit, times[0], 0.0)
             level = np.where(hit, np.int8(1), level)
+            self.renew[:, pairs] |= hit
         else:
             times[0] = np.inf
             start = np.zeros(u.shape)
@@ -308,9 +423,60 @@ class _SearchState:
         self.level[:, pairs] = level
         # Fractions of the interval → times, exact at the step's own time.
         times = time - (1.0 - times) * dt
-        self.first[:, :, pairs] = np.minimum(self.first[:, :, pairs], times)
+        before = self.first[:, :, pairs]
+        first = np.isinf(before) & np.isfinite(times)
+        self.first[:, :, pairs] = np.minimum(before, times)
         index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
-        return _Interval(pairs=index, times=times)
+        return _Interval(pairs=index, times=times, first=first)
+
+
+def pair_crossings(
+    sensors: Any,
+    before: tuple[np.ndarray, np.ndarray, Any],
+    after: tuple[np.ndarray, np.ndarray, Any],
+    pairs: np.ndarray,
+    entering: np.ndarray,
+) -> np.ndarray:
+    """When, within a step, the view of sensor-target pairs changes, as fractions of the step.
+
+    Parameters
+    ----------
+    sensors : targetacq.core.SensorArrays
+        The sensors (their pointing and fields of view).
+    before, after : (array (n_s, 3), array (n_g, 3), array (n_s, 2) or None)
+        Sensor positions, target positions [m] and sensor pointing (azimuth, depression [rad];
+        None or a NaN row: the sensor's own) at the start and at the end of the step.
+    pairs : array of int (m,)
+        Flat pair indices ``sensor · n_g + target`` whose view changes.
+    entering : array of bool (m,)
+        Whether each comes into view (else it goes out).
+
+    Returns
+    -------
+    numpy.ndarray (m,)
+        :func:`targetacq.engagement.view_crossings`; NaN where a sensor is not pointed at one
+        end (the change is then at an unknown moment: the caller takes the middle).
+    """
+    n_g = before[1].shape[0]
+    sensor, target = np.divmod(pairs, n_g)
+    ends = []
+    for s_pos, _, pointing in (before, after):
+        forward, pointed = boresight(s_pos, sensors, pointing)
+        ends.append((np.stack([np.asarray(f) for f in forward], axis=-1), np.asarray(pointed)))
+    los0 = before[1][target] - before[0][sensor]
+    los1 = after[1][target] - after[0][sensor]
+    half = np.asarray(sensors.half_tangents, dtype=float)[sensor]
+    pointed = (ends[0][1].reshape(-1) & ends[1][1].reshape(-1))[sensor]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        found = view_crossings(
+            (los0, los1),
+            (ends[0][0][sensor], ends[1][0][sensor]),
+            (half[:, 0], half[:, 1]),
+            entering,
+        )
+    return np.where(
+        pointed & np.isfinite(los0).all(axis=1) & np.isfinite(los1).all(axis=1), found, np.nan
+    )
 
 
 @dataclass(frozen=True)
@@ -444,17 +610,25 @@ def simulate(
     )
     in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
     # The bands of a colour camera draw from the camera's streams (as in the step API).
-    streams = _Streams(seed, chain.compiled.scene.sensors.group_names, chain.target_names)
+    scene = chain.compiled.scene
+    streams = _Streams(seed, scene.sensors.group_names, chain.target_names)
+    crossings = _scripted_crossings(chain, edges, p, in_view)
     footprints = _false_target_footprints(chain, edges, runs, seed)
     false_parts: list[FalseDetections] = []
     times = {task: np.full((runs, n_s, n_g), np.inf) for task in _TASKS}
     at = edges.tolist()
+    short: ShortVisit | None = None
     for first in range(0, runs, batch):
         state = _SearchState(
-            streams, np.arange(first, min(first + batch, runs)), sc.model.search_time
+            streams,
+            np.arange(first, min(first + batch, runs)),
+            sc.model.search_time,
+            sc.model.redraw,
+            sc.model.decorrelation_time,
         )
         for k, t in enumerate(at):
-            state.advance(t, p[k], in_view[k])
+            state.advance(t, p[k], in_view[k], crossings.get(k))
+        short = short or state.short
         if footprints is not None:  # every step after the first at once: counter-based
             steps = [(k, at[k - 1], at[k], footprints[1][k]) for k in range(1, len(at))]
             false_parts.append(footprints[0].draw(steps, state.runs[:, 0]))
@@ -463,6 +637,12 @@ def simulate(
             times[task][first : first + count] = state.first[j].reshape(count, n_s, n_g)
         if progress is not None:
             progress(count)
+    if short is not None:
+        warnings.warn(
+            short_visit_message(short, scene.sensors.names, chain.target_names),
+            ShortVisitWarning,
+            stacklevel=2,
+        )
     fused = {task: times[task].min(axis=1) for task in _TASKS}
     return SimulationResult(
         times=times,
@@ -471,6 +651,51 @@ def simulate(
         targets=list(chain.target_names),
         duration=float(duration),
         false_detections=FalseDetections.concatenate(false_parts),
+    )
+
+
+def _scripted_crossings(
+    chain: Any, edges: np.ndarray, p: np.ndarray, in_view: np.ndarray
+) -> dict[int, np.ndarray]:
+    """Per step whose view changes for some pair, the crossing fractions of every pair (NaN
+    where it does not change): the scenario's scripted positions and own pointing, moving
+    linearly within each step (:func:`pair_crossings`)."""
+    from targetacq.core import scenario_positions
+
+    known = ~np.isnan(p[:, 0])
+    changed = (in_view[1:] != in_view[:-1]) & known[1:] & known[:-1]
+    steps = np.flatnonzero(changed.any(axis=1)) + 1
+    if steps.size == 0:
+        return {}
+    sensor_positions, target_positions, _ = scenario_positions(chain.scenario, edges)
+    sensors = chain.compiled.scene.sensors
+    out = {}
+    for k in steps.tolist():
+        pairs = np.flatnonzero(changed[k - 1])
+        fractions = np.full(in_view.shape[1], np.nan)
+        fractions[pairs] = pair_crossings(
+            sensors,
+            (sensor_positions[:, k - 1], target_positions[:, k - 1], None),
+            (sensor_positions[:, k], target_positions[:, k], None),
+            pairs,
+            in_view[k, pairs],
+        )
+        out[k] = fractions
+    return out
+
+
+class ShortVisitWarning(UserWarning):
+    """A target was in a sensor's view for less than one step: the step is too long for it."""
+
+
+def short_visit_message(short: ShortVisit, sensors: Sequence[str], targets: Sequence[str]) -> str:
+    """The warning for a visit shorter than the step (:class:`ShortVisitWarning`)."""
+    sensor, target = divmod(short.pair, len(targets))
+    return (
+        f"target {targets[target]!r} was in the view of sensor {sensors[sensor]!r} for "
+        f"{short.left - short.entered:.3g} s ({short.entered:.6g} s to {short.left:.6g} s), less "
+        f"than one step of {short.step:.3g} s: its probabilities there were taken from one end of "
+        "a step, and a target can cross the view unseen between two steps; use a shorter step"
     )
 
 

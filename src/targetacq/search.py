@@ -41,18 +41,22 @@ the targets then in view; nothing can happen in it. A NaN probability (a NaN pos
 either end of an interval means nothing happens for that pair in it and its episode goes on
 unchanged.
 
-Episodes. An episode starts at the first step at which a target is in view (and was not at the
-step before) and ends at the first step at which it is out of view again; a new one (with new
-draws) starts when it comes back. The target enters (leaves) the view somewhere inside the
-interval of such a step; it is taken to be in view for the half of the interval next to the
-step time at which it is in view, with the probabilities of that time held constant (the
-middle is the unbiased guess of the crossing, and holding avoids a ramp from zero that would
-shorten the capable time). For a probability that changes continuously the linear law above
-applies; the field-of-view edge is a jump, so it does not. Draws come from the counter-based
-generator of :mod:`targetacq.sampling`, keyed by the seed and the sensor's and target's names
-and counted by the index of the episode's first step and the run, so outcomes do not depend on
-the batch size, the order of the sensors or which other pairs are simulated. Fusion over sensors
-(sensor level): a target is detected (recognised, identified) when the first sensor does.
+Episodes and engagements. An episode is a stretch of time with the target in view; the
+engagement is everything from the first episode until a reset. A target enters (leaves) the
+view somewhere inside a step; the moment is solved from the positions and pointing at the two
+ends (:func:`pair_crossings`, :func:`targetacq.engagement.view_crossings`; the middle of the
+step where it cannot be), and the target is in view from (until) then with the probabilities of
+the end at which it is in view held constant (the field-of-view edge is a jump, so the linear
+law does not apply across it). The capability draw is kept from one episode to the next and
+drawn again only under the redraw rule (:data:`targetacq.engagement.REDRAW_RULES`: ``never`` by
+default); the detection clock and the hazard accumulated so far are kept too, except that after
+a detection a target that comes back must be found again (a new clock: its events are
+reacquisitions). Draws come from the counter-based generator of :mod:`targetacq.sampling`,
+keyed by the seed and the sensor's and target's names and counted by the pair's own number of
+draws and the run, so outcomes do not depend on the batch size, the order of the sensors, which
+other pairs are simulated, the step or the pointing pattern. A visit shorter than a step is
+recorded (:class:`ShortVisit`) for the callers' warning. Fusion over sensors (sensor level): a
+target is detected (recognised, identified) when the first sensor does.
 
 :func:`simulate` runs a :class:`targetacq.model.ModelChain`'s scripted scenario for many runs
 at once; :class:`targetacq.Simulation` is the same machinery driven one step at a time by

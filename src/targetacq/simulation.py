@@ -26,9 +26,16 @@ one implementation shared with :func:`targetacq.search.simulate`:
   (the detection time solves a quadratic), so coarse steps do not bias an approaching target;
   recognition and identification happen at the first moment, at or after detection, at which
   the capability draw of the viewing episode is below their (linear) probability;
-- a target that enters or leaves a sensor's field of view within a step is taken to be in view
-  for the half of the step next to the step time at which it is in view, with that time's
-  probabilities;
+- a target that enters or leaves a sensor's field of view within a step is in view from (or
+  until) the moment it crosses the edge, solved from the positions and pointing at both ends
+  (:func:`targetacq.engagement.view_crossings`), with the probabilities of the end at which it
+  is in view; a visit shorter than a step warns once per run
+  (:class:`targetacq.search.ShortVisitWarning`);
+- draws belong to the engagement: a pair's capability draw and search clock are kept while the
+  target is out of view, and drawn again only under the model's ``redraw`` rule
+  (:data:`targetacq.engagement.REDRAW_RULES`; ``never`` by default), so no pointing pattern or
+  step raises the share of runs acquired; each event says whether it is the ``first`` of its
+  sensor, target and task since the reset or ``reacquired`` (:data:`EVENT_KINDS`);
 - the first step after :meth:`Simulation.reset` (and after construction) only starts the clock:
   it evaluates the probabilities at its time and starts the viewing episodes of the targets then
   in view; nothing happens in it, whatever ``dt``;

@@ -305,3 +305,26 @@ def test_after_out_of_view_redraws_only_after_the_decorrelation_time():
     assert results[5.0][2].draws[0] == results[None][2].draws[0] == 1
     assert results[2.0][2].draws[0] == glimpses
     assert not np.array_equal(results[2.0][0], results[None][0])
+
+
+def test_simulate_gives_the_cumulative_flags_of_the_step_api():
+    from targetacq.model import ModelChain
+    from targetacq.search import simulate
+
+    scenario = load_scenario(ROOT / "examples" / "two_sensors_fused.toml")
+    times = scenario.time.start + np.arange(0.0, 60.5, 1.0)
+    s_pos, t_pos, headings = core.scenario_positions(scenario, times)
+    result = simulate(ModelChain(scenario), 60.0, 1.0, runs=3, seed=4)
+    halfway = result.acquired(scenario.time.start + 30.0)
+    end = result.acquired()
+    sim = Simulation.from_scenario(scenario, seed=4)
+    for run in range(3):
+        sim.reset(run=run)
+        for k, t in enumerate(times):
+            out = sim.step(t, 1.0, s_pos[:, k], t_pos[:, k], headings[:, k])
+            if k == 30:
+                np.testing.assert_array_equal(out.detected, halfway["detected"][run])
+        for flag in ("detected", "recognised", "identified"):
+            np.testing.assert_array_equal(getattr(out, flag), end[flag][run])
+            np.testing.assert_array_equal(getattr(out, f"fused_{flag}"), end[f"fused_{flag}"][run])
+    assert end["fused_detected"].any()

@@ -511,6 +511,41 @@ class SimulationResult:
     duration: float
     false_detections: FalseDetections = field(default_factory=FalseDetections.empty)
 
+    def acquired(self, time: float | None = None) -> dict[str, np.ndarray]:
+        """The cumulative flags of every run: whether each task was done by ``time``.
+
+        Parameters
+        ----------
+        time : float, optional
+            [s] from the scenario's start time, as the first times are; default: the end of the
+            simulation.
+
+        Returns
+        -------
+        dict of str → numpy.ndarray of bool
+            ``detected``, ``recognised``, ``identified``: (runs, sensors, targets) per sensor;
+            ``fused_detected``, ...: (runs, targets) by any sensor (as the step API's flags).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> result = SimulationResult(
+        ...     times={t: np.array([[[1.0]], [[np.inf]]]) for t in _TASKS},
+        ...     fused={t: np.array([[1.0], [np.inf]]) for t in _TASKS},
+        ...     sensors=["s"], targets=["g"], duration=5.0)
+        >>> result.acquired()["fused_identified"].tolist()
+        [[True], [False]]
+        """
+        limit = math.inf if time is None else float(time)
+        if math.isnan(limit):
+            raise ValueError("time must be a number of seconds, got nan")
+        out = {}
+        for task, flag in zip(_TASKS, ("detected", "recognised", "identified"), strict=True):
+            # +inf: never done (not done "by +inf").
+            out[flag] = np.isfinite(self.times[task]) & (self.times[task] <= limit)
+            out[f"fused_{flag}"] = np.isfinite(self.fused[task]) & (self.fused[task] <= limit)
+        return out
+
     def summary(self) -> Any:
         """Per target and task (fused over sensors): the fraction of runs where it happened
         within the duration, and quantiles of the first time over all runs (inf: more runs than

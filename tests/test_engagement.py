@@ -328,3 +328,44 @@ def test_simulate_gives_the_cumulative_flags_of_the_step_api():
             np.testing.assert_array_equal(getattr(out, flag), end[flag][run])
             np.testing.assert_array_equal(getattr(out, f"fused_{flag}"), end[f"fused_{flag}"][run])
     assert end["fused_detected"].any()
+
+
+def test_the_small_path_of_a_step_equals_the_array_path():
+    """The element-by-element path (a step of a few runs × pairs) gives the numbers of the
+    array path to the last bit, over random probabilities, views, crossings and states."""
+    from targetacq import search
+    from targetacq.search import _Streams
+
+    rng = np.random.default_rng(0)
+    happened = 0
+    for trial in range(300):
+        m, runs = int(rng.integers(1, 4)), int(rng.integers(1, 3))
+        states = [
+            _SearchState(_Streams(trial, ["s"], [f"g{j}" for j in range(m)]), np.arange(runs), 3.4)
+            for _ in range(2)
+        ]
+        time = 0.0
+        for step in range(12):
+            p = np.sort(rng.random((3, m)), axis=0)[::-1].copy()
+            p[:, rng.random(m) < 0.2] = 0.0
+            view = rng.random(m) < 0.7
+            crossings = np.where(rng.random(m) < 0.5, rng.random(m), np.nan)
+            dt = float(rng.choice([0.05, 1.0, 7.0]))
+            time += dt
+            outs = []
+            for k, state in enumerate(states):
+                before = search._SMALL
+                search._SMALL = 10**9 if k == 0 else 0
+                try:
+                    outs.append(state.advance(time, p, view, crossings))
+                finally:
+                    search._SMALL = before
+            if outs[0] is None:
+                assert outs[1] is None
+                continue
+            np.testing.assert_array_equal(outs[0].times, outs[1].times)
+            np.testing.assert_array_equal(outs[0].first, outs[1].first)
+            for name in ("u", "clock", "hazard", "level", "renew", "first"):
+                np.testing.assert_array_equal(getattr(states[0], name), getattr(states[1], name))
+        happened += int(np.isfinite(states[0].first).sum())
+    assert happened > 300  # the comparison covers steps in which things happen

@@ -95,6 +95,9 @@ _TASKS = ("detection", "recognition", "identification")
 # Purposes of the draws. The capability and the clock are counted by the pair's own draws (not
 # the step), so the same seed gives the same draws whatever the step and the pointing pattern.
 _CAPABILITY, _CLOCK = 3, 4
+# Runs × pairs of a step up to which it is advanced element by element in Python floats
+# (_SearchState._interval_small), where NumPy's fixed cost per call is larger than the work.
+_SMALL = 8
 
 
 def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> Any:
@@ -339,12 +342,15 @@ class _SearchState:
         previous = self.p
         if started and previous is not None:
             live = (self.view | view) & known & ~np.isnan(previous[0])
+            interval = self._interval_small if live.size * self.u.shape[0] <= _SMALL else None
             if live.all():
-                out = self._interval(slice(None), previous, p, view, fraction, time, dt)
+                out = (interval or self._interval)(
+                    slice(None), previous, p, view, fraction, time, dt
+                )
             elif live.any():
                 pairs = np.flatnonzero(live)
                 part = None if fraction is None else fraction[pairs]
-                out = self._interval(
+                out = (interval or self._interval)(
                     pairs, previous[:, pairs], p[:, pairs], view[pairs], part, time, dt
                 )
         ended = np.flatnonzero(self.view & ~view)
@@ -431,6 +437,91 @@ class _SearchState:
         first = np.isinf(before) & np.isfinite(times)
         self.first[:, :, pairs] = np.minimum(before, times)
         index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
+        return _Interval(pairs=index, times=times, first=first)
+
+    def _interval_small(
+        self,
+        pairs: Any,
+        a: np.ndarray,
+        b: np.ndarray,
+        view: np.ndarray,
+        fraction: np.ndarray | None,
+        time: float,
+        dt: float,
+    ) -> _Interval:
+        """:meth:`_interval` element by element in Python floats, for a few runs × pairs (a
+        step of one run and a handful of pairs, where NumPy's per-call cost dominates): the
+        same operations in the same order, so the same numbers to the last bit (tested)."""
+        index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
+        cols = index.tolist()
+        runs = self.u.shape[0]
+        was = self.view[index].tolist()
+        now = view.tolist()
+        frac = [0.5] * len(cols) if fraction is None else fraction.tolist()
+        a_rows, b_rows = a.tolist(), b.tolist()
+        u_all, level_all = self.u[:, index].tolist(), self.level[:, index].tolist()
+        clock_all, hazard_all = self.clock[:, index].tolist(), self.hazard[:, index].tolist()
+        first_all = self.first[:, :, index].tolist()
+        scale = dt / self.search_time
+        inf = math.inf
+        times = np.full((3, runs, len(cols)), inf)
+        first = np.zeros((3, runs, len(cols)), dtype=bool)
+        for j in range(len(cols)):
+            aj = [a_rows[k][j] for k in range(3)]
+            bj = [b_rows[k][j] for k in range(3)]
+            w_lo, w_hi = 0.0, 1.0
+            if fraction is not None and not (was[j] and now[j]):
+                # In view at one end only: that end's probabilities, over the window next to it.
+                aj, bj = (aj if was[j] else bj), (bj if now[j] else aj)
+                w_lo, w_hi = (0.0 if was[j] else frac[j]), (1.0 if now[j] else frac[j])
+            for r in range(runs):
+                u = u_all[r][j]
+                lo, hi, capable = [0.0] * 3, [1.0] * 3, [False] * 3
+                for k in range(3):
+                    slope = bj[k] - aj[k]
+                    low, high = 0.0, 1.0
+                    if slope > 0:
+                        low = min(max((u - aj[k]) / slope, 0.0), 1.0)
+                    elif slope < 0:
+                        high = min(max((u - aj[k]) / slope, 0.0), 1.0)
+                    lo[k], hi[k] = max(low, w_lo), min(high, w_hi)
+                    capable[k] = max(aj[k], bj[k]) > u and lo[k] <= hi[k]
+                level = level_all[r][j]
+                slope0 = bj[0] - aj[0]
+                p_lo = aj[0] + slope0 * lo[0]
+                width = hi[0] - lo[0]
+                area = width * (p_lo + 0.5 * slope0 * width) if capable[0] else 0.0
+                hazard = hazard_all[r][j]
+                left = (clock_all[r][j] - hazard) / scale
+                searching = level == 0
+                at = [inf, inf, inf]
+                start = 0.0
+                if searching and capable[0] and area >= left:
+                    root_term = math.sqrt(max(p_lo * p_lo + 2.0 * slope0 * left, 0.0))
+                    at[0] = min(lo[0] + 2.0 * left / (p_lo + root_term), hi[0])
+                    start = at[0]
+                    level = 1
+                    self.renew[r, cols[j]] = True
+                if searching:
+                    self.hazard[r, cols[j]] = hazard + scale * area
+                for k in (1, 2):
+                    moment = max(start, lo[k])
+                    if level == k and capable[k] and moment <= hi[k]:
+                        at[k] = moment
+                        start = moment
+                        level = k + 1
+                    else:
+                        start = 0.0
+                self.level[r, cols[j]] = level
+                for k in range(3):
+                    if at[k] != inf:
+                        value = time - (1.0 - at[k]) * dt
+                        times[k, r, j] = value
+                        if first_all[k][r][j] == inf:
+                            first[k, r, j] = True
+                            self.first[k, r, cols[j]] = value
+                        elif value < first_all[k][r][j]:
+                            self.first[k, r, cols[j]] = value
         return _Interval(pairs=index, times=times, first=first)
 
 

@@ -345,7 +345,7 @@ def test_the_small_path_of_a_step_equals_the_array_path():
             for _ in range(2)
         ]
         time = 0.0
-        for step in range(12):
+        for _ in range(12):
             p = np.sort(rng.random((3, m)), axis=0)[::-1].copy()
             p[:, rng.random(m) < 0.2] = 0.0
             view = rng.random(m) < 0.7

@@ -369,3 +369,49 @@ def test_the_small_path_of_a_step_equals_the_array_path():
                 np.testing.assert_array_equal(getattr(states[0], name), getattr(states[1], name))
         happened += int(np.isfinite(states[0].first).sum())
     assert happened > 300  # the comparison covers steps in which things happen
+
+
+@pytest.mark.parametrize("engine", ["numpy", "numba", "jax"])
+@pytest.mark.parametrize("name", ["two_sensors_fused", "uav_haze", "fused_tv_thermal_radar"])
+def test_probabilities_at_equal_probabilities_where_the_positions_coincide(engine, name):
+    scenario = load_scenario(ROOT / "examples" / f"{name}.toml")
+    try:
+        sim = Simulation.from_scenario(scenario, engine=engine)
+    except ValueError as error:  # an engine that refuses a sensor type says which
+        assert engine == "numba" and "radar" in str(error)
+        return
+    times = scenario.time.start + np.array([0.0, 20.0])
+    s_pos, t_pos, headings = core.scenario_positions(scenario, times)
+    n_g = len(sim.targets)
+    for k in range(times.size):
+        whole = sim.probabilities(times[k], s_pos[:, k], t_pos[:, k], headings[:, k])
+        index = np.array([n_g - 1, 0, *range(n_g), 0])  # repeats, any order
+        picked = sim.probabilities_at(
+            times[k], s_pos[:, k], t_pos[index, k], index, headings[index, k]
+        )
+        for task in ("detection", "recognition", "identification"):
+            np.testing.assert_allclose(
+                getattr(picked, task), getattr(whole, task)[:, index], rtol=1e-12, atol=0
+            )
+            np.testing.assert_allclose(
+                getattr(picked, f"fused_{task}"),
+                getattr(whole, f"fused_{task}")[index],
+                rtol=1e-12,
+                atol=0,
+            )
+    # A target asked at another place: the same as that target moved there.
+    elsewhere = t_pos[:, 0] + np.array([150.0, -80.0, 0.0])
+    moved = sim.probabilities(times[0], s_pos[:, 0], elsewhere, headings[:, 0])
+    at = sim.probabilities_at(times[0], s_pos[:, 0], elsewhere[:1], np.array([0]), headings[:1, 0])
+    np.testing.assert_allclose(at.detection[:, 0], moved.detection[:, 0], rtol=1e-12, atol=0)
+
+
+def test_probabilities_at_refuses_bad_targets():
+    sim = _simulation()
+    for bad in (np.array([1]), np.array([-1]), np.array([0.0]), np.array([[0]])):
+        with pytest.raises(
+            ValueError, match=r"targets must be a 1-d array of integer indices in \[0, 1\)"
+        ):
+            sim.probabilities_at(0.0, SENSOR, np.zeros((bad.size, 3)), bad)
+    with pytest.raises(ValueError, match="target_positions must have shape"):
+        sim.probabilities_at(0.0, SENSOR, np.zeros((2, 3)), np.array([0]))

@@ -375,11 +375,11 @@ def test_the_small_path_of_a_step_equals_the_array_path():
 @pytest.mark.parametrize("name", ["two_sensors_fused", "uav_haze", "fused_tv_thermal_radar"])
 def test_probabilities_at_equal_probabilities_where_the_positions_coincide(engine, name):
     scenario = load_scenario(ROOT / "examples" / f"{name}.toml")
-    try:
-        sim = Simulation.from_scenario(scenario, engine=engine)
-    except ValueError as error:  # an engine that refuses a sensor type says which
-        assert engine == "numba" and "radar" in str(error)
+    if engine == "numba" and any(s.type == "radar" for s in scenario.sensors):
+        with pytest.raises(ValueError, match="radar"):  # it says which sensor type it refuses
+            Simulation.from_scenario(scenario, engine=engine)
         return
+    sim = Simulation.from_scenario(scenario, engine=engine)
     times = scenario.time.start + np.array([0.0, 20.0])
     s_pos, t_pos, headings = core.scenario_positions(scenario, times)
     n_g = len(sim.targets)

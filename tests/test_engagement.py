@@ -415,3 +415,13 @@ def test_probabilities_at_refuses_bad_targets():
             sim.probabilities_at(0.0, SENSOR, np.zeros((bad.size, 3)), bad)
     with pytest.raises(ValueError, match="target_positions must have shape"):
         sim.probabilities_at(0.0, SENSOR, np.zeros((2, 3)), np.array([0]))
+
+
+def test_records_that_are_not_records_are_refused_with_a_located_message():
+    target = {"name": "t", "dimensions": (7.0, 3.0, 2.5), "temperature": 300.0}
+    with pytest.raises(ScenarioError, match=r"sensors\[0\]: a sensor is .* got str 'ir'"):
+        Simulation(["ir"], [target])
+    with pytest.raises(ScenarioError, match="sensors must be a list of records .*got str"):
+        Simulation("ir", [target])
+    with pytest.raises(ScenarioError, match="targets must be a list"):
+        Simulation([{"name": "ir", "band": "lwir", "ifov": 1e-3}], target)

@@ -421,7 +421,7 @@ def test_records_that_are_not_records_are_refused_with_a_located_message():
     target = {"name": "t", "dimensions": (7.0, 3.0, 2.5), "temperature": 300.0}
     with pytest.raises(ScenarioError, match=r"sensors\[0\]: a sensor is .* got str 'ir'"):
         Simulation(["ir"], [target])
-    with pytest.raises(ScenarioError, match="sensors must be a list of records .*got str"):
+    with pytest.raises(ScenarioError, match=r"sensors must be a list of records .*got str"):
         Simulation("ir", [target])
     with pytest.raises(ScenarioError, match="targets must be a list"):
         Simulation([{"name": "ir", "band": "lwir", "ifov": 1e-3}], target)

@@ -57,7 +57,8 @@ def test_pixels_without_a_lens_or_a_field_of_view_is_refused(capsys):
 def test_design_with_pixels_gives_each_design_its_field_of_view(capsys):
     with pytest.raises(SystemExit) as done:
         main(["design", "--task", "recognition", "--range", "1km", "--target", "person",
-              "--pitch", "12um", "--pixels", "640", "--band", "lwir", "--format", "json"])  # fmt: skip
+              "--pitch", "12um", "--pixels", "640", "--band", "lwir",
+              "--format", "json"])  # fmt: skip
     out, err = capsys.readouterr()
     assert done.value.code == 0, err
     report = json.loads(out)

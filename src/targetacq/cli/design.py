@@ -16,9 +16,9 @@ import typer
 
 from targetacq.cli import FORMATS, FormatOption, _csv, _model_line, app
 from targetacq.cli.options import range_case_options
+from targetacq.limits import check_count
 from targetacq.outputs import json_text
 from targetacq.services.options import typed_options
-from targetacq.limits import check_count
 from targetacq.services.range_case import (
     _example_camera,
     option_choice,

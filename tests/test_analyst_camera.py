@@ -90,3 +90,70 @@ def test_the_report_of_a_camera_with_pixels_shows_its_field_of_view(sensor, tmp_
     assert done.value.code == 0, capsys.readouterr().err
     fov = 10.0 if "--hfov" in sensor else math.degrees(2 * math.atan(640 * 12e-6 / 0.2))
     assert f"HFOV {fov:.4g}° over 640 pixels" in out.read_text()
+
+
+def _report(tmp_path, *args):
+    out = tmp_path / "r.html"
+    with pytest.raises(SystemExit) as done:
+        main(["report", *args, "--out", str(out)])
+    assert done.value.code == 0
+    return out.read_text()
+
+
+PERSON = [
+    *("--pitch", "12um", "--focal-length", "100mm", "--pixels", "640", "--target", "person"),
+    *("--band", "lwir", "--target-temperature", "305K", "--background-temperature", "295K"),
+]
+
+
+def test_the_range_chart_covers_the_answers_and_marks_the_requirement(tmp_path, capsys):
+    import re
+
+    with pytest.raises(SystemExit):
+        main(["dri", *PERSON, "--probability", "0.5,0.8,0.95", "--format", "json"])
+    rows = json.loads(capsys.readouterr().out)["ranges"]
+    farthest = max(r["range_m"] for r in rows if r["reached"] and math.isfinite(r["range_m"]))
+    page = _report(tmp_path, *PERSON, "--requirement", "1km,0.8")
+    stops = [float(v) for v in re.findall(r"The curves stop at ([0-9.]+) km", page)]
+    # The whole chart: every DRI range on it, its end within 30 % beyond the farthest (not the
+    # range where every probability has faded, tens of kilometres out).
+    assert farthest / 1e3 < stops[0] <= 1.3 * farthest / 1e3
+    # The chart zoomed on the requirement: out to twice its range.
+    assert stops[1] == pytest.approx(2.0)
+    assert "Range performance near the requirement" in page
+    assert "the requirement, P ≥ 0.8 at 1,000 m" in page
+
+
+def test_the_requirement_is_drawn_on_the_chart():
+    from targetacq.core.cases import RangeCase
+    from targetacq.plots import plot_range_performance
+    from targetacq.ranges import range_performance
+
+    perf = range_performance([500.0, 5000.0], {"c": RangeCase(2.3, 2e-4)}, [0.5])
+    ax = plot_range_performance(perf, requirement=(1500.0, 0.8)).axes[0]
+    vertical = [line for line in ax.get_lines() if list(line.get_xdata()) == [1.5, 1.5]]
+    stars = [line for line in ax.get_lines() if line.get_marker() == "*"]
+    assert vertical and [(s.get_xdata()[0], s.get_ydata()[0]) for s in stars] == [(1.5, 0.8)]
+
+
+@pytest.mark.parametrize("bad", ["1km,1.5", "0m", "1km,0.8,3", "fast"])
+def test_a_bad_requirement_is_one_line(bad, tmp_path, capsys):
+    with pytest.raises(SystemExit) as done:
+        main(["report", *PERSON, "--requirement", bad, "--out", str(tmp_path / "r.html")])
+    err = capsys.readouterr().err
+    assert done.value.code == 2 and "--requirement" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cases_that_differ_get_a_column_each(tmp_path):
+    page = _report(tmp_path, "--example", "--critical-dimension", "0.75m,2.3m,5m")
+    header = "<th>critical dimension 0.75 m</th><th>critical dimension 2.3 m</th><th>critical"
+    assert header in page
+    assert "<td>0.75 m (smallest side seen, §3.2)</td><td>2.3 m (smallest side seen" in page
+    # No cell strings several cases' values together.
+    assert "critical dimension 0.75 m:" not in page and "; critical dimension 2.3 m" not in page
+    lenses = _report(
+        tmp_path, "--pitch", "12um", "--focal-length", "50mm,100mm,150mm",
+        "--critical-dimension", "2.3m",
+    )  # fmt: skip
+    # In a section where some items differ, the shared ones span the case columns.
+    assert "<td>pixel pitch</td><td colspan='3'>12 µm</td>" in lenses

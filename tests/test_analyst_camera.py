@@ -157,3 +157,28 @@ def test_cases_that_differ_get_a_column_each(tmp_path):
     )  # fmt: skip
     # In a section where some items differ, the shared ones span the case columns.
     assert "<td>pixel pitch</td><td colspan='3'>12 µm</td>" in lenses
+
+
+def test_light_fog_for_a_thermal_camera_is_not_described_as_clear_to_hazy(capsys):
+    """fog:low in the LWIR (0.4 Np/km) is light fog; Table 7.2's visual range for 0.4 Np/km
+    ("6 - 30 km, clear to hazy") describes the visible band and is not printed for the LWIR."""
+    with pytest.raises(SystemExit):
+        main(["dri", "--example", "--obscurant", "fog:low", "--band", "lwir"])
+    out = capsys.readouterr().out
+    assert "light fog" in out and "clear to hazy" not in out
+    with pytest.raises(SystemExit):
+        main(["dri", "--example", "--obscurant", "fog:low", "--band", "lwir", "--format", "json"])
+    path = json.loads(capsys.readouterr().out)["path"]
+    assert path["visual_range"] is None and "light fog" in path["description"]
+    with pytest.raises(SystemExit):
+        main(["dri", "--pitch", "5um", "--focal-length", "50mm", "--critical-dimension", "2.3m",
+              "--obscurant", "haze:high", "--band", "visible"])  # fmt: skip
+    out = capsys.readouterr().out
+    assert "dense haze" in out and "visual range < 2 km, foggy" in out  # Table 7.2 at 2 Np/km
+
+
+def test_the_obscurant_option_says_what_its_levels_mean(capsys):
+    with pytest.raises(SystemExit):
+        main(["dri", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "low = light" in help_text.replace("│ ", "").replace(" │", "")

@@ -147,8 +147,8 @@ def atmosphere_command(
         return
     lines = [
         f"extinction {path['extinction_np_per_km']:.4g} Np/km "
-        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): {path['term']}, "
-        f"visual range {path['visual_range']} (Table 7.2); {path['source']}",
+        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): "
+        f"{path['description']}; {path['source']}",
         "",
         f"{'range [m]':>12}  {'τ':>10}  {'SNR [dB]':>10}",
     ]
@@ -188,8 +188,8 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     if report["path"]:
         path = report["path"]
         lines.append(
-            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['term']}, visual "
-            f"range {path['visual_range']}; {path['source']}), noise model {report['noise_model']}"
+            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['description']}; "
+            f"{path['source']}), noise model {report['noise_model']}"
         )
     lines.append("")
     unit = rows[0]["threshold_unit"]

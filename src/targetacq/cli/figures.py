@@ -766,8 +766,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         {
             "extinction": f"{setup.path['extinction_np_per_km']:.4g} Np/km "
             f"({setup.path['source']})",
-            "description": f"{setup.path['term']}, visual range {setup.path['visual_range']} "
-            "(Table 7.2)",
+            "description": setup.path["description"],
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
             "noise model": f"{setup.case.noise_model}: "
             f"{NOISE_MODELS[setup.case.noise_model].source}",

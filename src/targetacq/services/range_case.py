@@ -335,11 +335,26 @@ def option_path(
         return {}
     gamma = atmosphere.extinction_for_band(band, **weather)
     term, visual_range = atmosphere.extinction_term(gamma)
+    # Table 7.2's visual ranges describe the visible band's extinction: for another band the
+    # same number of Np/km is other weather (fog:low is 0.4 Np/km in the LWIR, a visual range of
+    # well under 1 km, not "6 - 30 km, clear to hazy"), so only its term is kept there.
+    visible = band is not None and band_name_or_none(band) == "visible"
+    name, _, level = weather.get("obscurant", "").partition(":")
+    words = atmosphere.EXTINCTION_LEVEL_WORDS
+    parts = [f"{words[level]} {name}, the {level} value of its Table 7.1 cell"] if name else []
+    if visible:
+        parts.append(f"{term} extinction, visual range {visual_range} (Table 7.2)")
+    else:
+        parts.append(
+            f"{term} extinction on Table 7.2's scale (its visual ranges are the visible band's)"
+        )
+    description = "; ".join(parts)
     return {
         "extinction_np_per_m": gamma,
         "extinction_np_per_km": gamma * 1e3,
         "term": term,
-        "visual_range": visual_range,
+        "visual_range": visual_range if visible else None,
+        "description": description,
         "source": source,
     }
 

@@ -182,3 +182,44 @@ def test_the_obscurant_option_says_what_its_levels_mean(capsys):
         main(["dri", "--help"])
     help_text = " ".join(capsys.readouterr().out.split())
     assert "low = light" in help_text.replace("│ ", "").replace(" │", "")
+
+
+ZERO_CONTRAST = [
+    *("--pitch", "17um", "--focal-length", "75mm", "--critical-dimension", "2.3m"),
+    *("--band", "lwir", "--target-temperature", "295K", "--background-temperature", "295K"),
+]
+
+
+def test_a_zero_contrast_answered_geometrically_warns(capsys):
+    code, out, err = _dri(capsys, *ZERO_CONTRAST)
+    assert code == 0 and out
+    warning = [line for line in err.splitlines() if "warning" in line]
+    assert len(warning) == 1 and "geometric ones" in warning[0] and "--netd" in warning[0]
+    code, _, err = _dri(capsys, *ZERO_CONTRAST, "--netd", "50mK")
+    assert code == 0 and "warning" not in err  # with the noise, contrast counts: no warning
+
+
+def test_pixel_density_criteria_need_no_critical_dimension(capsys):
+    code, out, err = _dri(
+        capsys, "--pitch", "3um", "--focal-length", "8mm", "--criterion", "en62676-4",
+        "--format", "json",
+    )  # fmt: skip
+    assert code == 0, err
+    report = json.loads(out)
+    assert report["target"]["critical_dimension_m"] is None
+    ifov = 3e-6 / 8e-3
+    # EN 62676-4:2015, identification at 250 pixels per metre: R = 1 / (250 · IFOV).
+    row = next(r for r in report["ranges"] if r["task"] == "identification")
+    assert row["range_m"] == pytest.approx(1.0 / (250.0 * ifov), rel=1e-9)
+
+
+def test_the_2025_edition_levels_are_there():
+    from targetacq.criteria import CRITERIA
+
+    levels = CRITERIA["iec62676-4-2025"]
+    # IEC/EN 62676-4:2025 as tabulated by JVSG (2026): O/O/D 20/40/80, P/C/V/S 125/250/500/1500.
+    assert levels.thresholds == {
+        "overview": 20.0, "outline": 40.0, "discern": 80.0, "perceive": 125.0,
+        "characterise": 250.0, "validate": 500.0, "scrutinise": 1500.0,
+    }  # fmt: skip
+    assert not levels.gives_probabilities

@@ -170,7 +170,11 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         _model_line(report),
         _fov_line(sensor) + f"IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
         f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
-        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+        (
+            f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+            if report["target"]["critical_dimension_m"] is not None
+            else "target: any size (the criterion counts pixels per metre of the scene)"
+        )
         + _scene_line(report["target"]),
     ]
     target = report["target"]

@@ -223,3 +223,20 @@ def test_the_2025_edition_levels_are_there():
         "characterise": 250.0, "validate": 500.0, "scrutinise": 1500.0,
     }  # fmt: skip
     assert not levels.gives_probabilities
+
+
+def test_provenance_names_the_scenario_file_without_the_local_folders(tmp_path, capsys):
+    import shutil
+    from pathlib import Path
+
+    folder = tmp_path / "private" / "project"
+    folder.mkdir(parents=True)
+    scenario = folder / "mine.toml"
+    shutil.copy(Path(__file__).parents[1] / "examples" / "uav_haze.toml", scenario)
+    out = tmp_path / "e.json"
+    with pytest.raises(SystemExit) as done:
+        main(["evaluate", str(scenario), "--out", str(out)])
+    assert done.value.code == 0, capsys.readouterr().err
+    text = out.read_text()
+    assert json.loads(text)["meta"]["scenario_file"] == "mine.toml"
+    assert "private" not in text and str(tmp_path) not in text

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import sys
 from importlib import resources
+from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
@@ -40,6 +41,13 @@ def _scenario_path(scenario: str | None) -> tuple[Scenario, str]:
     default = resources.files("targetacq").joinpath("examples").joinpath(DEFAULT_EXAMPLE)
     with resources.as_file(default) as path:
         return load_scenario(path), str(path)
+
+
+def _file_name(source: str) -> str:
+    """The scenario file as provenance records it: its name, not where it lies on this machine
+    (an output sent to a colleague must not carry the local folders); its SHA-256 beside it
+    identifies the content."""
+    return Path(source).name
 
 
 def _chain(scenario: Scenario, source: str, engine: str = "numpy") -> ModelChain:
@@ -134,7 +142,10 @@ def evaluate(
             bar.advance(task, n_sensors * (targets.stop - targets.start) * at.size)
 
         if out is not None:
-            meta = {"scenario_file": source, "scenario_file_sha256": sha256_file(source)}
+            meta = {
+                "scenario_file": _file_name(source),
+                "scenario_file_sha256": sha256_file(source),
+            }
             write_chunks(chain, out, times, meta=meta, on_chunk=done)
         else:
             per_target, per_time = chunk_sizes(n_sensors, n_targets, times.size)
@@ -339,7 +350,7 @@ def _write_simulation(
         runs=int(first.shape[0]),
         duration_s=float(result.duration),
         step_s=float(step),
-        scenario_file=source,
+        scenario_file=_file_name(source),
         scenario_file_sha256=sha256_file(source),
     )
     write_output(Output(ds, meta, table=lambda: summary), out)
@@ -376,7 +387,7 @@ def _write_false_detections(
         duration_s=float(result.duration),
         step_s=float(step),
         false_targets=None if table is None else table.model_dump(),
-        scenario_file=source,
+        scenario_file=_file_name(source),
         scenario_file_sha256=sha256_file(source),
     )
     write_output(Output(ds, meta, table=lambda: frame), path)

@@ -240,3 +240,20 @@ def test_provenance_names_the_scenario_file_without_the_local_folders(tmp_path, 
     text = out.read_text()
     assert json.loads(text)["meta"]["scenario_file"] == "mine.toml"
     assert "private" not in text and str(tmp_path) not in text
+
+
+def test_simulate_prints_one_number_format_per_column(capsys):
+    import re
+
+    with pytest.raises(SystemExit) as done:
+        main(["simulate", "examples/two_sensors_fused.toml", "--runs", "50", "--seed", "1"])
+    assert done.value.code == 0
+    lines = capsys.readouterr().out.splitlines()
+    rows = [line.split() for line in lines if "tion " in line and not line.startswith("target")]
+    assert len(rows) == 6
+    for column in (3, 4, 5):  # t10, t50, t90: every finite time with the same decimals
+        decimals = {
+            len(v.split(".")[1]) for row in rows if re.fullmatch(r"[0-9.]+", v := row[column])
+        }
+        assert len(decimals) <= 1, (column, decimals)
+    assert any(re.fullmatch(r"[0-9]+\.[0-9]+", row[3]) for row in rows)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from importlib import resources
@@ -307,11 +308,12 @@ def simulate(
             "",
             f"{'target':<16}{'task':<16}{'fraction':>9}{'t10 [s]':>9}{'t50 [s]':>9}{'t90 [s]':>9}",
         ]
+        # One format per column: times to a tenth of the step's resolution (a step of 0.1 s,
+        # two decimals), so that a column's numbers line up and compare by eye.
+        decimals = min(4, max(0, math.ceil(-math.log10(dt)) + 1))
         for _, row in summary.iterrows():
-            lines.append(
-                f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}"
-                f"{row['t10_s']:>9.3g}{row['t50_s']:>9.3g}{row['t90_s']:>9.3g}"
-            )
+            times = "".join(f"{row[k]:>9.{decimals}f}" for k in ("t10_s", "t50_s", "t90_s"))
+            lines.append(f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}{times}")
         if loaded.false_targets is not None:
             count = len(result.false_detections)
             lines += [

@@ -448,3 +448,12 @@ def test_a_nan_position_gives_nan_for_its_pairs_in_a_step(engine: str) -> None:
     assert not in_view[:, 1].any()
     assert np.isnan(tasks[:, :, 1]).all() and np.isnan(fused[:, 1]).all()
     assert not np.isnan(tasks[:, :, 0]).any()
+
+
+@pytest.mark.parametrize("engine", ENGINE_NAMES)
+def test_a_scalar_visible_fraction_is_every_targets(engine: str) -> None:
+    _needs(engine)
+    scene, sensors, targets, headings = _example(EXAMPLES[-1])
+    bound = bind(scene, engine)
+    got = _results(bound, sensors, targets, headings, 0.6)
+    _same(got, _results(bound, sensors, targets, headings, np.full(scene.shape[1], 0.6)))

@@ -68,7 +68,7 @@ import math
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -239,9 +239,10 @@ def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: An
     ----------
     visible_fraction : array_like
         Fraction of each target's height in view, in (0, 1] [1]; NaN gives NaN probabilities
-        for the pairs it reaches. Shape ``(n_g,)`` (one per target), or an array whose axes
-        are the pairs' from the left, each of its size or 1: ``(n_s, n_g)``, ``(1, n_g,
-        n_t)``, ``(n_s, n_g, *batch)``, ... (missing trailing batch axes are added).
+        for the pairs it reaches. A scalar (every pair), shape ``(n_g,)`` (one per target), or
+        an array whose axes are the pairs' from the left, each of its size or 1: ``(n_s,
+        n_g)``, ``(1, n_g, n_t)``, ``(n_s, n_g, *batch)``, ... (missing trailing batch axes
+        are added).
     shape : tuple of int
         The pairs, ``(n_s, n_g, *batch)``.
     xp : module, optional
@@ -263,7 +264,9 @@ def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: An
         value = xp.asarray(value)
     full = len(shape)
     per = "(n_s, n_g, *batch) = " + str(tuple(shape))
-    if value.ndim == 1 and value.shape[0] == shape[1]:
+    if value.ndim == 0:
+        value = xp.reshape(value, (1,) * full)
+    elif value.ndim == 1 and value.shape[0] == shape[1]:
         value = xp.reshape(value, (1, shape[1]) + (1,) * (full - 2))
     elif 2 <= value.ndim <= full and all(
         v in (1, n) for v, n in zip(value.shape, shape, strict=False)
@@ -271,8 +274,9 @@ def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: An
         value = xp.reshape(value, tuple(value.shape) + (1,) * (full - value.ndim))
     else:
         raise ValueError(
-            f"visible_fraction must have shape ({shape[1]},) (one per target), or axes of the "
-            f"pairs {per} from the left, each of its size or 1; got {tuple(value.shape)}"
+            f"visible_fraction must have shape ({shape[1]},) (one per target), be a scalar, or "
+            f"have axes of the pairs {per} from the left, each of its size or 1; got "
+            f"{tuple(value.shape)}"
         )
     if not _arrays.is_traced(value):
         bad = (value <= 0) | (value > 1)
@@ -684,10 +688,10 @@ def _factors_numpy(
     return found
 
 
-@dataclass(frozen=True)
-class _Chain:
+class _Chain(NamedTuple):
     """What the chain of :func:`_chain_numpy` takes of the targets and sensors of its pairs,
-    each array broadcasting against the pairs' line-of-sight components."""
+    each array broadcasting against the pairs' line-of-sight components (a named tuple: made
+    once per block, cheaply)."""
 
     sin_h: Any
     cos_h: Any
@@ -902,7 +906,10 @@ def _probabilities_numpy(
 
     tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene, moving)
     unknown = np.isnan(rng)
-    unknown |= np.isnan(np.broadcast_to(np.asarray(found.cycles, dtype=float), shape))
+    cycles_all = np.asarray(found.cycles, dtype=float)
+    unknown |= np.isnan(
+        cycles_all if cycles_all.shape == shape else np.broadcast_to(cycles_all, shape)
+    )
     some_unknown = bool(unknown.any())
     room = found.__dict__.pop(_SPARE, None)  # once: a second call allocates its own
     if picked is not None and (room is None or room.shape[1:] != shape):
@@ -1469,9 +1476,7 @@ def _step_numpy(
         viewing = fixed.viewing
         if viewing.any():
             tan_h, tan_v = fixed.half_tangents
-            in_view = geometry._within_numpy(
-                x, y, z, tuple(c[:, :1] for c in frame), tan_h[:, :, 0], tan_v[:, :, 0]
-            )
+            in_view = geometry._within_numpy(x, y, z, frame, tan_h[:, :, 0], tan_v[:, :, 0])
             if not viewing.all():
                 in_view |= ~viewing[:, None]
             in_view &= ~unknown
@@ -1553,15 +1558,17 @@ def _step_numpy(
             scene,
             flags,
         )
-        lost = np.isnan(r.reshape(-1)) | np.isnan(flat)  # NaN geometry: NaN probabilities
-        out = np.zeros((len(TASKS), size))
+        lost = np.isnan(r.reshape(-1))  # NaN geometry: NaN probabilities
+        lost |= np.isnan(flat)
         where = slice(None) if picked is None else picked
-        keep = in_view.reshape(-1)[where]
-        for k, p in enumerate(tasks):
-            values = np.where(keep, p, 0.0)
-            values[lost] = np.nan
-            out[k, where] = values
-        probabilities_ = out.reshape(len(TASKS), n_s, n_g)
+        values = np.where(in_view.reshape(-1)[where], np.stack(tasks), 0.0)
+        values[:, lost] = np.nan
+        if picked is None:
+            probabilities_ = values.reshape(len(TASKS), n_s, n_g)
+        else:
+            out = np.zeros((len(TASKS), size))
+            out[:, picked] = values
+            probabilities_ = out.reshape(len(TASKS), n_s, n_g)
         if sensors.groups:  # colour cameras: their bands are one look, not several
             fused = np.stack([np.asarray(fuse_groups(p, sensors.groups)) for p in probabilities_])
         else:

@@ -12,6 +12,14 @@ NumPy core's own functions, so that the field-of-view test is the same to the la
    detection in clutter, hot spots and motion, the semantics, the field of view and the
    sensor-level fusion (8.4).
 
+Positions of one time, ``(n_s, 3)`` and ``(n_g, 3)`` (a step of the step API), go through the
+kernels of :mod:`targetacq.engines.numba_pairs` instead, which take the targets as their inner
+loop and the pairs in view as the probabilities' list; :meth:`NumbaScene.step` runs both in one
+call. What those kernels need of the scene (the sensor table with each sensor's aim, the
+headings' sines and cosines, the targets' dimensions by component) is made when the engine is
+bound, and the inputs of a call are checked in the kernel where that is cheaper (infinite
+positions).
+
 Terrain maps work as with NumPy: :func:`targetacq.core.evaluate.footprint_scr` gives the SCR per
 pair between the two loops. NumPy arrays only.
 """
@@ -618,7 +626,9 @@ class NumbaScene:
     def probabilities(self, found: Factors, moving: Any = None) -> Probabilities:
         """As :func:`targetacq.core.probabilities` of the bound scene.
 
-        The kernel runs per sensor and target over the batch. Where the batch is short (one step
+        Factors of one time, ``(n_s, n_g)``, go through
+        :func:`~targetacq.engines.numba_pairs.pair_probabilities`. Otherwise the kernel runs per
+        sensor and target over the batch. Where the batch is short (one step
         of the step API), the targets that share a probability model go through as one row,
         their pairs as its batch: the kernel's loops then run over the targets.
         """

@@ -55,6 +55,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.criteria import CRITERIA
     from targetacq.noise import NOISE_MODELS
     from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
+    from targetacq.plausibility import PLAUSIBLE_RANGES
     from targetacq.sensors import SENSOR_TYPES
     from targetacq.targets import TARGETS
     from targetacq.transforms import CLUTTER_REGIONS, TRANSFORMS
@@ -73,6 +74,10 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.acquisition.MOTION_RULES": MOTION_RULES,
         "targetacq.acquisition.ACQUISITION_SEMANTICS": ACQUISITION_SEMANTICS,
         "targetacq.optics.FIELD_OF_VIEW_PROJECTIONS": FIELD_OF_VIEW_PROJECTIONS,
+        # A table of records: each row is named by where its quantity is in a scenario.
+        "targetacq.plausibility.PLAUSIBLE_RANGES": [
+            ", ".join(row.locations) for row in PLAUSIBLE_RANGES
+        ],
     }
     tables = {table.origin: table for table in registry_tables.registries()}
     assert set(tables) == set(expected)

@@ -53,6 +53,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
     from targetacq.bands import BANDS
     from targetacq.criteria import CRITERIA
+    from targetacq.engagement import REDRAW_RULES
     from targetacq.noise import NOISE_MODELS
     from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
     from targetacq.plausibility import PLAUSIBLE_RANGES
@@ -74,6 +75,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.acquisition.MOTION_RULES": MOTION_RULES,
         "targetacq.acquisition.ACQUISITION_SEMANTICS": ACQUISITION_SEMANTICS,
         "targetacq.optics.FIELD_OF_VIEW_PROJECTIONS": FIELD_OF_VIEW_PROJECTIONS,
+        "targetacq.engagement.REDRAW_RULES": REDRAW_RULES,
         # A table of records: each row is named by where its quantity is in a scenario.
         "targetacq.plausibility.PLAUSIBLE_RANGES": [
             ", ".join(row.locations) for row in PLAUSIBLE_RANGES

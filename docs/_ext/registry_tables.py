@@ -219,6 +219,20 @@ def _semantics() -> RegistryTable:
     )
 
 
+def _redraw_rules() -> RegistryTable:
+    from targetacq.engagement import REDRAW_RULES
+
+    rows = tuple((name, f"{r.description} ({r.source})") for name, r in REDRAW_RULES.items())
+    return RegistryTable(
+        "redraw_rules",
+        "Redraw rules of the step API and simulate",
+        "targetacq.engagement.REDRAW_RULES",
+        ("name", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.engagement", "REDRAW_RULES"),
+    )
+
+
 def _projections() -> RegistryTable:
     from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 
@@ -328,6 +342,7 @@ _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _clutter_regions,
     _motion_rules,
     _semantics,
+    _redraw_rules,
     _projections,
     _plausible_ranges,
 )

@@ -69,6 +69,7 @@ from targetacq import atmosphere as _atmosphere
 from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
+from targetacq.engagement import REDRAW_RULES
 from targetacq.inputs import read_input_text
 from targetacq.limits import (
     MAX_ANGLE_TURN,
@@ -850,14 +851,18 @@ _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
     "noise_model": (NOISE_MODELS, "noise model"),
     "motion": (MOTION_RULES, "motion rule"),
     "semantics": (ACQUISITION_SEMANTICS, "semantics"),
+    "redraw": (REDRAW_RULES, "redraw rule"),
 }
 
 
 class ModelChoices(_Strict):
     """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
     (how a moving target is detected), semantics (nested or conditional: what the three
-    probabilities mean, hence what is reported and sampled), fusion, and the search model's
-    time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default)."""
+    probabilities mean, hence what is reported and sampled), fusion, the search model's
+    time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default), and when a
+    sensor-target pair's random draws are drawn again (``redraw``,
+    :data:`targetacq.engagement.REDRAW_RULES`, with its ``decorrelation_time`` [s] where the
+    rule takes one)."""
 
     criterion: str = "johnson"
     n50: (
@@ -875,8 +880,10 @@ class ModelChoices(_Strict):
     semantics: str = "nested"
     fusion: Literal["sensor-level"] = "sensor-level"
     search_time: Time = 3.4
+    redraw: str = "never"
+    decorrelation_time: Time | None = None
 
-    @field_validator("criterion", "noise_model", "motion", "semantics")
+    @field_validator("criterion", "noise_model", "motion", "semantics", "redraw")
     @classmethod
     def _registered(cls, value: str, info: ValidationInfo) -> str:
         registry, kind = _MODEL_REGISTRIES[info.field_name or ""]
@@ -908,6 +915,19 @@ class ModelChoices(_Strict):
                 raise ValueError('bound is an option of transform = "c2nveo"; give that transform')
         if not self.search_time > 0:
             raise ValueError("search_time must be > 0 s")
+        uses_time = REDRAW_RULES[self.redraw].uses_time
+        if uses_time and self.decorrelation_time is None:
+            raise ValueError(
+                f"redraw = {self.redraw!r} needs decorrelation_time (how long a target must be "
+                'out of view before it is drawn again, e.g. "30 s")'
+            )
+        if not uses_time and self.decorrelation_time is not None:
+            raise ValueError(
+                f"decorrelation_time is an option of redraw = 'after-out-of-view', not of "
+                f"redraw = {self.redraw!r}"
+            )
+        if self.decorrelation_time is not None and not (0 <= self.decorrelation_time < math.inf):
+            raise ValueError(f"decorrelation_time must be >= 0 s, got {self.decorrelation_time!r}")
         if self.n50 is None:
             _probability_criterion(self.criterion)
         elif any(b < a for a, b in itertools.pairwise(self.n50)):

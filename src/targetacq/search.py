@@ -41,18 +41,22 @@ the targets then in view; nothing can happen in it. A NaN probability (a NaN pos
 either end of an interval means nothing happens for that pair in it and its episode goes on
 unchanged.
 
-Episodes. An episode starts at the first step at which a target is in view (and was not at the
-step before) and ends at the first step at which it is out of view again; a new one (with new
-draws) starts when it comes back. The target enters (leaves) the view somewhere inside the
-interval of such a step; it is taken to be in view for the half of the interval next to the
-step time at which it is in view, with the probabilities of that time held constant (the
-middle is the unbiased guess of the crossing, and holding avoids a ramp from zero that would
-shorten the capable time). For a probability that changes continuously the linear law above
-applies; the field-of-view edge is a jump, so it does not. Draws come from the counter-based
-generator of :mod:`targetacq.sampling`, keyed by the seed and the sensor's and target's names
-and counted by the index of the episode's first step and the run, so outcomes do not depend on
-the batch size, the order of the sensors or which other pairs are simulated. Fusion over sensors
-(sensor level): a target is detected (recognised, identified) when the first sensor does.
+Episodes and engagements. An episode is a stretch of time with the target in view; the
+engagement is everything from the first episode until a reset. A target enters (leaves) the
+view somewhere inside a step; the moment is solved from the positions and pointing at the two
+ends (:func:`pair_crossings`, :func:`targetacq.engagement.view_crossings`; the middle of the
+step where it cannot be), and the target is in view from (until) then with the probabilities of
+the end at which it is in view held constant (the field-of-view edge is a jump, so the linear
+law does not apply across it). The capability draw is kept from one episode to the next and
+drawn again only under the redraw rule (:data:`targetacq.engagement.REDRAW_RULES`: ``never`` by
+default); the detection clock and the hazard accumulated so far are kept too, except that after
+a detection a target that comes back must be found again (a new clock: its events are
+reacquisitions). Draws come from the counter-based generator of :mod:`targetacq.sampling`,
+keyed by the seed and the sensor's and target's names and counted by the pair's own number of
+draws and the run, so outcomes do not depend on the batch size, the order of the sensors, which
+other pairs are simulated, the step or the pointing pattern. A visit shorter than a step is
+recorded (:class:`ShortVisit`) for the callers' warning. Fusion over sensors (sensor level): a
+target is detected (recognised, identified) when the first sensor does.
 
 :func:`simulate` runs a :class:`targetacq.model.ModelChain`'s scripted scenario for many runs
 at once; :class:`targetacq.Simulation` is the same machinery driven one step at a time by
@@ -63,6 +67,7 @@ another simulation. Both draw the false detections of a scenario's ``[false_targ
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -70,13 +75,29 @@ from typing import Any
 import numpy as np
 
 from targetacq import _arrays, limits
+from targetacq.core.evaluate import boresight
+from targetacq.engagement import RedrawRule, get_redraw_rule, view_crossings
 from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.sampling import stream_key, uniforms
 
-__all__ = ["SimulationResult", "check_simulation_size", "search_probability", "simulate"]
+__all__ = [
+    "ShortVisit",
+    "ShortVisitWarning",
+    "SimulationResult",
+    "check_simulation_size",
+    "pair_crossings",
+    "search_probability",
+    "short_visit_message",
+    "simulate",
+]
 
 _TASKS = ("detection", "recognition", "identification")
-_CAPABILITY, _CLOCK = 1, 2  # purposes of the draws
+# Purposes of the draws. The capability and the clock are counted by the pair's own draws (not
+# the step), so the same seed gives the same draws whatever the step and the pointing pattern.
+_CAPABILITY, _CLOCK = 3, 4
+# Runs × pairs of a step up to which it is advanced element by element in Python floats
+# (_SearchState._interval_small), where NumPy's fixed cost per call is larger than the work.
+_SMALL = 8
 
 
 def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> Any:
@@ -190,10 +211,32 @@ class _Streams:
 @dataclass
 class _Interval:
     """What happened in one step: the pairs looked at (flat indices) and, per task, the time of
-    the event in this step for each run and pair (+inf where none), shape (3, runs, pairs)."""
+    the event in this step for each run and pair (+inf where none), shape (3, runs, pairs), and
+    whether it was the first time since the start (else a reacquisition), same shape."""
 
     pairs: np.ndarray
     times: np.ndarray
+    first: np.ndarray
+
+
+@dataclass(frozen=True)
+class ShortVisit:
+    """A target in a sensor's view for less than one step (the first seen in a run).
+
+    Attributes
+    ----------
+    pair : int
+        Flat index ``sensor · n_targets + target``.
+    entered, left : float
+        When it came into and went out of view [s].
+    step : float
+        The step [s] it was shorter than.
+    """
+
+    pair: int
+    entered: float
+    left: float
+    step: float
 
 
 class _SearchState:
@@ -201,12 +244,26 @@ class _SearchState:
 
     Arrays are (runs, pairs) with the pairs flattened (sensor-major); the probabilities and the
     field of view, which do not depend on the run, are (pairs,). See the module docstring for
-    the law.
+    the law and :mod:`targetacq.engagement` for the draw rule.
     """
 
-    def __init__(self, streams: _Streams, runs: np.ndarray, search_time: float) -> None:
+    def __init__(
+        self,
+        streams: _Streams,
+        runs: np.ndarray,
+        search_time: float,
+        redraw: str | RedrawRule = "never",
+        decorrelation_time: float | None = None,
+    ) -> None:
         if not (search_time > 0 and math.isfinite(search_time)):
             raise ValueError(f"search_time must be > 0 s, got {search_time!r}")
+        self.rule = get_redraw_rule(redraw)
+        if self.rule.uses_time and (decorrelation_time is None or not decorrelation_time >= 0):
+            raise ValueError(
+                f"redraw {self.rule.name!r} needs decorrelation_time >= 0 s, got "
+                f"{decorrelation_time!r}"
+            )
+        self.decorrelation_time = math.inf if decorrelation_time is None else decorrelation_time
         self.streams = streams
         self.runs = np.asarray(runs, dtype=np.int64).reshape(-1, 1)
         self.search_time = float(search_time)
@@ -216,44 +273,100 @@ class _SearchState:
         self.clock = np.zeros(shape)
         self.hazard = np.zeros(shape)
         self.level = np.zeros(shape, dtype=np.int8)  # tasks done in this episode: 0..3
+        self.renew = np.zeros(shape, dtype=bool)  # the last search ended in a detection
+        self.searches = np.zeros(shape, dtype=np.int64)  # clocks drawn so far
+        self.draws = np.zeros(size, dtype=np.int64)  # capability draws so far (per pair)
         self.first = np.full((3, *shape), np.inf)  # first time of each task since the start
         self.view = np.zeros(size, dtype=bool)
+        self.left = np.full(size, -np.inf)  # when each pair last went out of view
+        self.entered = np.full(size, np.nan)  # when its current episode began
         self.p: np.ndarray | None = None  # (3, pairs) at the previous step's time
         self.time = -math.inf
         self.index = 0  # steps taken
+        self.short: ShortVisit | None = None  # the first visit shorter than a step
 
-    def _start(self, new: np.ndarray) -> None:
-        """New episodes for the pairs ``new`` (flat indices): new draws, nothing done yet."""
+    def _start(self, new: np.ndarray, at: np.ndarray) -> None:
+        """New episodes for the pairs ``new`` (flat indices) beginning at times ``at``: new
+        capability draws where the rule says so, a new search clock where the last search
+        ended in a detection (or the draws are new), nothing done yet in the episode."""
         keys = self.streams.keys(new)
-        self.u[:, new] = uniforms(keys, self.index, self.runs, _CAPABILITY)
-        self.clock[:, new] = -np.log(uniforms(keys, self.index, self.runs, _CLOCK))
-        self.hazard[:, new] = 0.0
+        fresh = self.rule.fresh(at - self.left[new], self.decorrelation_time)
+        if fresh.any():
+            pairs = new[fresh]
+            key = (keys[0][fresh], keys[1][fresh])
+            self.u[:, pairs] = uniforms(key, self.draws[pairs], self.runs, _CAPABILITY)
+            self.draws[pairs] += 1
+            self.renew[:, pairs] = True
+        renew = self.renew[:, new]
+        if renew.any():
+            count = self.searches[:, new]
+            clock = -np.log(uniforms(keys, count, self.runs, _CLOCK))
+            self.clock[:, new] = np.where(renew, clock, self.clock[:, new])
+            self.hazard[:, new] = np.where(renew, 0.0, self.hazard[:, new])
+            self.searches[:, new] = count + renew
+            self.renew[:, new] = False
         self.level[:, new] = 0
+        self.entered[new] = at
 
-    def advance(self, time: float, p: np.ndarray, in_view: np.ndarray) -> _Interval | None:
+    def advance(
+        self,
+        time: float,
+        p: np.ndarray,
+        in_view: np.ndarray,
+        crossings: np.ndarray | None = None,
+    ) -> _Interval | None:
         """Advance over ``(self.time, time]`` to ``time``.
 
         ``p`` (3, pairs): detection, recognition and identification at ``time``; ``in_view``
-        (pairs,). The caller checks that time does not go back. Returns what happened, or None
-        where nothing could (the first step, a step of zero length, nothing in view).
+        (pairs,); ``crossings`` (pairs,): where a pair's view changes in this step, the moment
+        it does as a fraction of the step (:func:`targetacq.engagement.view_crossings`; NaN or
+        absent: the middle). The caller checks that time does not go back. Returns what
+        happened, or None where nothing could (the first step, a step of zero length, nothing in
+        view).
         """
         known = ~np.isnan(p[0])
         view = np.where(known, in_view, self.view)
+        dt = time - self.time
+        started = self.p is not None and dt > 0
+        changed = view != self.view
+        fraction = None
+        if started and changed.any():
+            fraction = np.full(view.size, 0.5)
+            if crossings is not None:
+                fraction = np.where(np.isnan(crossings), 0.5, crossings)
         new = np.flatnonzero(view & ~self.view)
         if new.size:
-            self._start(new)
+            at = np.full(new.size, time) if fraction is None else self.time + fraction[new] * dt
+            self._start(new, at)
         out = None
-        dt = time - self.time
-        if self.p is not None and dt > 0:
-            live = (self.view | view) & known & ~np.isnan(self.p[0])
+        previous = self.p
+        if started and previous is not None:
+            live = (self.view | view) & known & ~np.isnan(previous[0])
+            interval = self._interval_small if live.size * self.u.shape[0] <= _SMALL else None
             if live.all():
-                out = self._interval(slice(None), self.p, p, view, time, dt)
+                out = (interval or self._interval)(
+                    slice(None), previous, p, view, fraction, time, dt
+                )
             elif live.any():
                 pairs = np.flatnonzero(live)
-                out = self._interval(pairs, self.p[:, pairs], p[:, pairs], view[pairs], time, dt)
+                part = None if fraction is None else fraction[pairs]
+                out = (interval or self._interval)(
+                    pairs, previous[:, pairs], p[:, pairs], view[pairs], part, time, dt
+                )
         ended = np.flatnonzero(self.view & ~view)
         if ended.size:
             self.level[:, ended] = 0  # out of view: the episode is over
+            gone = (
+                np.full(ended.size, time) if fraction is None else self.time + fraction[ended] * dt
+            )
+            self.left[ended] = gone
+            if self.short is None and started:
+                brief = gone - self.entered[ended] < dt * (1.0 - 1e-9)
+                if brief.any():
+                    k = int(np.argmax(brief))
+                    self.short = ShortVisit(
+                        int(ended[k]), float(self.entered[ended[k]]), float(gone[k]), float(dt)
+                    )
         self.view = view
         self.p = p
         self.time = time
@@ -261,22 +374,33 @@ class _SearchState:
         return out
 
     def _interval(
-        self, pairs: Any, a: np.ndarray, b: np.ndarray, view: np.ndarray, time: float, dt: float
+        self,
+        pairs: Any,
+        a: np.ndarray,
+        b: np.ndarray,
+        view: np.ndarray,
+        fraction: np.ndarray | None,
+        time: float,
+        dt: float,
     ) -> _Interval:
         u = self.u[:, pairs]
         level = self.level[:, pairs]
         was = self.view[pairs]
-        if not (was.all() and view.all()):
-            # Entering or leaving the view: in view for the half of the step next to the end
-            # where it is, with that end's probabilities.
+        # The part of the interval in view: all of it, or from the crossing (entering) or up
+        # to it (leaving), with the probabilities of the end in view held over it.
+        window_lo: Any = 0.0
+        window_hi: Any = 1.0
+        if fraction is not None and not (was.all() and view.all()):
             a, b = np.where(was, a, b), np.where(view, b, a)
+            window_lo = np.where(was, 0.0, fraction)
+            window_hi = np.where(view, 1.0, fraction)
         slope = (b - a)[:, None]  # (3, 1, m)
         a = a[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             root = np.minimum(np.maximum((u - a) / slope, 0.0), 1.0)  # P(s) = u, (3, runs, m)
-        capable = np.maximum(a, b[:, None]) > u
-        lo = np.where(slope > 0, root, np.where(was, 0.0, 0.5))
-        hi = np.where(slope < 0, root, np.where(view, 1.0, 0.5))
+        lo = np.maximum(np.where(slope > 0, root, 0.0), window_lo)
+        hi = np.minimum(np.where(slope < 0, root, 1.0), window_hi)
+        capable = (np.maximum(a, b[:, None]) > u) & (lo <= hi)
         # Detection: the hazard P/t_s integrated over the capable part of the interval.
         a0, slope0, lo0, hi0 = a[0], slope[0], lo[0], hi[0]
         p_lo = a0 + slope0 * lo0
@@ -294,6 +418,7 @@ class _SearchState:
             times[0] = np.where(hit, np.minimum(crossing, hi0), np.inf)
             start = np.where(hit, times[0], 0.0)
             level = np.where(hit, np.int8(1), level)
+            self.renew[:, pairs] |= hit
         else:
             times[0] = np.inf
             start = np.zeros(u.shape)
@@ -308,9 +433,145 @@ class _SearchState:
         self.level[:, pairs] = level
         # Fractions of the interval → times, exact at the step's own time.
         times = time - (1.0 - times) * dt
-        self.first[:, :, pairs] = np.minimum(self.first[:, :, pairs], times)
+        before = self.first[:, :, pairs]
+        first = np.isinf(before) & np.isfinite(times)
+        self.first[:, :, pairs] = np.minimum(before, times)
         index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
-        return _Interval(pairs=index, times=times)
+        return _Interval(pairs=index, times=times, first=first)
+
+    def _interval_small(
+        self,
+        pairs: Any,
+        a: np.ndarray,
+        b: np.ndarray,
+        view: np.ndarray,
+        fraction: np.ndarray | None,
+        time: float,
+        dt: float,
+    ) -> _Interval:
+        """:meth:`_interval` element by element in Python floats, for a few runs × pairs (a
+        step of one run and a handful of pairs, where NumPy's per-call cost dominates): the
+        same operations in the same order, so the same numbers to the last bit (tested)."""
+        index = np.arange(self.view.size) if isinstance(pairs, slice) else pairs
+        cols = index.tolist()
+        runs = self.u.shape[0]
+        was = self.view[index].tolist()
+        now = view.tolist()
+        frac = [0.5] * len(cols) if fraction is None else fraction.tolist()
+        a_rows, b_rows = a.tolist(), b.tolist()
+        u_all, level_all = self.u[:, index].tolist(), self.level[:, index].tolist()
+        clock_all, hazard_all = self.clock[:, index].tolist(), self.hazard[:, index].tolist()
+        first_all = self.first[:, :, index].tolist()
+        scale = dt / self.search_time
+        inf = math.inf
+        times = np.full((3, runs, len(cols)), inf)
+        first = np.zeros((3, runs, len(cols)), dtype=bool)
+        for j in range(len(cols)):
+            aj = [a_rows[k][j] for k in range(3)]
+            bj = [b_rows[k][j] for k in range(3)]
+            w_lo, w_hi = 0.0, 1.0
+            if fraction is not None and not (was[j] and now[j]):
+                # In view at one end only: that end's probabilities, over the window next to it.
+                aj, bj = (aj if was[j] else bj), (bj if now[j] else aj)
+                w_lo, w_hi = (0.0 if was[j] else frac[j]), (1.0 if now[j] else frac[j])
+            for r in range(runs):
+                u = u_all[r][j]
+                lo, hi, capable = [0.0] * 3, [1.0] * 3, [False] * 3
+                for k in range(3):
+                    slope = bj[k] - aj[k]
+                    low, high = 0.0, 1.0
+                    if slope > 0:
+                        low = min(max((u - aj[k]) / slope, 0.0), 1.0)
+                    elif slope < 0:
+                        high = min(max((u - aj[k]) / slope, 0.0), 1.0)
+                    lo[k], hi[k] = max(low, w_lo), min(high, w_hi)
+                    capable[k] = max(aj[k], bj[k]) > u and lo[k] <= hi[k]
+                level = level_all[r][j]
+                slope0 = bj[0] - aj[0]
+                p_lo = aj[0] + slope0 * lo[0]
+                width = hi[0] - lo[0]
+                area = width * (p_lo + 0.5 * slope0 * width) if capable[0] else 0.0
+                hazard = hazard_all[r][j]
+                left = (clock_all[r][j] - hazard) / scale
+                searching = level == 0
+                at = [inf, inf, inf]
+                start = 0.0
+                if searching and capable[0] and area >= left:
+                    root_term = math.sqrt(max(p_lo * p_lo + 2.0 * slope0 * left, 0.0))
+                    at[0] = min(lo[0] + 2.0 * left / (p_lo + root_term), hi[0])
+                    start = at[0]
+                    level = 1
+                    self.renew[r, cols[j]] = True
+                if searching:
+                    self.hazard[r, cols[j]] = hazard + scale * area
+                for k in (1, 2):
+                    moment = max(start, lo[k])
+                    if level == k and capable[k] and moment <= hi[k]:
+                        at[k] = moment
+                        start = moment
+                        level = k + 1
+                    else:
+                        start = 0.0
+                self.level[r, cols[j]] = level
+                for k in range(3):
+                    if at[k] != inf:
+                        value = time - (1.0 - at[k]) * dt
+                        times[k, r, j] = value
+                        if first_all[k][r][j] == inf:
+                            first[k, r, j] = True
+                            self.first[k, r, cols[j]] = value
+                        elif value < first_all[k][r][j]:
+                            self.first[k, r, cols[j]] = value
+        return _Interval(pairs=index, times=times, first=first)
+
+
+def pair_crossings(
+    sensors: Any,
+    before: tuple[np.ndarray, np.ndarray, Any],
+    after: tuple[np.ndarray, np.ndarray, Any],
+    pairs: np.ndarray,
+    entering: np.ndarray,
+) -> np.ndarray:
+    """When, within a step, the view of sensor-target pairs changes, as fractions of the step.
+
+    Parameters
+    ----------
+    sensors : targetacq.core.SensorArrays
+        The sensors (their pointing and fields of view).
+    before, after : (array (n_s, 3), array (n_g, 3), array (n_s, 2) or None)
+        Sensor positions, target positions [m] and sensor pointing (azimuth, depression [rad];
+        None or a NaN row: the sensor's own) at the start and at the end of the step.
+    pairs : array of int (m,)
+        Flat pair indices ``sensor · n_g + target`` whose view changes.
+    entering : array of bool (m,)
+        Whether each comes into view (else it goes out).
+
+    Returns
+    -------
+    numpy.ndarray (m,)
+        :func:`targetacq.engagement.view_crossings`; NaN where a sensor is not pointed at one
+        end (the change is then at an unknown moment: the caller takes the middle).
+    """
+    n_g = before[1].shape[0]
+    sensor, target = np.divmod(pairs, n_g)
+    ends = []
+    for s_pos, _, pointing in (before, after):
+        forward, pointed = boresight(s_pos, sensors, pointing)
+        ends.append((np.stack([np.asarray(f) for f in forward], axis=-1), np.asarray(pointed)))
+    los0 = before[1][target] - before[0][sensor]
+    los1 = after[1][target] - after[0][sensor]
+    half = np.asarray(sensors.half_tangents, dtype=float)[sensor]
+    pointed = (ends[0][1].reshape(-1) & ends[1][1].reshape(-1))[sensor]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        found = view_crossings(
+            (los0, los1),
+            (ends[0][0][sensor], ends[1][0][sensor]),
+            (half[:, 0], half[:, 1]),
+            entering,
+        )
+    return np.where(
+        pointed & np.isfinite(los0).all(axis=1) & np.isfinite(los1).all(axis=1), found, np.nan
+    )
 
 
 @dataclass(frozen=True)
@@ -340,6 +601,41 @@ class SimulationResult:
     targets: list[str]
     duration: float
     false_detections: FalseDetections = field(default_factory=FalseDetections.empty)
+
+    def acquired(self, time: float | None = None) -> dict[str, np.ndarray]:
+        """The cumulative flags of every run: whether each task was done by ``time``.
+
+        Parameters
+        ----------
+        time : float, optional
+            [s] from the scenario's start time, as the first times are; default: the end of the
+            simulation.
+
+        Returns
+        -------
+        dict of str → numpy.ndarray of bool
+            ``detected``, ``recognised``, ``identified``: (runs, sensors, targets) per sensor;
+            ``fused_detected``, ...: (runs, targets) by any sensor (as the step API's flags).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> result = SimulationResult(
+        ...     times={t: np.array([[[1.0]], [[np.inf]]]) for t in _TASKS},
+        ...     fused={t: np.array([[1.0], [np.inf]]) for t in _TASKS},
+        ...     sensors=["s"], targets=["g"], duration=5.0)
+        >>> result.acquired()["fused_identified"].tolist()
+        [[True], [False]]
+        """
+        limit = math.inf if time is None else float(time)
+        if math.isnan(limit):
+            raise ValueError("time must be a number of seconds, got nan")
+        out = {}
+        for task, flag in zip(_TASKS, ("detected", "recognised", "identified"), strict=True):
+            # +inf: never done (not done "by +inf").
+            out[flag] = np.isfinite(self.times[task]) & (self.times[task] <= limit)
+            out[f"fused_{flag}"] = np.isfinite(self.fused[task]) & (self.fused[task] <= limit)
+        return out
 
     def summary(self) -> Any:
         """Per target and task (fused over sensors): the fraction of runs where it happened
@@ -444,17 +740,25 @@ def simulate(
     )
     in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
     # The bands of a colour camera draw from the camera's streams (as in the step API).
-    streams = _Streams(seed, chain.compiled.scene.sensors.group_names, chain.target_names)
+    scene = chain.compiled.scene
+    streams = _Streams(seed, scene.sensors.group_names, chain.target_names)
+    crossings = _scripted_crossings(chain, edges, p, in_view)
     footprints = _false_target_footprints(chain, edges, runs, seed)
     false_parts: list[FalseDetections] = []
     times = {task: np.full((runs, n_s, n_g), np.inf) for task in _TASKS}
     at = edges.tolist()
+    short: ShortVisit | None = None
     for first in range(0, runs, batch):
         state = _SearchState(
-            streams, np.arange(first, min(first + batch, runs)), sc.model.search_time
+            streams,
+            np.arange(first, min(first + batch, runs)),
+            sc.model.search_time,
+            sc.model.redraw,
+            sc.model.decorrelation_time,
         )
         for k, t in enumerate(at):
-            state.advance(t, p[k], in_view[k])
+            state.advance(t, p[k], in_view[k], crossings.get(k))
+        short = short or state.short
         if footprints is not None:  # every step after the first at once: counter-based
             steps = [(k, at[k - 1], at[k], footprints[1][k]) for k in range(1, len(at))]
             false_parts.append(footprints[0].draw(steps, state.runs[:, 0]))
@@ -463,6 +767,12 @@ def simulate(
             times[task][first : first + count] = state.first[j].reshape(count, n_s, n_g)
         if progress is not None:
             progress(count)
+    if short is not None:
+        warnings.warn(
+            short_visit_message(short, scene.sensors.names, chain.target_names),
+            ShortVisitWarning,
+            stacklevel=2,
+        )
     fused = {task: times[task].min(axis=1) for task in _TASKS}
     return SimulationResult(
         times=times,
@@ -471,6 +781,51 @@ def simulate(
         targets=list(chain.target_names),
         duration=float(duration),
         false_detections=FalseDetections.concatenate(false_parts),
+    )
+
+
+def _scripted_crossings(
+    chain: Any, edges: np.ndarray, p: np.ndarray, in_view: np.ndarray
+) -> dict[int, np.ndarray]:
+    """Per step whose view changes for some pair, the crossing fractions of every pair (NaN
+    where it does not change): the scenario's scripted positions and own pointing, moving
+    linearly within each step (:func:`pair_crossings`)."""
+    from targetacq.core import scenario_positions
+
+    known = ~np.isnan(p[:, 0])
+    changed = (in_view[1:] != in_view[:-1]) & known[1:] & known[:-1]
+    steps = np.flatnonzero(changed.any(axis=1)) + 1
+    if steps.size == 0:
+        return {}
+    sensor_positions, target_positions, _ = scenario_positions(chain.scenario, edges)
+    sensors = chain.compiled.scene.sensors
+    out = {}
+    for k in steps.tolist():
+        pairs = np.flatnonzero(changed[k - 1])
+        fractions = np.full(in_view.shape[1], np.nan)
+        fractions[pairs] = pair_crossings(
+            sensors,
+            (sensor_positions[:, k - 1], target_positions[:, k - 1], None),
+            (sensor_positions[:, k], target_positions[:, k], None),
+            pairs,
+            in_view[k, pairs],
+        )
+        out[k] = fractions
+    return out
+
+
+class ShortVisitWarning(UserWarning):
+    """A target was in a sensor's view for less than one step: the step is too long for it."""
+
+
+def short_visit_message(short: ShortVisit, sensors: Sequence[str], targets: Sequence[str]) -> str:
+    """The warning for a visit shorter than the step (:class:`ShortVisitWarning`)."""
+    sensor, target = divmod(short.pair, len(targets))
+    return (
+        f"target {targets[target]!r} was in the view of sensor {sensors[sensor]!r} for "
+        f"{short.left - short.entered:.3g} s ({short.entered:.6g} s to {short.left:.6g} s), less "
+        f"than one step of {short.step:.3g} s: its probabilities there were taken from one end of "
+        "a step, and a target can cross the view unseen between two steps; use a shorter step"
     )
 
 

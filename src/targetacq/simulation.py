@@ -26,9 +26,16 @@ one implementation shared with :func:`targetacq.search.simulate`:
   (the detection time solves a quadratic), so coarse steps do not bias an approaching target;
   recognition and identification happen at the first moment, at or after detection, at which
   the capability draw of the viewing episode is below their (linear) probability;
-- a target that enters or leaves a sensor's field of view within a step is taken to be in view
-  for the half of the step next to the step time at which it is in view, with that time's
-  probabilities;
+- a target that enters or leaves a sensor's field of view within a step is in view from (or
+  until) the moment it crosses the edge, solved from the positions and pointing at both ends
+  (:func:`targetacq.engagement.view_crossings`), with the probabilities of the end at which it
+  is in view; a visit shorter than a step warns once per run
+  (:class:`targetacq.search.ShortVisitWarning`);
+- draws belong to the engagement: a pair's capability draw and search clock are kept while the
+  target is out of view, and drawn again only under the model's ``redraw`` rule
+  (:data:`targetacq.engagement.REDRAW_RULES`; ``never`` by default), so no pointing pattern or
+  step raises the share of runs acquired; each event says whether it is the ``first`` of its
+  sensor, target and task since the reset or ``reacquired`` (:data:`EVENT_KINDS`);
 - the first step after :meth:`Simulation.reset` (and after construction) only starts the clock:
   it evaluates the probabilities at its time and starts the viewing episodes of the targets then
   in view; nothing happens in it, whatever ``dt``;
@@ -50,6 +57,7 @@ targets are simulated; run ``r`` of :meth:`Simulation.reset` is run ``r`` of
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -62,25 +70,42 @@ from targetacq import _arrays, core, engines
 from targetacq.core.evaluate import footprint_scr
 from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
-from targetacq.scenario import Scenario, ScenarioError, load_scenario
-from targetacq.search import _SearchState, _Streams, check_seed
+from targetacq.scenario import Scenario, ScenarioError, Sensor, load_scenario
+from targetacq.search import (
+    ShortVisitWarning,
+    _SearchState,
+    _Streams,
+    check_seed,
+    pair_crossings,
+    short_visit_message,
+)
 from targetacq.sensors import get_sensor_type
 
-__all__ = ["TASKS", "Event", "Events", "Simulation", "StepResult"]
+__all__ = ["EVENT_KINDS", "TASKS", "Event", "Events", "Simulation", "StepResult"]
 
 TASKS = ("detection", "recognition", "identification")
 """The tasks, in the order of :attr:`Events.task` codes."""
+
+EVENT_KINDS = ("first", "reacquired")
+"""What an event is, in the order of :attr:`Events.kind` codes: ``first``, the first time since
+the last reset that the sensor did the task on the target (at most once per sensor, target and
+task); ``reacquired``, the task done again after the target was out of the sensor's view and
+came back (the observer finds it again: a new search for detection, then recognition and
+identification as soon as the kept capability draw allows)."""
 
 _INPUT_NAMES = ("sensor_positions", "target_positions", "target_headings", "sensor_pointing")
 
 
 class Event(NamedTuple):
-    """One acquisition: ``sensor`` first did ``task`` on ``target`` at ``time`` [s]."""
+    """One acquisition: ``sensor`` did ``task`` on ``target`` at ``time`` [s], for the first
+    time since the last reset (``kind`` ``"first"``) or again after the target was out of view
+    (``"reacquired"``; :data:`EVENT_KINDS`)."""
 
     sensor: str
     target: str
     task: str
     time: float
+    kind: str
 
 
 @dataclass(frozen=True)
@@ -97,6 +122,8 @@ class Events:
         Indices into :data:`TASKS`.
     time : numpy.ndarray of float (k,)
         When it happened [s], within the step's interval.
+    kind : numpy.ndarray of int (k,)
+        Indices into :data:`EVENT_KINDS`: 0 the first time since the reset, 1 a reacquisition.
     sensor_names, target_names : tuple of str
     """
 
@@ -104,6 +131,7 @@ class Events:
     target: np.ndarray
     task: np.ndarray
     time: np.ndarray
+    kind: np.ndarray
     sensor_names: tuple[str, ...]
     target_names: tuple[str, ...]
 
@@ -111,14 +139,29 @@ class Events:
         return int(self.time.size)
 
     def __iter__(self) -> Iterator[Event]:
-        for s, g, k, t in zip(
+        for s, g, k, t, c in zip(
             self.sensor.tolist(),
             self.target.tolist(),
             self.task.tolist(),
             self.time.tolist(),
+            self.kind.tolist(),
             strict=True,
         ):
-            yield Event(self.sensor_names[s], self.target_names[g], TASKS[k], t)
+            yield Event(self.sensor_names[s], self.target_names[g], TASKS[k], t, EVENT_KINDS[c])
+
+    @property
+    def first(self) -> Events:
+        """The events that are the first of their sensor, target and task since the reset."""
+        keep = self.kind == 0
+        return Events(
+            self.sensor[keep],
+            self.target[keep],
+            self.task[keep],
+            self.time[keep],
+            self.kind[keep],
+            self.sensor_names,
+            self.target_names,
+        )
 
 
 @dataclass(frozen=True)
@@ -249,9 +292,20 @@ class Simulation:
         false_targets: Any = None,
     ) -> None:
         chosen = engines.for_steps(engine)
+        for name, items in (("sensors", sensors), ("targets", targets)):
+            if isinstance(items, (str, bytes, Mapping)) or not isinstance(items, Sequence):
+                raise ScenarioError(
+                    f"{name} must be a list of records (mappings or targetacq.scenario "
+                    f"objects), got {type(items).__name__}"
+                )
         sensors = [_record(s) for s in sensors]
         targets = [_record(t) for t in targets]
         for k, sensor in enumerate(sensors):
+            if not isinstance(sensor, (Mapping, Sensor)):
+                raise ScenarioError(
+                    f"sensors[{k}]: a sensor is a targetacq.scenario.Sensor or a mapping of its "
+                    f"fields (name, band, ...), got {type(sensor).__name__} {sensor!r:.40}"
+                )
             kind = sensor.get("type", "thermal") if isinstance(sensor, Mapping) else sensor.type
             try:
                 get_sensor_type(kind)
@@ -308,6 +362,7 @@ class Simulation:
         self.engine: str = self._bound.engine
         self._terrain = self.compiled.terrain
         self._jax_scene: Any = None
+        self._subsets: dict[bytes, tuple[Any, Any, np.ndarray]] = {}
         self._signal = np.asarray(scene.signature.target)
         self._ifov = np.asarray(scene.sensors.ifov)
         self.sensors: tuple[str, ...] = tuple(scene.sensors.names)
@@ -317,7 +372,7 @@ class Simulation:
         self._stream_names = scene.sensors.group_names
         self._streams = _Streams(check_seed(seed), self._stream_names, self.targets)
         none = np.empty(0, dtype=np.int64)
-        self._empty = Events(none, none, none, np.empty(0), self.sensors, self.targets)
+        self._empty = Events(none, none, none, np.empty(0), none, self.sensors, self.targets)
         self._false = self._false_targets(self.seed)
         self.reset()
 
@@ -358,14 +413,30 @@ class Simulation:
             self._false = self._false_targets(self._streams.seed)
         if not isinstance(run, (int, np.integer)) or isinstance(run, bool) or not 0 <= run < 2**32:
             raise ValueError(f"run must be an integer in [0, 2**32), got {run!r}")
-        self._state = _SearchState(self._streams, np.array([run]), self._scene.choices.search_time)
+        model = self.scenario.model
+        self._state = _SearchState(
+            self._streams,
+            np.array([run]),
+            self._scene.choices.search_time,
+            model.redraw,
+            model.decorrelation_time,
+        )
+        self._previous: tuple[np.ndarray, np.ndarray, np.ndarray | None] | None = None
+        self._warned = False
 
     # -- the pure part -------------------------------------------------------------------------
 
     def _inputs(
-        self, sensor_positions: Any, target_positions: Any, headings: Any, pointing: Any
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any,
+        pointing: Any,
+        n_targets: int | None = None,
     ) -> tuple[Any, Any, Any, Any]:
-        """Check the shapes (on ``.shape`` only, so traced arrays pass) and make arrays."""
+        """Check the shapes (on ``.shape`` only, so traced arrays pass) and make arrays.
+
+        ``n_targets``: the targets' rows expected (default the simulation's targets)."""
         given = (sensor_positions, target_positions, headings, pointing)
         names = [n for n, v in zip(_INPUT_NAMES, given, strict=True) if v is not None]
         xp, arrays = _arrays.arrays(
@@ -373,7 +444,8 @@ class Simulation:
         )
         values = iter(arrays)
         s_pos, t_pos, head, point = (None if v is None else next(values) for v in given)
-        n_s, n_g = self._shape
+        n_s = self._shape[0]
+        n_g = self._shape[1] if n_targets is None else n_targets
         for name, value, shape, what in (
             ("sensor_positions", s_pos, (n_s, 3), "(n_sensors, 3): east, north, up [m]"),
             ("target_positions", t_pos, (n_g, 3), "(n_targets, 3): east, north, up [m]"),
@@ -399,6 +471,34 @@ class Simulation:
         if self._scene.sensors.groups and isinstance(s_pos, np.ndarray):
             self._check_bands(s_pos, point)
         return s_pos, t_pos, head, point
+
+    def _per_step(self, moving: Any, visible_fraction: Any) -> dict[str, Any]:
+        """The per-step inputs given, checked: ``moving`` (n_targets,) bool and
+        ``visible_fraction`` (n_targets,) or (n_sensors, n_targets) in (0, 1] or NaN."""
+        given: dict[str, Any] = {}
+        n_s, n_g = self._shape
+        if moving is not None:
+            flags = np.asarray(moving)
+            if flags.shape != (n_g,) or flags.dtype != np.bool_:
+                raise ValueError(
+                    f"moving must be a bool array of shape ({n_g},) = (n_targets,), got "
+                    f"{flags.dtype} of shape {flags.shape}"
+                )
+            given["moving"] = flags
+        if visible_fraction is not None:
+            fraction = np.asarray(visible_fraction, dtype=float)
+            if fraction.shape not in ((n_g,), (n_s, n_g)):
+                raise ValueError(
+                    f"visible_fraction must have shape ({n_g},) = (n_targets,) or ({n_s}, {n_g}) "
+                    f"= (n_sensors, n_targets), got {fraction.shape}"
+                )
+            bad = ~np.isnan(fraction) & ~((fraction > 0) & (fraction <= 1))
+            if bad.any():
+                raise ValueError(
+                    f"visible_fraction must be in (0, 1] (or NaN), got {fraction[bad][0]!r}"
+                )
+            given["visible_fraction"] = fraction
+        return given
 
     def _check_bands(self, s_pos: np.ndarray, point: Any) -> None:
         """The bands of a colour camera are one camera: one position and one pointing."""
@@ -431,24 +531,46 @@ class Simulation:
             "sensor_pointing depression", depression, xp, -MAX_DEPRESSION, MAX_DEPRESSION, "rad"
         )
 
-    def _evaluate(self, s_pos: Any, t_pos: Any, head: Any, point: Any) -> tuple[Any, Any]:
+    def _evaluate(
+        self,
+        inputs: tuple[Any, Any, Any, Any],
+        per_step: Mapping[str, Any] | None = None,
+        subset: tuple[Any, Any, np.ndarray] | None = None,
+    ) -> tuple[Any, Any]:
+        """Factors and probabilities of the scene (or of ``subset``: a scene of picked targets,
+        its bound engine and the picked indices) at the inputs, with the per-step inputs."""
+        s_pos, t_pos, head, point = inputs
+        scene, bound = (self._scene, self._bound) if subset is None else subset[:2]
+        per_step = per_step or {}
         if isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray):
-            found = self._bound.factors(s_pos, t_pos, head, point)
+            if per_step:
+                found = bound.factors(
+                    s_pos, t_pos, head, point, visible_fraction=per_step.get("visible_fraction")
+                )
+            else:
+                found = bound.factors(s_pos, t_pos, head, point)
             if self._terrain is not None:
-                scr = footprint_scr(self._terrain, found.range, t_pos, self._signal, self._ifov)
+                signal = self._signal if subset is None else self._signal[:, subset[2]]
+                scr = footprint_scr(self._terrain, found.range, t_pos, signal, self._ifov)
                 found = dataclasses.replace(found, scr=scr)
-            return found, self._bound.probabilities(found)
+            if "moving" in per_step:
+                return found, bound.probabilities(found, moving=per_step["moving"])
+            return found, bound.probabilities(found)
         if self._terrain is not None:
             raise ValueError(
                 "a scenario with a terrain map (background.terrain) is evaluated with NumPy "
                 "arrays only: its clutter is looked up in the map per position on the host"
             )
         # JAX arrays (or tracers): the scene's arrays in JAX too, made once.
-        if self._jax_scene is None:
-            from targetacq.core import records
+        from targetacq.core import records
 
-            self._jax_scene = records.as_jax(self._scene)
-        return core.evaluate(self._jax_scene, s_pos, t_pos, head, point)
+        if subset is None:
+            if self._jax_scene is None:
+                self._jax_scene = records.as_jax(self._scene)
+            jax_scene = self._jax_scene
+        else:
+            jax_scene = records.as_jax(scene)
+        return core.evaluate(jax_scene, s_pos, t_pos, head, point, **per_step)
 
     def probabilities(
         self,
@@ -510,7 +632,98 @@ class Simulation:
         if not _arrays.is_traced(time):
             self._check_time(time)
         inputs = self._inputs(sensor_positions, target_positions, target_headings, sensor_pointing)
-        return self._evaluate(*inputs)[1]
+        return self._evaluate(inputs)[1]
+
+    def _subset(self, index: np.ndarray) -> tuple[Any, Any, np.ndarray]:
+        """The scene of the targets ``index`` and its bound engine (the last few kept)."""
+        key = index.tobytes()
+        found = self._subsets.get(key)
+        if found is None:
+            scene = core.take_targets(self._scene, index)
+            found = (scene, engines.get_engine(self.engine).bind(scene), index)
+            if len(self._subsets) >= 8:
+                self._subsets.pop(next(iter(self._subsets)))
+            self._subsets[key] = found
+        return found
+
+    def probabilities_at(
+        self,
+        time: Any,
+        sensor_positions: Any,
+        target_positions: Any,
+        targets: Any,
+        target_headings: Any = None,
+        sensor_pointing: Any = None,
+    ) -> core.Probabilities:
+        """The probabilities of targets at arbitrary positions: pure (no draws, no state).
+
+        For a tracker asking "P_d of this track at x" or a planner asking "what if it were
+        there": each query is a target (its signature, size and criterion) at a position, a
+        target may be asked at several positions at once, and each is seen by every sensor.
+        Equal to :meth:`probabilities` where the positions are the targets' own.
+
+        Parameters
+        ----------
+        time : float
+            [s], finite (names the moment, as for :meth:`probabilities`).
+        sensor_positions : array (n_sensors, 3)
+            East, north, up [m].
+        target_positions : array (M, 3)
+            Where each query puts its target [m].
+        targets : array of int (M,)
+            Which target each query is (indices into :attr:`targets`; repeats allowed).
+        target_headings : array (M,), optional
+            [rad]; default each target's own heading.
+        sensor_pointing : array (n_sensors, 2), optional
+            As for :meth:`probabilities`.
+
+        Returns
+        -------
+        targetacq.core.Probabilities
+            ``detection``, ``recognition``, ``identification`` (n_sensors, M) and the fused
+            ones (M,).
+
+        Raises
+        ------
+        ValueError
+            ``targets`` not integers in [0, n_targets), or arrays of the wrong shape.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from targetacq import Simulation
+        >>> from targetacq.scenario import Background, Sensor, Target
+        >>> sim = Simulation(
+        ...     [Sensor(name="ir", band="lwir", ifov=0.25e-3, position=(0.0, 0.0, 5.0))],
+        ...     [Target(name="truck", dimensions=(7.0, 2.5, 3.0), temperature=305.0,
+        ...             position=(0.0, 0.0, 0.0))],
+        ...     background=Background(temperature=295.0),
+        ... )
+        >>> tracks = np.array([[1000.0, 0.0, 0.0], [3000.0, 0.0, 0.0]])
+        >>> p = sim.probabilities_at(0.0, np.zeros((1, 3)), tracks, np.array([0, 0]))
+        >>> p.detection.shape, bool(p.detection[0, 0] > p.detection[0, 1])
+        ((1, 2), True)
+        """
+        if not _arrays.is_traced(time):
+            self._check_time(time)
+        index = np.asarray(targets)
+        n_g = self._shape[1]
+        if (
+            index.ndim != 1
+            or not (np.issubdtype(index.dtype, np.integer) or index.size == 0)
+            or (index.size and not (index.min() >= 0 and index.max() < n_g))
+        ):
+            raise ValueError(
+                f"targets must be a 1-d array of integer indices in [0, {n_g}) (the targets: "
+                f"{', '.join(self.targets[:5])}{', ...' if n_g > 5 else ''}), got "
+                f"{index.dtype} of shape {index.shape}"
+                + (f" with values {index.min()} to {index.max()}" if index.size else "")
+            )
+        index = index.astype(np.int64)
+        inputs = self._inputs(
+            sensor_positions, target_positions, target_headings, sensor_pointing, index.size
+        )
+        return self._evaluate(inputs, subset=self._subset(index))[1]
 
     @staticmethod
     def _check_time(time: Any, name: str = "time") -> float:
@@ -530,6 +743,9 @@ class Simulation:
         target_positions: Any,
         target_headings: Any = None,
         sensor_pointing: Any = None,
+        *,
+        moving: Any = None,
+        visible_fraction: Any = None,
     ) -> StepResult:
         """Advance over ``(time − dt, time]`` with the positions at ``time``.
 
@@ -545,6 +761,12 @@ class Simulation:
             step after a reset, which only starts the clock).
         sensor_positions, target_positions, target_headings, sensor_pointing
             As for :meth:`probabilities`.
+        moving : array of bool (n_targets,), optional
+            Whether each target moves at ``time`` (the motion rule,
+            :data:`targetacq.acquisition.MOTION_RULES`); default the targets' own ``moving``.
+        visible_fraction : array (n_targets,) or (n_sensors, n_targets), optional
+            Fraction of each target's height in view at ``time``, in (0, 1] (occlusion from
+            the caller's own world; NaN: unknown, NaN probabilities); default the targets' own.
 
         Returns
         -------
@@ -555,6 +777,12 @@ class Simulation:
         ValueError
             A non-finite time, a negative or non-finite ``dt``, a step back in time or one that
             does not start at the previous step, or arrays of the wrong shape.
+
+        Warns
+        -----
+        targetacq.search.ShortVisitWarning
+            Once per run (until the next reset), the first time a target is in a sensor's view
+            for less than one step.
 
         Examples
         --------
@@ -571,8 +799,8 @@ class Simulation:
         >>> sensor, truck = np.array([[0.0, 0.0, 5.0]]), np.array([[800.0, 0.0, 0.0]])
         >>> for k in range(601):  # one minute at 10 Hz
         ...     out = sim.step(0.1 * k, 0.1, sensor, truck)
-        >>> bool(out.fused_detected[0])
-        True
+        >>> bool(out.fused_detected[0]), [e.kind for e in out.events]
+        (True, [])
         """
         t = self._check_time(time)
         dt = self._check_time(dt, "dt")
@@ -591,21 +819,45 @@ class Simulation:
                     f"{state.time!r} s to {t!r} s), got {dt!r} s"
                 )
         inputs = self._inputs(sensor_positions, target_positions, target_headings, sensor_pointing)
-        found, probs = self._evaluate(*inputs)
+        per_step = (
+            self._per_step(moving, visible_fraction)
+            if moving is not None or (visible_fraction is not None)
+            else None
+        )
+        found, probs = self._evaluate(inputs, per_step)
+        started = state.p is not None and t > state.time
+        current = (
+            np.asarray(inputs[0], dtype=float),
+            np.asarray(inputs[1], dtype=float),
+            None if inputs[3] is None else np.asarray(inputs[3], dtype=float),
+        )
         false = FalseDetections.empty()
-        if self._false is not None and state.p is not None and t > state.time:
+        if self._false is not None and started:
             false = self._false.sample(
-                state.index,
-                state.time,
-                t,
-                state.runs[:, 0],
-                np.asarray(inputs[0], dtype=float),
-                None if inputs[3] is None else np.asarray(inputs[3], dtype=float),
+                state.index, state.time, t, state.runs[:, 0], current[0], current[2]
             )
         per_pair = [np.asarray(getattr(probs, task), dtype=float) for task in TASKS]
-        in_view = np.asarray(found.in_view, dtype=bool)
+        in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), self._shape)
         p = np.stack(per_pair).reshape(3, -1)
-        interval = state.advance(t, p, np.broadcast_to(in_view, self._shape).reshape(-1))
+        view = in_view.reshape(-1)
+        crossings = None
+        if started and self._previous is not None:
+            changed = (view != state.view) & ~np.isnan(p[0])
+            if changed.any():
+                pairs = np.flatnonzero(changed)
+                crossings = np.full(view.size, np.nan)
+                crossings[pairs] = pair_crossings(
+                    self._scene.sensors, self._previous, current, pairs, view[pairs]
+                )
+        self._previous = current
+        interval = state.advance(t, p, view, crossings)
+        if state.short is not None and not self._warned:
+            self._warned = True
+            warnings.warn(
+                short_visit_message(state.short, self.sensors, self.targets),
+                ShortVisitWarning,
+                stacklevel=2,
+            )
         done = np.isfinite(state.first[:, 0]).reshape(3, *self._shape)
         return StepResult(
             time=t,
@@ -615,7 +867,7 @@ class Simulation:
             fused_detection=np.asarray(probs.fused_detection),
             fused_recognition=np.asarray(probs.fused_recognition),
             fused_identification=np.asarray(probs.fused_identification),
-            in_view=np.broadcast_to(in_view, self._shape).copy(),
+            in_view=in_view.copy(),
             detected=done[0],
             recognised=done[1],
             identified=done[2],
@@ -636,11 +888,13 @@ class Simulation:
         at = times[task, column]
         sensor, target = np.divmod(interval.pairs[column], self._shape[1])
         order = np.lexsort((task, target, sensor, at))
+        kind = np.where(interval.first[:, 0][task, column], 0, 1)
         return Events(
             sensor=sensor[order],
             target=target[order],
             task=task[order],
             time=at[order],
+            kind=kind[order],
             sensor_names=self.sensors,
             target_names=self.targets,
         )

@@ -673,10 +673,14 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         "focal_length_m": ("focal length", 1e3, "mm"),
         "hfov_rad": ("horizontal field of view", 180 / math.pi, "°"),
         "pixels": ("pixels across the field", 1, ""),
+        "projection": ("field of view to IFOV", 1, "(targetacq.optics.FIELD_OF_VIEW_PROJECTIONS)"),
+        "pixel_density": ("EN 62676-4 pixel density", 1, "definition"),
+        "f_number": ("F-number", 1, ""),
     }
     for key, value in setup.sensor.items():
         name, scale, unit = labels[key]
-        sensor[name] = f"{value * scale:.4g} {unit}".strip()
+        text = value if isinstance(value, str) else f"{value * scale:.4g}"
+        sensor[name] = f"{text} {unit}".strip()
     optics_labels = {
         "aperture": ("aperture diameter", 1e3, "mm"),
         "wavelength": ("wavelength for diffraction", 1e6, "µm"),

@@ -23,6 +23,7 @@ from targetacq.core.records import (
     SignatureArrays,
     TargetArrays,
     register_pytrees,
+    take_targets,
 )
 
 __all__ = [
@@ -45,4 +46,5 @@ __all__ = [
     "register_pytrees",
     "scenario_positions",
     "sensor_rows",
+    "take_targets",
 ]

@@ -98,6 +98,8 @@ __all__ = [
     "Factors",
     "Probabilities",
     "boresight",
+    "check_moving",
+    "check_visible_fraction",
     "evaluate",
     "factors",
     "footprint_scr",
@@ -225,6 +227,84 @@ def boresight(
 
 
 # --------------------------------------------------------------------------------------------
+# Per-call inputs that replace the scene's own: a visible fraction, moving flags
+# --------------------------------------------------------------------------------------------
+
+
+def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: Any = None) -> Any:
+    """A visible fraction given per call, checked and shaped against the pairs ``shape``.
+
+    Parameters
+    ----------
+    visible_fraction : array_like
+        Fraction of each target's height in view, in (0, 1] [1]; NaN gives NaN probabilities
+        for the pairs it reaches. Shape ``(n_g,)`` (one per target), or an array whose axes
+        are the pairs' from the left, each of its size or 1: ``(n_s, n_g)``, ``(1, n_g,
+        n_t)``, ``(n_s, n_g, *batch)``, ... (missing trailing batch axes are added).
+    shape : tuple of int
+        The pairs, ``(n_s, n_g, *batch)``.
+    xp : module, optional
+        The array namespace of the result (default: the input's).
+
+    Returns
+    -------
+    array
+        ``len(shape)`` axes, each of ``shape``'s size or 1.
+
+    Raises
+    ------
+    ValueError
+        A shape that does not fit the pairs, or a value outside (0, 1].
+    """
+    space, (value,) = _arrays.arrays(visible_fraction, names=("visible_fraction",))
+    xp = space if xp is None else xp
+    if isinstance(value, np.ndarray) and xp is not np and xp is not _arrays._NUMPY:
+        value = xp.asarray(value)
+    full = len(shape)
+    per = "(n_s, n_g, *batch) = " + str(tuple(shape))
+    if value.ndim == 1 and value.shape[0] == shape[1]:
+        value = xp.reshape(value, (1, shape[1]) + (1,) * (full - 2))
+    elif 2 <= value.ndim <= full and all(
+        v in (1, n) for v, n in zip(value.shape, shape, strict=False)
+    ):
+        value = xp.reshape(value, tuple(value.shape) + (1,) * (full - value.ndim))
+    else:
+        raise ValueError(
+            f"visible_fraction must have shape ({shape[1]},) (one per target), or axes of the "
+            f"pairs {per} from the left, each of its size or 1; got {tuple(value.shape)}"
+        )
+    if not _arrays.is_traced(value):
+        bad = (value <= 0) | (value > 1)
+        if _arrays.any_known(bad, xp):
+            first = float(xp.reshape(value[bad], (-1,))[0])
+            raise ValueError(f"visible_fraction must be in (0, 1] (NaN for unknown); got {first:g}")
+    return value
+
+
+def check_moving(moving: Any, count: int) -> Any:
+    """Moving flags given per call: a bool array (n_g,), as NumPy where it is not JAX's.
+
+    Raises
+    ------
+    ValueError
+        Not booleans, or not one per target.
+    """
+    value = moving if hasattr(moving, "dtype") and not isinstance(moving, np.ndarray) else None
+    if value is None:
+        value = np.asarray(moving)
+    if str(value.dtype) != "bool":
+        raise ValueError(
+            f"moving must be booleans (True/False), one per target, shape ({count},); got "
+            f"{value.dtype} values"
+        )
+    if tuple(value.shape) != (count,):
+        raise ValueError(
+            f"moving must have shape ({count},): one flag per target; got {tuple(value.shape)}"
+        )
+    return value
+
+
+# --------------------------------------------------------------------------------------------
 # NumPy: what a scene fixes, once; the factors block by block; the probabilities in view only
 # --------------------------------------------------------------------------------------------
 
@@ -300,6 +380,16 @@ class _TargetGroups:
         if same is not None:
             return same
         return (self.hot if name == "hot" else self.moving)[targets()]
+
+    def with_moving(self, moving: np.ndarray | None) -> _TargetGroups:
+        """The same groups with other moving flags (n_g,) bool; None: these."""
+        if moving is None or np.array_equal(moving, self.moving):
+            return self
+        if self.group is None:
+            same: tuple[bool | None, ...] = (_same(moving),)
+        else:
+            same = tuple(_same(moving[self.group == k]) for k in range(len(self.rows)))
+        return dataclasses.replace(self, moving=moving, moving_same=same)
 
 
 def _same(values: np.ndarray) -> bool | None:
@@ -491,6 +581,7 @@ def _factors_numpy(
     headings: np.ndarray | None,
     pointing: Any,
     scr: Any,
+    visible_fraction: np.ndarray | None = None,
 ) -> Factors:
     """:func:`factors` with NumPy, block by block (:func:`_blocks`), the same arithmetic.
 
@@ -521,9 +612,11 @@ def _factors_numpy(
     rng, critical, cycles, depth_out, tau_out, snr_out = floats[:6]
     ratio_out = floats[6] if noisy else None
     per_batch = sin_h.shape[1] > 1
+    visible = _visible_blocks(visible_fraction, parts.visible, batch)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for sb, gb, bb in _blocks(n_s, n_g, n_b):
             block = (sb, gb, bb)
+            seen_part = visible(sb, gb, bb)
             x = t_east[None, gb, bb] - s_east[sb, None, bb]  # (ks, kg, kb)
             y = t_north[None, gb, bb] - s_north[sb, None, bb]
             z = t_up[None, gb, bb] - s_up[sb, None, bb]
@@ -539,7 +632,7 @@ def _factors_numpy(
                 parts.height[gb],
             )
             rng[block] = r
-            seen = vertical * parts.visible[gb]
+            seen = vertical * seen_part
             np.minimum(horizontal, seen, out=seen)
             critical[block] = seen
             footprint = np.maximum(r, 1e-9)
@@ -575,7 +668,7 @@ def _factors_numpy(
             if noisy:
                 # The area seen: the outline's horizontal side times the visible part of its
                 # height.
-                area = horizontal * vertical * parts.visible[gb]
+                area = horizontal * vertical * seen_part
                 pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), parts.ifov[sb])
                 own, inverse, unknown = sensor_noise._sensor_db(
                     parts.contrast[sb, gb], parts.noise_equivalent[sb], tau, pixels, np
@@ -606,6 +699,31 @@ def _factors_numpy(
     if spare is not None:
         object.__setattr__(found, _SPARE, spare.reshape((len(TASKS), *full)))
     return found
+
+
+def _visible_blocks(
+    given: np.ndarray | None, own: np.ndarray, batch: tuple[int, ...]
+) -> Callable[[slice, slice, slice], np.ndarray]:
+    """The visible fraction of a block ``(sb, gb, bb)`` of :func:`_factors_numpy`: the targets'
+    own ``(n_g, 1)``, else the one given per call (:func:`check_visible_fraction`, axes of the
+    pairs of their size or 1), its axes of size 1 kept."""
+    if given is None:
+        return lambda sb, gb, bb: own[gb]
+    lead = given.shape[:2]
+    if all(n == 1 for n in given.shape[2:]):
+        flat = given.reshape(*lead, 1)
+    else:
+        flat = np.broadcast_to(given, (*lead, *batch)).reshape(*lead, math.prod(batch))
+    whole = slice(None)
+
+    def part(sb: slice, gb: slice, bb: slice) -> np.ndarray:
+        return flat[
+            sb if flat.shape[0] > 1 else whole,
+            gb if flat.shape[1] > 1 else whole,
+            bb if flat.shape[2] > 1 else whole,
+        ]
+
+    return part
 
 
 def _outputs(count: int, shape: tuple[int, ...]) -> tuple[list[np.ndarray], np.ndarray, Any]:
@@ -697,7 +815,9 @@ def _noise_ratio(found: Factors, shape: tuple[int, ...], picked: np.ndarray | No
     return _pair_values(source, shape, picked)
 
 
-def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
+def _probabilities_numpy(
+    scene: SceneArrays, found: Factors, moving: np.ndarray | None = None
+) -> Probabilities:
     """:func:`probabilities` with NumPy: the transforms run on the pairs in view only."""
     rng = np.asarray(found.range)
     shape = rng.shape
@@ -718,8 +838,9 @@ def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
         index = np.arange(rng.size) if picked is None else picked
         return (index // per_pair) % n_g
 
-    tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene)
+    tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene, moving)
     unknown = np.isnan(rng)
+    unknown |= np.isnan(np.broadcast_to(np.asarray(found.cycles, dtype=float), shape))
     some_unknown = bool(unknown.any())
     room = found.__dict__.pop(_SPARE, None)  # once: a second call allocates its own
     if picked is not None and (room is None or room.shape[1:] != shape):
@@ -764,11 +885,12 @@ def _in_view_tasks(
     scr: np.ndarray | None,
     target: Callable[[], np.ndarray],
     scene: SceneArrays,
+    moving: np.ndarray | None = None,
 ) -> list[np.ndarray]:
     """Ordered probabilities of flat arrays of pairs (``target()``: each element's target), the
     targets that share a criterion together, in blocks of :data:`_PROBABILITY_BLOCK`; the same
     calls as :func:`task_probabilities` makes for them, element by element."""
-    groups = _groups(scene.targets)
+    groups = _groups(scene.targets).with_moving(moving)
     chosen: _Choices = derived(scene, "choices", _scene_choices)
     noise = None if snr is None else chosen.noise
     size = cycles.size
@@ -822,6 +944,7 @@ def factors(
     headings: Any = None,
     pointing: Any = None,
     scr: Any = None,
+    visible_fraction: Any = None,
 ) -> Factors:
     """Range, critical dimension, cycles, field of view, path and clutter of every pair.
 
@@ -838,10 +961,22 @@ def factors(
         See :func:`boresight`.
     scr : array ``(n_s, n_g, *batch)``, optional
         SCR per pair, replacing the scene's (e.g. :func:`footprint_scr` of a terrain map).
+    visible_fraction : array, optional
+        Fraction of each target's height in view for this call, in (0, 1] [1], replacing the
+        targets' own (:attr:`TargetArrays.visible_fraction`): ``(n_g,)``, ``(n_s, n_g)`` or
+        axes of ``(n_s, n_g, *batch)`` from the left, each of its size or 1
+        (:func:`check_visible_fraction`). It scales the critical dimension's vertical side,
+        the area a sensor's own noise sees and a laser radar's relief SCR; NaN gives NaN
+        probabilities for the pairs it reaches.
 
     Returns
     -------
     Factors
+
+    Raises
+    ------
+    ValueError
+        Infinite positions, or a visible fraction of the wrong shape or outside (0, 1].
 
     Notes
     -----
@@ -857,13 +992,30 @@ def factors(
     for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
         if type(value) is not np.ndarray or not value.ndim or np.isinf(value).any():
             _arrays.require_finite(name, value, xp, "m")
-    if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr):
-        found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
+    visible = None
+    if visible_fraction is not None:
+        visible = check_visible_fraction(visible_fraction, _pairs(scene, s_pos, t_pos), xp)
+    if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr) and (
+        visible is None or isinstance(visible, np.ndarray)
+    ):
+        found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr, visible)
     else:
-        found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
+        found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp, visible)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
-        return active.active_factors(scene, found, s_pos, t_pos)
+        return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
+
+
+def _pairs(scene: SceneArrays, s_pos: Any, t_pos: Any) -> tuple[int, ...]:
+    """``(n_s, n_g, *batch)`` of positions (their batch axes broadcast together)."""
+    try:
+        batch = np.broadcast_shapes(tuple(s_pos.shape[1:-1]), tuple(t_pos.shape[1:-1]))
+    except ValueError:
+        raise ValueError(
+            f"sensor_positions {tuple(s_pos.shape)} and target_positions {tuple(t_pos.shape)}: "
+            "their batch dimensions (between the first and the last) do not broadcast"
+        ) from None
+    return (*scene.shape, *batch)
 
 
 def _factors_generic(
@@ -874,10 +1026,13 @@ def _factors_generic(
     pointing: Any,
     scr: Any,
     xp: Any,
+    visible: Any = None,
 ) -> Factors:
     """:func:`factors` of checked positions in any array namespace (whole arrays at once)."""
     sensors, targets, path = scene.sensors, scene.targets, scene.path
     batch = s_pos.ndim - 2
+    if visible is None:
+        visible = _per_target(targets.visible_fraction, batch, xp)
     # Components (n_s, n_g, *batch), each contiguous in memory.
     x, y, z = (t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3))
     heading = _per_target(targets.heading, batch, xp) if headings is None else headings[None]
@@ -891,9 +1046,7 @@ def _factors_generic(
         _per_target(dims[:, 1], batch, xp),
         _per_target(dims[:, 2], batch, xp),
     )
-    critical = geometry.critical_dimension_seen(
-        horizontal, vertical, _per_target(targets.visible_fraction, batch, xp)
-    )
+    critical = geometry.critical_dimension_seen(horizontal, vertical, visible)
     with np.errstate(divide="ignore"):
         cycles = critical / (xp.maximum(rng, 1e-9) * _per_sensor(sensors.cycle, batch, xp))
 
@@ -931,7 +1084,7 @@ def _factors_generic(
     snr = atmosphere.snr_from_optical_depth(depth)
     if sensors.has_noise:
         # The area seen: the outline's horizontal side times the visible part of its height.
-        area = horizontal * vertical * _per_target(targets.visible_fraction, batch, xp)
+        area = horizontal * vertical * visible
         pixels = sensor_noise.pixels_on_target(
             area, xp.maximum(rng, 1e-9), _per_sensor(sensors.ifov, batch, xp)
         )
@@ -956,7 +1109,9 @@ def _factors_generic(
     )
 
 
-def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> tuple[Any, Any, Any]:
+def task_probabilities(
+    cycles: Any, snr: Any, scr: Any, scene: SceneArrays, moving: Any = None
+) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
 
     :func:`targetacq.acquisition.ordered_probabilities` with each target's N50s, hot-spot and
@@ -972,6 +1127,8 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
         [dB]; None for no path noise.
     scr : array or None
     scene : SceneArrays
+    moving : array of bool (n_g,), optional
+        The targets' moving flags for this call (:func:`check_moving`); default their own.
 
     Returns
     -------
@@ -983,7 +1140,10 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     numpy = isinstance(targets.n50, np.ndarray) and isinstance(n, np.ndarray)
     resolved = _choices(choices) if numpy else _resolve(choices)
     noise = None if snr is None else resolved.noise
-    groups = _groups(targets) if numpy else None
+    if numpy and moving is not None:
+        moving = np.asarray(moving, dtype=bool)
+    groups = _groups(targets).with_moving(moving) if numpy else None
+    traced_moving = moving is not None and not isinstance(moving, np.ndarray)
 
     def run(members: Any, n50: list[Any], k: int = 0) -> tuple[Any, Any, Any]:
         def pick(value: Any) -> Any:
@@ -994,7 +1154,10 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
                 same = (groups.hot_same if name == "hot" else groups.moving_same)[k]
                 if same is not None:
                     return same
-            values = np.asarray(targets.hot_spot if name == "hot" else targets.moving, dtype=bool)
+            if name == "moving" and traced_moving:  # JAX's flags: per target, as they come
+                return _per_target(moving if members is None else moving[members], batch, xp)
+            own = targets.moving if moving is None else moving
+            values = np.asarray(targets.hot_spot if name == "hot" else own, dtype=bool)
             chosen = values if members is None else values[members]
             if chosen.size and bool(np.all(chosen == chosen[0])):
                 return bool(chosen[0])
@@ -1028,20 +1191,42 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     return out[0], out[1], out[2]
 
 
-def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
+def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Probabilities:
     """Probabilities of every pair from its factors, zero outside the field of view, NaN where
-    the geometry is NaN, and their sensor-level fusion (8.4).
+    the geometry (the range or the cycles) is NaN, and their sensor-level fusion (8.4).
 
     With NumPy the transforms run on the pairs in view only, and the noise comes from the optical
     depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
     same.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    found : Factors
+    moving : array of bool (n_g,), optional
+        Which targets move in this call, replacing the targets' own flags
+        (:attr:`TargetArrays.moving`): the motion rule of the scene's choices detects the
+        moving ones (§3.9).
+
+    Returns
+    -------
+    Probabilities
+
+    Raises
+    ------
+    ValueError
+        ``moving`` not booleans, one per target.
     """
+    if moving is not None:
+        moving = check_moving(moving, scene.shape[1])
     if active.has_active(scene):
-        found_p = _probabilities_generic(scene, found, active.active_probabilities(scene, found))
+        found_p = _probabilities_generic(
+            scene, found, active.active_probabilities(scene, found, moving)
+        )
     elif _numpy_factors(scene, found):
-        found_p = _probabilities_numpy(scene, found)
+        found_p = _probabilities_numpy(scene, found, _host_flags(moving))
     else:
-        found_p = _probabilities_generic(scene, found)
+        found_p = _probabilities_generic(scene, found, moving=moving)
     if scene.sensors.groups:  # colour cameras: their bands are one look, not several
         groups = scene.sensors.groups
         found_p = dataclasses.replace(
@@ -1053,15 +1238,23 @@ def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
     return found_p
 
 
+def _host_flags(moving: Any) -> np.ndarray | None:
+    """Checked moving flags as a NumPy array (None stays None)."""
+    return None if moving is None else np.asarray(moving, dtype=bool)
+
+
 def _probabilities_generic(
-    scene: SceneArrays, found: Factors, tasks: tuple[Any, Any, Any] | None = None
+    scene: SceneArrays,
+    found: Factors,
+    tasks: tuple[Any, Any, Any] | None = None,
+    moving: Any = None,
 ) -> Probabilities:
     """:func:`probabilities` in any array namespace: every pair, then the field of view."""
-    xp, (rng,) = _arrays.arrays(found.range)
+    xp, (rng, cycles) = _arrays.arrays(found.range, found.cycles)
     if tasks is None:
         snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
-        tasks = task_probabilities(found.cycles, snr, found.scr, scene)
-    unknown = xp.isnan(rng)
+        tasks = task_probabilities(found.cycles, snr, found.scr, scene, moving=moving)
+    unknown = xp.isnan(rng) | xp.isnan(cycles)
     out = [
         xp.where(unknown, xp.nan, xp.where(found.in_view, _arrays.as_float(p, xp), 0.0))
         for p in tasks
@@ -1077,10 +1270,18 @@ def evaluate(
     headings: Any = None,
     pointing: Any = None,
     scr: Any = None,
+    visible_fraction: Any = None,
+    moving: Any = None,
 ) -> tuple[Factors, Probabilities]:
-    """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`)."""
-    found = factors(scene, sensor_positions, target_positions, headings, pointing, scr)
-    return found, probabilities(scene, found)
+    """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`).
+
+    ``visible_fraction`` goes to :func:`factors`, ``moving`` to :func:`probabilities`: both
+    replace the targets' own for this call.
+    """
+    found = factors(
+        scene, sensor_positions, target_positions, headings, pointing, scr, visible_fraction
+    )
+    return found, probabilities(scene, found, moving)
 
 
 def footprint_scr(

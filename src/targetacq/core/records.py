@@ -27,6 +27,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
+import numpy as np
+
 _R = TypeVar("_R")
 _V = TypeVar("_V")
 
@@ -43,6 +45,7 @@ __all__ = [
     "derived",
     "pytree_record",
     "register_pytrees",
+    "take_targets",
     "to_namespace",
 ]
 
@@ -373,6 +376,115 @@ class SceneArrays:
     def shape(self) -> tuple[int, int]:
         """(n_sensors, n_targets)."""
         return len(self.sensors.names), len(self.targets.names)
+
+
+def _target_index(index: Any, count: int) -> np.ndarray:
+    """``index`` as an int64 NumPy array (M,) of targets in [0, count), else ``ValueError``."""
+    valid = f"integers in [0, {count - 1}]" if count else "none (the scene has no targets)"
+    given = np.asarray(index)
+    if given.ndim != 1:
+        raise ValueError(
+            f"targets: the index must be an array of shape (M,) of {valid}; got shape {given.shape}"
+        )
+    if given.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    if given.dtype.kind not in "iu":
+        raise ValueError(f"targets: the index must hold {valid}; got {given.dtype} values")
+    low, high = int(given.min()), int(given.max())
+    if low < 0 or high >= count:
+        bad = low if low < 0 else high
+        raise ValueError(
+            f"targets: index {bad} is outside the scene's {count} targets; valid: {valid}"
+        )
+    return given.astype(np.int64, copy=False)
+
+
+def _take(value: Any, index: np.ndarray, axis: int) -> Any:
+    """``value`` taken at ``index`` along ``axis`` (NumPy fancy indexing, else ``xp.take``)."""
+    if value is None:
+        return None
+    if isinstance(value, np.ndarray):
+        return np.take(value, index, axis=axis)
+    import array_api_compat
+
+    xp = array_api_compat.array_namespace(value)
+    return xp.take(value, xp.asarray(index), axis=axis)
+
+
+def take_targets(scene: SceneArrays, index: Any) -> SceneArrays:
+    """The scene whose targets are ``scene.targets[index]``, in that order.
+
+    Every per-target array is taken along its target axis: the targets' fields (dimensions,
+    visible fraction, heading, N50s, names, hot-spot and moving flags) and the signature's
+    ``contrast``, ``target`` and ``scr`` (axis 1 of their ``(n_s, n_g)``). The sensors, the path,
+    the model choices and the radar and laser-radar rows are per sensor and are kept. Evaluating
+    the subset at ``target_positions[index]`` gives the whole scene's numbers at
+    ``[:, index]``: nothing in the core depends on the other targets.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+        NumPy arrays, or any array namespace with ``take`` (JAX).
+    index : array_like of int, shape (M,)
+        Indices of the scene's targets in ``[0, n_g − 1]``; repeats and any order allowed (a
+        target taken twice appears twice, with its name twice); M = 0 gives a scene with no
+        targets.
+
+    Returns
+    -------
+    SceneArrays
+
+    Raises
+    ------
+    ValueError
+        ``index`` not a one-dimensional array of integers, or an index outside ``[0, n_g − 1]``
+        (the message names ``targets`` and the valid range).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from targetacq.core import take_targets
+    >>> from targetacq.core.records import SceneArrays, SensorArrays, TargetArrays
+    >>> from targetacq.core.records import PathArrays, SignatureArrays
+    >>> targets = TargetArrays(
+    ...     dimensions=np.array([[7.0, 2.5, 3.0], [4.0, 2.0, 2.0]]),
+    ...     visible_fraction=np.array([1.0, 0.5]), heading=np.zeros(2),
+    ...     n50=np.ones((2, 3)), names=("truck", "jeep"), hot_spot=(False, True),
+    ...     moving=(False, False))
+    >>> sensors = SensorArrays(np.ones(1), np.ones(1), np.ones((1, 2)), np.ones((1, 3)),
+    ...     np.ones((1, 2)), np.zeros(1), np.zeros((1, 0)), np.zeros(1), names=("ir",),
+    ...     types=("thermal",), pointed=(False,))
+    >>> path = PathArrays(np.zeros(0), np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+    >>> scene = SceneArrays(sensors, targets, path,
+    ...     SignatureArrays(contrast=np.array([[1.0, 2.0]]), target=np.array([[3.0, 4.0]])))
+    >>> subset = take_targets(scene, [1, 1, 0])
+    >>> subset.targets.names, subset.targets.hot_spot
+    (('jeep', 'jeep', 'truck'), (True, True, False))
+    >>> subset.signature.contrast.tolist()
+    [[2.0, 2.0, 1.0]]
+    """
+    if not isinstance(scene, SceneArrays):
+        raise TypeError(f"take_targets takes a SceneArrays, got {type(scene).__name__}")
+    chosen = _target_index(index, scene.shape[1])
+    picked = chosen.tolist()
+    t, sig = scene.targets, scene.signature
+    targets = dataclasses.replace(
+        t,
+        dimensions=_take(t.dimensions, chosen, 0),
+        visible_fraction=_take(t.visible_fraction, chosen, 0),
+        heading=_take(t.heading, chosen, 0),
+        n50=_take(t.n50, chosen, 0),
+        names=tuple(t.names[k] for k in picked),
+        hot_spot=tuple(t.hot_spot[k] for k in picked),
+        moving=tuple(t.moving[k] for k in picked),
+    )
+    signature = dataclasses.replace(
+        sig,
+        contrast=_take(sig.contrast, chosen, 1),
+        target=_take(sig.target, chosen, 1),
+        scr=_take(sig.scr, chosen, 1),
+    )
+    return dataclasses.replace(scene, targets=targets, signature=signature)
 
 
 def register_pytrees() -> None:

@@ -65,11 +65,14 @@ class BoundEngine(Protocol):
         headings: Any = None,
         pointing: Any = None,
         scr: Any = None,
+        visible_fraction: Any = None,
     ) -> Any:
-        """:func:`targetacq.core.factors` of the scene."""
+        """:func:`targetacq.core.factors` of the scene (``visible_fraction``: the targets'
+        visible fraction for this call, replacing the scene's)."""
 
-    def probabilities(self, found: Any) -> Any:
-        """:func:`targetacq.core.probabilities` of the scene."""
+    def probabilities(self, found: Any, moving: Any = None) -> Any:
+        """:func:`targetacq.core.probabilities` of the scene (``moving``: the targets' moving
+        flags for this call, replacing the scene's)."""
 
 
 @dataclass(frozen=True)
@@ -123,11 +126,20 @@ class NumpyScene:
         headings: Any = None,
         pointing: Any = None,
         scr: Any = None,
+        visible_fraction: Any = None,
     ) -> Any:
-        return factors(self.scene, sensor_positions, target_positions, headings, pointing, scr)
+        return factors(
+            self.scene,
+            sensor_positions,
+            target_positions,
+            headings,
+            pointing,
+            scr,
+            visible_fraction,
+        )
 
-    def probabilities(self, found: Any) -> Any:
-        return probabilities(self.scene, found)
+    def probabilities(self, found: Any, moving: Any = None) -> Any:
+        return probabilities(self.scene, found, moving)
 
 
 def _bind_numpy(scene: Any) -> BoundEngine:

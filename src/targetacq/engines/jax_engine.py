@@ -16,7 +16,14 @@ from typing import Any
 
 import numpy as np
 
-from targetacq.core.evaluate import Factors, Probabilities, factors, probabilities
+from targetacq.core.evaluate import (
+    Factors,
+    Probabilities,
+    check_moving,
+    check_visible_fraction,
+    factors,
+    probabilities,
+)
 from targetacq.core.records import SceneArrays, as_jax
 
 __all__ = ["JaxScene"]
@@ -72,21 +79,37 @@ class JaxScene:
         headings: Any = None,
         pointing: Any = None,
         scr: Any = None,
+        visible_fraction: Any = None,
     ) -> Factors:
         """As :func:`targetacq.core.factors` of the bound scene, in NumPy arrays."""
+        if visible_fraction is not None:  # checked on the host: values are traced under jit
+            s_shape, t_shape = np.shape(sensor_positions), np.shape(target_positions)
+            batch = np.broadcast_shapes(tuple(s_shape[1:-1]), tuple(t_shape[1:-1]))
+            visible_fraction = check_visible_fraction(
+                np.asarray(visible_fraction, dtype=float), (*self.scene.shape, *batch), np
+            )
         with self._jax.enable_x64(True):
             arrays = [
                 self._device(v)
-                for v in (sensor_positions, target_positions, headings, pointing, scr)
+                for v in (
+                    sensor_positions,
+                    target_positions,
+                    headings,
+                    pointing,
+                    scr,
+                    visible_fraction,
+                )
             ]
             found = self._factors(self.scene, *arrays)
             return _host(found)
 
-    def probabilities(self, found: Factors) -> Probabilities:
+    def probabilities(self, found: Factors, moving: Any = None) -> Probabilities:
         """As :func:`targetacq.core.probabilities` of the bound scene, in NumPy arrays."""
+        if moving is not None:  # checked on the host, then traced: one compilation for all
+            moving = np.asarray(check_moving(moving, self.scene.shape[1]))
         with self._jax.enable_x64(True):
             on_device = dataclasses.replace(
                 found,
                 **{f.name: self._device(getattr(found, f.name)) for f in dataclasses.fields(found)},
             )
-            return _host(self._probabilities(self.scene, on_device))
+            return _host(self._probabilities(self.scene, on_device, self._device(moving)))

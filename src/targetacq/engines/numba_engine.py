@@ -25,7 +25,13 @@ import numpy as np
 
 from targetacq import _arrays, geometry, noise, transforms
 from targetacq.acquisition import _low_clutter_scale
-from targetacq.core.evaluate import Factors, Probabilities, boresight
+from targetacq.core.evaluate import (
+    Factors,
+    Probabilities,
+    boresight,
+    check_moving,
+    check_visible_fraction,
+)
 from targetacq.core.records import SceneArrays
 from targetacq.engines import numba_kernels as kernels
 from targetacq.fusion import fuse_groups
@@ -203,6 +209,7 @@ class NumbaScene:
         headings: Any = None,
         pointing: Any = None,
         scr: Any = None,
+        visible_fraction: Any = None,
     ) -> Factors:
         """As :func:`targetacq.core.factors` of the bound scene."""
         xp, (s_pos, t_pos) = _arrays.arrays(
@@ -237,6 +244,7 @@ class NumbaScene:
                 "batch dimensions (between the first and the last) do not broadcast"
             ) from None
         size = math.prod(batch)
+        visible = self._visible(visible_fraction, (n_s, n_g, *batch))
         # Component-major, (3, n, size): the kernel's loops over the batch read unit strides.
         sensors = np.ascontiguousarray(
             np.moveaxis(np.broadcast_to(s_pos, (n_s, *batch, 3)).reshape(n_s, size, 3), -1, 0)
@@ -272,7 +280,7 @@ class NumbaScene:
             np.sin(heading),
             np.cos(heading),
             self.dimensions,
-            self.visible_fraction,
+            visible,
             cycle,
             ifov,
             np.ascontiguousarray(frame),
@@ -285,7 +293,7 @@ class NumbaScene:
             self.noise_equivalent,
             self.contrast,
             bool(self.scene.sensors.has_noise),
-            np.empty(size),
+            np.empty((2, size)),
             out[0],
             out[1],
             out[2],
@@ -311,19 +319,38 @@ class NumbaScene:
             scr=scr,
         )
 
-    def _groups(self) -> list[np.ndarray]:
+    def _visible(self, given: Any, shape: tuple[int, ...]) -> np.ndarray:
+        """The visible fraction as the factors kernel takes it: ``(1 or n_s, n_g, 1 or B)``,
+        contiguous (the targets' own, else the one given, checked)."""
+        if given is None:
+            return self.visible_fraction.reshape(1, -1, 1)
+        value = np.asarray(check_visible_fraction(given, shape, np), dtype=float)
+        lead = (value.shape[0], shape[1])
+        if all(n == 1 for n in value.shape[2:]):
+            return np.ascontiguousarray(
+                np.broadcast_to(value.reshape(*value.shape[:2], 1), (*lead, 1))
+            )
+        full = np.broadcast_to(value, (*lead, *shape[2:]))
+        return np.ascontiguousarray(full).reshape(*lead, math.prod(shape[2:]))
+
+    def _groups(self, moving: np.ndarray | None = None) -> list[np.ndarray]:
         """The targets by their probability model (N50s, hot spot, moving), each group's
         members in order: the rows of the probabilities kernel where the batch is short."""
+        if moving is not None and not np.array_equal(moving, self.moving):
+            return self._group(moving)
         if self._target_groups is None:
-            if self.n50.shape[0] == 0:
-                return []
-            key = np.column_stack([self.n50, self.hot_spot, self.moving])
-            _, inverse = np.unique(key, axis=0, return_inverse=True)
-            inverse = inverse.reshape(-1)
-            self._target_groups = [np.flatnonzero(inverse == k) for k in range(inverse.max() + 1)]
+            self._target_groups = self._group(self.moving)
         return self._target_groups
 
-    def probabilities(self, found: Factors) -> Probabilities:
+    def _group(self, moving: np.ndarray) -> list[np.ndarray]:
+        if self.n50.shape[0] == 0:
+            return []
+        key = np.column_stack([self.n50, self.hot_spot, moving])
+        _, inverse = np.unique(key, axis=0, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        return [np.flatnonzero(inverse == k) for k in range(inverse.max() + 1)]
+
+    def probabilities(self, found: Factors, moving: Any = None) -> Probabilities:
         """As :func:`targetacq.core.probabilities` of the bound scene.
 
         The kernel runs per sensor and target over the batch. Where the batch is short (one step
@@ -340,6 +367,9 @@ class NumbaScene:
             return Probabilities(*empty, *(np.zeros((n_g, *shape[2:])) for _ in range(3)))
         has_scr = found.scr is not None
         with_snr = self.settings[0] != kernels.NOISE_NONE_GIVEN
+        flags = self.moving
+        if moving is not None:
+            flags = np.ascontiguousarray(check_moving(moving, n_g), dtype=bool)
 
         def full(value: Any, dtype: Any = float) -> np.ndarray:
             # Contiguous at the full shape, even where a field is per pair or a scalar: a loop
@@ -357,16 +387,16 @@ class NumbaScene:
         out = [np.empty(flat) for _ in range(3)]
         fused = np.empty((3, n_g, size))
         if size >= _SHORT_BATCH or n_g == 1:
-            self._run(inputs, slice(None), out, fused, has_scr)
+            self._run(inputs, slice(None), out, fused, has_scr, flags)
         else:
-            for members in self._groups():
+            for members in self._groups(flags):
                 whole = members.size == n_g  # one model for all: no copies
                 chosen = slice(None) if whole else members
                 row = (n_s, 1, members.size * size)
                 part_in = [np.ascontiguousarray(a[:, chosen]).reshape(row) for a in inputs]
                 part_out = [np.empty(row) for _ in range(3)]
                 part_fused = np.empty((3, 1, members.size * size))
-                self._run(part_in, members[:1], part_out, part_fused, has_scr)
+                self._run(part_in, members[:1], part_out, part_fused, has_scr, flags)
                 for whole_out, part in zip(out, part_out, strict=True):
                     whole_out[:, chosen] = part.reshape(n_s, members.size, size)
                 fused[:, chosen] = part_fused.reshape(3, members.size, size)
@@ -384,6 +414,7 @@ class NumbaScene:
         out: list[np.ndarray],
         fused: np.ndarray,
         has_scr: bool,
+        moving: np.ndarray,
     ) -> None:
         """The probabilities kernel on (n_s, rows, batch) inputs, the rows' targets given."""
         settings = self.settings.copy()
@@ -394,7 +425,7 @@ class NumbaScene:
             self.n50[targets],
             self.log_n50[targets],
             self.hot_spot[targets],
-            self.moving[targets],
+            moving[targets],
             settings,
             self.noise_anchors,
             self.tables,

@@ -162,15 +162,13 @@ def _sensor_ifov(
     pixels: int | None,
     projection: str | None,
 ) -> tuple[float, dict[str, Any]]:
-    ways = [
-        pitch is not None or focal_length is not None,
-        ifov is not None,
-        hfov is not None or pixels is not None,
-    ]
+    by_lens = pitch is not None or focal_length is not None
+    ways = [by_lens, ifov is not None, hfov is not None or (pixels is not None and not by_lens)]
     if sum(ways) != 1:
         raise ValueError(
-            "give the sensor's resolution one way: --pitch and --focal-length, or --ifov, or "
-            "--hfov and --pixels (or --example)"
+            "give the sensor's resolution one way: --pitch and --focal-length (with --pixels "
+            "for the field of view, as a datasheet gives them), or --ifov, or --hfov and "
+            "--pixels (or --example)"
         )
     if projection is not None:
         option_choice(projection, optics.FIELD_OF_VIEW_PROJECTIONS, "--projection")
@@ -187,7 +185,19 @@ def _sensor_ifov(
                 f"--pitch {pitch} over --focal-length {focal_length} gives an IFOV of "
                 f"{value:g} rad, outside (0, π)"
             )
-        return value, {"pitch_m": p, "focal_length_m": f}
+        if pixels is None:
+            return value, {"pitch_m": p, "focal_length_m": f}
+        # The datasheet's way: the field of view of the detector's width behind the lens,
+        # Eq. (5.1), reported beside the IFOV (which the pitch and focal length fix).
+        check_count("--pixels", pixels)
+        fov = float(optics.field_of_view(pixels * p, f))
+        return value, {
+            "pitch_m": p,
+            "focal_length_m": f,
+            "hfov_rad": fov,
+            "pixels": float(pixels),
+            "projection": "rectilinear",
+        }
     if ways[1]:
         assert ifov is not None
         return _half_turn_angle(ifov, "--ifov"), {}

@@ -674,3 +674,39 @@ def test_conditional_semantics_shortens_recognition(capsys):
         ranges[semantics] = {r["task"]: r["range_m"] for r in json.loads(out)["ranges"]}
     assert ranges["conditional"]["detection"] == ranges["nested"]["detection"]
     assert ranges["conditional"]["recognition"] < ranges["nested"]["recognition"]
+
+
+# --- plausibility warnings (targetacq.plausibility) ----------------------------------------------
+
+_EXAMPLES = Path(__file__).resolve().parents[1] / "src" / "targetacq" / "examples"
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["validate"],
+        ["evaluate"],
+        ["simulate", "--runs", "5", "--duration", "20s", "--step", "5s"],
+        ["dri"],
+        ["report", "--out", "{tmp}/report.html"],
+    ],
+    ids=lambda command: command[0],
+)
+def test_a_unit_slip_in_a_file_is_one_warning_line_and_exit_0(capsys, tmp_path, command):
+    text = (_EXAMPLES / "uav_haze.toml").read_text(encoding="utf-8")
+    assert 'focal_length = "35 mm"' in text
+    path = tmp_path / "slip.toml"
+    path.write_text(text.replace('focal_length = "35 mm"', 'focal_length = "35 m"'))
+    name, *options = (part.replace("{tmp}", str(tmp_path)) for part in command)
+    code, out, err = run(capsys, name, str(path), *options)
+    assert code == 0
+    assert out
+    assert err.splitlines() == [
+        f"targetacq: warning: {path}: sensors[0].focal_length: 35 m is 5 m or more; was it "
+        'given in mm? (give "35 mm" or 0.035)'
+    ]
+
+
+def test_the_bundled_example_gives_no_warning(capsys):
+    code, _, err = run(capsys, "validate", str(_EXAMPLES / "uav_haze.toml"))
+    assert (code, err) == (0, "")

@@ -56,6 +56,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.engagement import REDRAW_RULES
     from targetacq.noise import NOISE_MODELS
     from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
+    from targetacq.plausibility import PLAUSIBLE_RANGES
     from targetacq.sensors import SENSOR_TYPES
     from targetacq.targets import TARGETS
     from targetacq.transforms import CLUTTER_REGIONS, TRANSFORMS
@@ -75,6 +76,10 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.acquisition.ACQUISITION_SEMANTICS": ACQUISITION_SEMANTICS,
         "targetacq.optics.FIELD_OF_VIEW_PROJECTIONS": FIELD_OF_VIEW_PROJECTIONS,
         "targetacq.engagement.REDRAW_RULES": REDRAW_RULES,
+        # A table of records: each row is named by where its quantity is in a scenario.
+        "targetacq.plausibility.PLAUSIBLE_RANGES": [
+            ", ".join(row.locations) for row in PLAUSIBLE_RANGES
+        ],
     }
     tables = {table.origin: table for table in registry_tables.registries()}
     assert set(tables) == set(expected)

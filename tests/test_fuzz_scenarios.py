@@ -241,13 +241,15 @@ def _attempt(call: Any) -> tuple[Any, BaseException | None]:
 
 def check(document: dict[str, Any]) -> None:
     from targetacq.model import ModelChain
+    from targetacq.plausibility import collected
     from targetacq.scenario import load_scenario
 
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "fuzz.toml"
         path.write_text(toml_dumps(document), encoding="utf-8")
         code = _validate(path)
-        scenario, refused = _attempt(lambda: load_scenario(path))
+        with collected():  # mutated values may be implausible: warned, never refused
+            scenario, refused = _attempt(lambda: load_scenario(path))
         what = "load_scenario"
         if refused is None:
             times = _few_times(scenario.time)

@@ -17,6 +17,7 @@ from targetacq import limits
 from targetacq.cli import main
 from targetacq.core.compile import check_runnable, compile_scenario
 from targetacq.model import ModelChain
+from targetacq.plausibility import PlausibilityWarning
 from targetacq.sampling import stream_key
 from targetacq.scenario import (
     Scenario,
@@ -229,7 +230,11 @@ def test_lengths_and_coordinates_at_the_limit_are_accepted():
     data["targets"][0]["position"] = ["1e6 km", "-1e9 m", "0 m"]
     data["sensors"][0]["look_at"] = ["1e6 km", "-1e9 m", "0 m"]
     data["targets"][0]["dimensions"] = ["1e9 m", "2.5 m", "3 m"]
-    parse_scenario(data)
+    # Accepted, and warned: no target is a million kilometres long.
+    with pytest.warns(
+        PlausibilityWarning, match=r"targets\[0\]\.dimensions\[0\]: 1e\+09 m is 500 m"
+    ):
+        parse_scenario(data)
 
 
 @pytest.mark.parametrize(

@@ -2,6 +2,7 @@
 
 import csv
 import io
+import itertools
 import json
 import subprocess
 import sys
@@ -263,9 +264,10 @@ def test_step_is_the_simulation_for_two_steps(client):
         for name in ("detection", "identification", "fused_detection", "in_view"):
             np.testing.assert_array_equal(got[name], getattr(result, name))
         assert got["events"] == [
-            {"sensor": e.sensor, "target": e.target, "task": e.task, "time": e.time}
+            {"sensor": e.sensor, "target": e.target, "task": e.task, "time": e.time, "kind": e.kind}
             for e in result.events
         ]
+        assert got["warnings"] == []
 
 
 def test_sessions_are_bounded_oldest_dropped():
@@ -501,3 +503,180 @@ def test_a_loopback_server_answers_loopback_names_only() -> None:
     app = create_app(trusted_hosts=["127.0.0.1", "localhost"])
     assert TestClient(app, base_url="http://127.0.0.1").get("/registries").status_code == 200
     assert TestClient(app, base_url="http://rebound.example").get("/registries").status_code == 400
+
+
+# --- /step: cumulative flags, event kinds, reset; warnings ------------------------------------
+
+_FLAGS = ("detected", "recognised", "identified")
+
+
+def _walk_steps(client, text, seed, steps, **first):
+    """``steps`` steps of a session of ``text`` at 1 Hz, the targets driving towards the mast;
+    the answers (the first starts the session)."""
+    answers, session = [], None
+    for k in range(steps):
+        targets = [[3000.0 - 150.0 * k, 0.0, 0.0], [2500.0 - 100.0 * k, 50.0, 0.0]]
+        body = _step_body(time=float(k), dt=1.0, target_positions=targets)
+        body.update({"session": session} if session else {"scenario": text, "seed": seed, **first})
+        response = client.post("/step", json=body)
+        assert response.status_code == 200, response.text
+        answers.append(response.json())
+        session = answers[-1]["session"]
+    return answers
+
+
+def _same_steps(sim, answers):
+    """Each answer against the simulation's own step on the same inputs."""
+    for k, got in enumerate(answers):
+        targets = [[3000.0 - 150.0 * k, 0.0, 0.0], [2500.0 - 100.0 * k, 50.0, 0.0]]
+        result = sim.step(float(k), 1.0, _step_body()["sensor_positions"], targets)
+        for flag in _FLAGS:
+            np.testing.assert_array_equal(got[flag], getattr(result, flag))
+            np.testing.assert_array_equal(got[f"fused_{flag}"], getattr(result, f"fused_{flag}"))
+        assert [tuple(e.values()) for e in got["events"]] == [tuple(e) for e in result.events]
+
+
+def test_step_answers_the_cumulative_flags_and_the_event_kinds(client):
+    answers = _walk_steps(client, FUSED.read_text(), 4, 15)
+    _same_steps(Simulation.from_scenario(FUSED, seed=4), answers)
+    # The flags only ever turn on, and a "first" event turns its pair's flag on.
+    for before, after in itertools.pairwise(answers):
+        for flag in _FLAGS:
+            assert np.all(np.asarray(after[flag]) >= np.asarray(before[flag]))
+        for event in after["events"]:
+            assert event["kind"] in ("first", "reacquired")
+            s, t = after["sensors"].index(event["sensor"]), after["targets"].index(event["target"])
+            flag = _FLAGS[("detection", "recognition", "identification").index(event["task"])]
+            assert after[flag][s][t]
+            if event["kind"] == "first":
+                assert not before[flag][s][t]
+    assert any(any(row) for row in answers[-1]["detected"])  # the walk detects something
+
+
+def test_reset_restarts_a_session_as_a_new_one(client):
+    text = FUSED.read_text()
+    answers = _walk_steps(client, text, 4, 12)
+    session = answers[-1]["session"]
+    assert any(answers[-1]["fused_detected"])
+    # reset with another seed and run: a first step (nothing acquired), then the steps of a new
+    # session with that seed and run.
+    reset = _step_body(session=session, reset=True, seed=9, run=2, time=0.0, dt=1.0)
+    reset["target_positions"] = [[3000.0, 0.0, 0.0], [2500.0, 50.0, 0.0]]
+    got = client.post("/step", json=reset).json()
+    assert got["session"] == session and got["events"] == []
+    assert not any(got["fused_detected"]) and not any(map(any, got["detected"]))
+    later = [got]
+    for k in range(1, 12):
+        targets = [[3000.0 - 150.0 * k, 0.0, 0.0], [2500.0 - 100.0 * k, 50.0, 0.0]]
+        body = _step_body(session=session, time=float(k), dt=1.0, target_positions=targets)
+        later.append(client.post("/step", json=body).json())
+    sim = Simulation.from_scenario(FUSED, seed=9)
+    sim.reset(run=2)
+    _same_steps(sim, later)
+    fresh = _walk_steps(client, text, 9, 12, run=2)
+    assert [a["events"] for a in fresh] == [a["events"] for a in later]
+
+
+@pytest.mark.parametrize(
+    ("change", "loc", "words"),
+    [
+        ({"reset": True, "scenario": "x"}, ["body", "reset"], "give its session"),
+        ({"session": "SESSION", "seed": 3}, ["body", "seed"], "reset: true"),
+        ({"session": "SESSION", "run": 1}, ["body", "run"], "reset: true"),
+        ({"session": "SESSION", "reset": 1}, ["body", "reset"], "bool"),
+        ({"scenario": "x", "run": 2**32}, ["body", "run"], "less than"),
+    ],
+    ids=["reset-without-session", "seed-without-reset", "run-without-reset", "reset-1", "run"],
+)
+def test_step_reset_seed_and_run_are_checked(client, change, loc, words):
+    session = client.post("/step", json=_step_body(scenario=FUSED.read_text())).json()["session"]
+    body = _step_body(**{k: session if v == "SESSION" else v for k, v in change.items()})
+    (item,) = _problem(client.post("/step", json=body))
+    assert item["loc"] == loc
+    assert words in item["msg"]
+
+
+def test_malformed_step_bodies_are_422_located(client):
+    (item,) = _problem(
+        client.post("/step", content=b'{"time": ', headers={"Content-Type": "application/json"})
+    )
+    assert item["loc"] == ["body"] and item["msg"].startswith("malformed JSON")
+    (item,) = _problem(
+        client.post("/step", content=b"", headers={"Content-Type": "application/json"})
+    )
+    assert item["loc"] == ["body"]
+    detail = _problem(client.post("/step", json={"time": 0.0}))
+    assert {"dt", "sensor_positions", "target_positions"} <= {p["loc"][-1] for p in detail}
+
+
+def test_the_step_body_is_in_the_openapi_schema(client):
+    step = client.get("/openapi.json").json()["paths"]["/step"]["post"]
+    schema = step["requestBody"]["content"]["application/json"]["schema"]
+    assert {"session", "scenario", "reset", "seed", "run", "sensor_positions"} <= set(
+        schema["properties"]
+    )
+
+
+_SLIP = FUSED.read_text(encoding="utf-8").replace('pitch = "12 um"', 'pitch = "12 m"', 1)
+
+
+def test_a_unit_slip_is_answered_in_warnings(client):
+    assert FUSED.read_text(encoding="utf-8") != _SLIP
+    expected = "sensors[1].pitch: 12 m is 1 mm or more; was it given in um?"
+    got = client.post("/evaluate", json={"scenario": _SLIP}).json()
+    assert [w.split(" (give")[0] for w in got["warnings"]] == [expected]
+    assert client.post("/evaluate", json={"scenario": FUSED.read_text()}).json()["warnings"] == []
+    first = client.post("/step", json=_step_body(scenario=_SLIP)).json()
+    assert [w.split(" (give")[0] for w in first["warnings"]] == [expected]
+    later = client.post("/step", json=_step_body(session=first["session"], time=1.0, dt=1.0))
+    assert later.json()["warnings"] == []
+    for path, body in (
+        ("/report", {"scenario": _SLIP, "probability": "0.5"}),
+        ("/evaluate", {"scenario": _SLIP, "format": "csv"}),
+    ):
+        response = client.post(path, json=body)
+        assert response.status_code == 200, response.text
+        listed = json.loads(response.headers["x-targetacq-warnings"])
+        assert [w.split(" (give")[0] for w in listed] == [expected]
+    plain = client.post("/report", json={"scenario": FUSED.read_text(), "probability": "0.5"})
+    assert "x-targetacq-warnings" not in plain.headers
+
+
+_CROSSING = """
+[[sensors]]
+name = "narrow"
+band = "lwir"
+pixels = [64, 64]
+ifov = "0.5 mrad"
+position = ["0 m", "0 m", "10 m"]
+azimuth = "90 deg"
+depression = "0.2 deg"
+
+[[targets]]
+name = "car"
+dimensions = ["4 m", "2 m", "1.5 m"]
+temperature = "305 K"
+position = ["3 km", "0 m", "0 m"]
+
+[background]
+temperature = "295 K"
+"""
+
+
+def test_a_short_visit_in_a_step_is_answered_not_printed(client):
+    # A 1.8 degree field of view at 3 km is 96 m wide; the car crosses it at 300 m/s, so it is
+    # in view for about a third of a second of a 1 s step.
+    found, session = [], None
+    for k, north in enumerate((-300.0, 0.0, 300.0)):
+        body = {
+            "time": float(k),
+            "dt": 1.0,
+            "sensor_positions": [[0.0, 0.0, 10.0]],
+            "target_positions": [[3000.0, north, 0.0]],
+        }
+        body.update({"session": session} if session else {"scenario": _CROSSING})
+        response = client.post("/step", json=body)  # a warning raised here would be a 500
+        assert response.status_code == 200, response.text
+        session = response.json()["session"]
+        found += response.json()["warnings"]
+    assert len(found) == 1 and "less than one step of 1 s" in found[0]

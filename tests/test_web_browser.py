@@ -164,6 +164,7 @@ def test_explorer_page(page):
     )
     assert sorted(shown_targets) == sorted(names)
     assert page.locator("#scenario-errors li").count() == 0
+    assert page.locator("#scenario-warnings li").count() == 0
     assert page.is_enabled("#download-csv")
 
     SCREENSHOT.parent.mkdir(exist_ok=True)
@@ -255,3 +256,23 @@ def test_named_target_disables_the_critical_dimension(page):
     assert page.input_value("#critical_dimension") == "2.3m"
     wait_for_case(page, target=None, critical_dimension="2.3m")
     assert field_errors(page) == []
+
+
+def test_a_unit_slip_in_a_scenario_is_shown_as_a_warning(page, tmp_path):
+    text = SCENARIO.read_text(encoding="utf-8")
+    slip = tmp_path / "slip.toml"
+    slip.write_text(text.replace('pitch = "12 um"', 'pitch = "12 m"', 1), encoding="utf-8")
+    assert slip.read_text(encoding="utf-8") != text
+    page.set_input_files("#scenario-file", str(slip))
+    page.wait_for_function(
+        "() => document.querySelectorAll('#scenario-warnings li').length === 1", timeout=WAIT_MS
+    )
+    shown = page.locator("#scenario-warnings li").inner_text()
+    assert shown.startswith("warning: sensors[1].pitch: 12 m is 1 mm or more")
+    # The scenario still runs: its timeline is drawn, and the downloads offered.
+    page.wait_for_function("() => document.querySelectorAll('path.timeline').length > 0")
+    assert page.is_enabled("#download-csv")
+    page.set_input_files("#scenario-file", str(SCENARIO))
+    page.wait_for_function(
+        "() => document.querySelectorAll('#scenario-warnings li').length === 0", timeout=WAIT_MS
+    )

@@ -303,6 +303,32 @@ def _clutter_regions() -> RegistryTable:
     )
 
 
+def _plausible_ranges() -> RegistryTable:
+    from targetacq.plausibility import PLAUSIBLE_RANGES
+
+    rows = tuple(
+        (
+            ", ".join(row.locations),
+            f"{'≥' if row.side == 'above' else '≤'} {row.limit}",
+            row.question,
+            row.reason,
+        )
+        for row in PLAUSIBLE_RANGES
+    )
+    return RegistryTable(
+        "plausible_ranges",
+        "Plausibility warnings",
+        "targetacq.plausibility.PLAUSIBLE_RANGES",
+        ("where", "warns at", "likely slip", "why no real sensor or scene reaches it"),
+        rows,
+        _attr_doc("targetacq.plausibility", "PLAUSIBLE_RANGES")
+        + " A value beyond its limit is valid and runs as given; validating the scenario warns "
+        "with the value's location and its likely fix (targetacq.plausibility.PlausibilityWarning"
+        "; the command line prints one line per warning on stderr, the web API answers them in "
+        '"warnings").',
+    )
+
+
 _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _criteria,
     _transforms,
@@ -318,6 +344,7 @@ _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _semantics,
     _redraw_rules,
     _projections,
+    _plausible_ranges,
 )
 
 

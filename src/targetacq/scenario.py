@@ -32,6 +32,12 @@ Errors. :class:`ScenarioError` holds every problem found, each located
 (``file: table[index].key: what``); its message is the first. Problems that need the files a
 scenario names (its image, its terrain map) or the size of its run are found when it is compiled
 (:func:`targetacq.core.compile.check_runnable`), which ``targetacq validate`` does too.
+
+Warnings. A valid value that no real sensor or scene has, most often a unit slip (``focal_length
+= 100`` from Python, meant in mm: a 100 m lens), is emitted as a
+:class:`targetacq.plausibility.PlausibilityWarning` each time a :class:`Scenario` is validated,
+located and with its likely fix; the scenario still runs as given
+(:data:`targetacq.plausibility.PLAUSIBLE_RANGES` is the table of limits).
 """
 
 from __future__ import annotations
@@ -77,6 +83,7 @@ from targetacq.limits import (
 )
 from targetacq.noise import NOISE_MODELS
 from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
+from targetacq.plausibility import collected, emit, plausibility_warnings
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
 from targetacq.sensors import SENSOR_TYPES, get_sensor_type
@@ -1008,6 +1015,8 @@ class Scenario(_Strict):
             # Every problem of the whole scene at once, each located, one per line (split
             # again by the error formatter).
             raise ValueError("\n".join(problems))
+        # Valid, but maybe a unit slip (a 100 m lens): warned, never refused.
+        emit(plausibility_warnings(self))
         return self
 
     def problems(self) -> list[str]:
@@ -1152,17 +1161,25 @@ def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
     ``Quantity``); a bare number where a unit is needed is an error saying which unit to add.
     Build :class:`Scenario` directly (or call ``Scenario.model_validate``) to give SI numbers.
 
+    A valid value beyond what any real sensor or scene has (a unit slip: ``"100 m"`` for a
+    focal length) is not an error: it is emitted as a
+    :class:`targetacq.plausibility.PlausibilityWarning`, located like the errors
+    (``source: sensors[0].focal_length: ...``).
+
     Raises
     ------
     ScenarioError
         With every problem found, each located: ``source: table.key: what is wrong``.
     """
     try:
-        return Scenario.model_validate(data, context={"strict_units": True})
+        with collected() as found:
+            scenario = Scenario.model_validate(data, context={"strict_units": True})
     except ValidationError as error:
         raise ScenarioError([f"{source}: {problem}" for problem in _problems(error)]) from None
     except RecursionError:
         raise ScenarioError(f"{source}: nested too deeply to be a scenario") from None
+    emit([f"{source}: {message}" for message in found])  # located in the file, as errors are
+    return scenario
 
 
 def load_scenario(path: str | Path) -> Scenario:

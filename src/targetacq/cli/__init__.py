@@ -15,7 +15,9 @@ Failures, warnings and signals
   convention of click, which typer builds on).
 - **Warnings.** A command that fails prints only its error line. A command that succeeds
   prints each distinct ``UserWarning`` (a warning addressed to the user) after its output, as one
-  line ``targetacq: warning: ...`` on stderr. Other warnings (NumPy's floating-point
+  line ``targetacq: warning: ...`` on stderr: among them a scenario file's plausibility
+  warnings (:mod:`targetacq.plausibility`: a value no real sensor has, such as a focal length of
+  ``"35 m"`` meant in mm), each located in the file. Other warnings (NumPy's floating-point
   ``RuntimeWarning``, deprecations inside libraries) are internal numeric noise: the results
   already carry NaN where a value is undefined, so they are dropped.
 - **Signals.** SIGTERM ends the command with status 143 (128 + 15) after removing any

@@ -16,27 +16,43 @@ Action (float32 in [−1, 1], shape (cameras, 2))
     horizon, straight down at 1).
 Reward
     the number of new acquisitions this step, summed over targets and tasks (detection,
-    recognition and identification each count once per target, fused over the cameras).
+    recognition and identification each count once per target, fused over the cameras): a
+    target found again after it left the view (a ``reacquired`` event) earns nothing.
+Info
+    ``time`` [s]; ``detected``, ``recognised``, ``identified``: per target, whether any camera
+    has done the task since the reset (bool arrays, the model's cumulative fused flags);
+    ``events``: what happened within the step, ordered by time, each a dict of ``sensor``,
+    ``target``, ``task``, ``time`` [s] and ``kind`` (``first`` or ``reacquired``,
+    :data:`targetacq.simulation.EVENT_KINDS`); ``warnings``: the model's warnings of the step,
+    as text (a target in a camera's view for less than a step, once per episode:
+    :class:`targetacq.search.ShortVisitWarning`), kept here rather than emitted so that training
+    over many episodes does not print one per episode.
 Episode
     ``duration`` seconds in steps of ``dt``; terminated early when every target is identified.
     ``reset(seed=...)`` draws the targets' layout from Gymnasium's generator and seeds the
-    model's counter-based streams, so an episode is reproducible from its seed.
+    model's counter-based streams, so an episode is reproducible from its seed. ``step`` before
+    the first ``reset`` raises :class:`gymnasium.error.ResetNeeded`.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import gymnasium
 import numpy as np
 from gymnasium import spaces
+from gymnasium.error import ResetNeeded
 
 from targetacq.scenario import Atmosphere, Background, Scenario, Sensor, Target
+from targetacq.search import ShortVisitWarning
 
 __all__ = ["SensorPointingEnv"]
 
 _TASKS = ("detected", "recognised", "identified")
+"""The cumulative fused flags of :class:`targetacq.simulation.StepResult` (``fused_<flag>``), in
+the observation's order."""
 
 
 class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
@@ -184,43 +200,71 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         self._time = 0.0
         self._pointing = np.tile([math.pi / 2, math.pi / 6], (self.n_cameras, 1))
         self._acquired = {task: np.zeros(self.n_targets, dtype=bool) for task in _TASKS}
-        self._step(self._pointing)  # the state at t = 0
-        return self._observation(), {"time": self._time}
+        _, info = self._step(self._pointing)  # the state at t = 0
+        return self._observation(), info
 
-    def _step(self, pointing: np.ndarray) -> int:
+    def _step(self, pointing: np.ndarray) -> tuple[int, dict[str, Any]]:
+        """Advance the model to ``self._time``; the new fused acquisitions and the info."""
         sensors = np.tile(self._platform(self._time), (self.n_cameras, 1))
-        out = self._sim.step(
-            self._time,
-            self.dt,
-            sensors,
-            self._targets,
-            target_headings=self._headings,
-            sensor_pointing=pointing,
-        )
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ShortVisitWarning)
+            out = self._sim.step(
+                self._time,
+                self.dt,
+                sensors,
+                self._targets,
+                target_headings=self._headings,
+                sensor_pointing=pointing,
+            )
+        kept = []
+        for warning in caught:  # the model's short visits go to info; anything else as it came
+            if issubclass(warning.category, ShortVisitWarning):
+                kept.append(str(warning.message))
+            else:
+                warnings.warn_explicit(
+                    warning.message, warning.category, warning.filename, warning.lineno
+                )
         new = 0
         for task in _TASKS:
-            fused = np.asarray(getattr(out, task)).any(axis=0)
+            # Cumulative since the reset: a target acquired again after leaving the view
+            # (a "reacquired" event) is already True here, so it is never counted twice.
+            fused = np.asarray(getattr(out, f"fused_{task}"), dtype=bool)
             new += int(np.count_nonzero(fused & ~self._acquired[task]))
-            self._acquired[task] = self._acquired[task] | fused
-        return new
+            self._acquired[task] = fused.copy()
+        info: dict[str, Any] = {
+            "time": self._time,
+            **{task: self._acquired[task].copy() for task in _TASKS},
+            "events": [event._asdict() for event in out.events],
+            "warnings": kept,
+        }
+        return new, info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Point the cameras, advance ``dt`` and count the new acquisitions."""
+        self._require_reset("step")
         a = np.asarray(action, dtype=float).reshape(self.n_cameras, 2)
         if not np.all(np.isfinite(a)):
             raise ValueError("action must be finite")
         a = np.clip(a, -1.0, 1.0)
         self._pointing = np.stack([math.pi * a[:, 0], math.pi / 4 * (a[:, 1] + 1.0)], axis=-1)
         self._time += self.dt
-        reward = float(self._step(self._pointing))
+        new, info = self._step(self._pointing)
         terminated = bool(self._acquired["identified"].all())
         truncated = self._time >= self.duration - 1e-9
-        return self._observation(), reward, terminated, truncated, {"time": self._time}
+        return self._observation(), float(new), terminated, truncated, info
+
+    def _require_reset(self, what: str) -> None:
+        if self._sim is None:
+            raise ResetNeeded(
+                f"SensorPointingEnv.{what}() before reset(): call env.reset(seed=...) first to "
+                "draw the targets and start an episode"
+            )
 
     # -- a reference policy --------------------------------------------------------------------
 
     def greedy_action(self) -> np.ndarray:
         """Point every camera at the nearest target not yet identified (a scripted baseline)."""
+        self._require_reset("greedy_action")
         platform = self._platform(self._time)
         remaining = ~self._acquired["identified"]
         offsets = self._targets - platform

@@ -21,7 +21,20 @@ Endpoints
     ``{"scenario": TOML text, "probability": "0.5,0.8,0.95"}``: the HTML report of
     ``targetacq report``.
 ``POST /step``
-    One step of a :class:`targetacq.Simulation` kept in memory between requests (a session).
+    One step of a :class:`targetacq.Simulation` kept in memory between requests (a session):
+    the probabilities, the cumulative flags (detected, recognised, identified since the start
+    or the last ``reset``; per pair and fused) and the step's events with their ``kind``
+    (``first`` or ``reacquired``). ``reset: true`` starts a session again (optionally with
+    another ``seed`` or ``run``); that step is a first step.
+
+Warnings
+--------
+The answers of bodies that carry a scenario (``/evaluate``, ``/report``, the ``/step`` that
+starts a session) list the scenario's plausibility warnings (:mod:`targetacq.plausibility`:
+valid values no real sensor has, such as a focal length of ``"100 m"``) as text: in
+``"warnings"`` of a JSON answer, and in the ``X-Targetacq-Warnings`` header (a JSON list) of a
+file or a page. Every ``/step`` answer lists the step's warnings too (a target in view for less
+than the step: :class:`targetacq.search.ShortVisitWarning`). Nothing is printed by the server.
 
 Errors
 ------
@@ -36,12 +49,14 @@ curve file, are refused.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import secrets
 import tempfile
 import threading
 import tomllib
+import warnings
 from collections import OrderedDict
 from collections.abc import Awaitable, Callable, Iterator, MutableMapping, Sequence
 from contextlib import contextmanager
@@ -61,11 +76,14 @@ from pydantic import (
     StrictFloat,
     StrictInt,
     StrictStr,
+    ValidationError,
     create_model,
 )
+from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from targetacq.outputs import json_text
+from targetacq.plausibility import collected
 from targetacq.scenario import Scenario, ScenarioError, parse_scenario
 from targetacq.services.options import RANGE_CASE_OPTIONS
 
@@ -82,6 +100,16 @@ MAX_SESSIONS = 64
 
 MAX_PROBABILITIES = 20
 """Probabilities of one ``/dri`` or ``/curves`` request."""
+
+INLINE_PAIRS = 1_000
+"""Sessions of at most this many sensor rows × targets step on the server's event loop (no hop
+to a worker thread, the cheapest answer); larger ones step in a worker thread, so that a long
+step does not hold up other requests."""
+
+WARNINGS_HEADER = "X-Targetacq-Warnings"
+"""The header of a file or page answer that lists the scenario's warnings (a JSON list)."""
+
+_HEADER_WARNINGS = 20  # at most this many in the header; the last entry counts the others
 
 _FILES_REFUSED = "files are not read over HTTP"
 
@@ -247,8 +275,24 @@ class StepRequest(_Body):
         default=None,
         description="The scenario (TOML text), to start a session; ignored with a session.",
     )
-    seed: int = Field(
-        default=0, ge=0, le=2**128 - 1, description="Seed of the random draws, in [0, 2^128)."
+    reset: bool = Field(
+        default=False,
+        description="With a session: start it again (no acquisitions, the clock restarted); "
+        "this step is then a first step, which only starts the clock.",
+    )
+    seed: int | None = Field(
+        default=None,
+        ge=0,
+        le=2**128 - 1,
+        description="Seed of the random draws, in [0, 2^128), when a session starts (default 0) "
+        "or is reset (default: the session's own).",
+    )
+    run: int | None = Field(
+        default=None,
+        ge=0,
+        lt=2**32,
+        description="Which run of the seed's streams, when a session starts or is reset "
+        "(default 0): run r is run r of targetacq simulate with the same seed and steps.",
     )
     time: float = Field(description="Time of the step [s].")
     dt: float = Field(description="Length of the step [s]; time − dt is the previous step.")
@@ -288,11 +332,34 @@ def _validation_problems(error: RequestValidationError, path: str) -> list[tuple
             problems.append((loc, _unknown_field(str(loc[-1]), path)))
         elif item.get("type") == "json_invalid":
             reason = (item.get("ctx") or {}).get("error", "not JSON")
-            problems.append((["body"], f"malformed JSON: {reason} (at character {loc[-1]})"))
+            at = f" (at character {loc[-1]})" if loc and isinstance(loc[-1], int) else ""
+            problems.append((["body"], f"malformed JSON: {reason}{at}"))
         else:
             message = str(item.get("msg", "invalid input")).removeprefix("Value error, ")
             problems.append((loc, message))
     return problems
+
+
+def _parse(model: type[_Body], raw: bytes) -> Any:
+    """A request body of ``model`` validated from its JSON bytes in one pass (no parse to
+    Python objects first); its problems as FastAPI's, located under ``body``."""
+    if not raw.strip():
+        raise RequestValidationError(
+            [{"type": "missing", "loc": ("body",), "msg": "Field required", "input": None}]
+        )
+    try:
+        return model.model_validate_json(raw)
+    except ValidationError as error:
+        raise RequestValidationError(
+            [{**item, "loc": ("body", *item["loc"])} for item in error.errors(include_url=False)]
+        ) from None
+
+
+def _body_schema(model: type[BaseModel]) -> dict[str, Any]:
+    """The OpenAPI request body of a handler that reads ``model`` itself (:func:`_parse`)."""
+    schema = model.model_json_schema()
+    assert "$defs" not in schema  # inlined: a reference would point into the OpenAPI document
+    return {"requestBody": {"required": True, "content": {"application/json": {"schema": schema}}}}
 
 
 # --- request body size -------------------------------------------------------------------------
@@ -362,6 +429,40 @@ class _BodyLimit:
 def _json(document: Any) -> Response:
     """Strict JSON: NaN → null, ±inf → "inf" / "-inf"."""
     return Response(json_text(document, None), media_type="application/json")
+
+
+def _plain_json(document: Any) -> Response:
+    """A document of plain lists, numbers and text as JSON in one ``json.dumps`` (compact);
+    through :func:`_json` only where it holds NaN or an infinity."""
+    try:
+        text = json.dumps(document, allow_nan=False, separators=(",", ":"))
+    except ValueError:
+        return _json(document)
+    return Response(text, media_type="application/json")
+
+
+def _warnings_header(found: Sequence[str]) -> dict[str, str]:
+    """The header listing a scenario's warnings on a file or page answer (none: no header)."""
+    if not found:
+        return {}
+    shown = list(found[:_HEADER_WARNINGS])
+    if len(found) > _HEADER_WARNINGS:
+        shown.append(f"and {len(found) - _HEADER_WARNINGS} more warnings")
+    return {WARNINGS_HEADER: json.dumps(shown)}  # ASCII: escapes anything else
+
+
+_CAPTURE = threading.Lock()
+
+
+@contextmanager
+def _step_warnings() -> Iterator[list[str]]:
+    """The user warnings a step emits (a short visit), as text, instead of printed by the
+    server. The process's warning state is shared, so one capture runs at a time."""
+    found: list[str] = []
+    with _CAPTURE, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield found
+    found += [str(w.message) for w in caught if issubclass(w.category, UserWarning)]
 
 
 def _case_options(body: BaseModel) -> dict[str, Any]:
@@ -452,8 +553,9 @@ def _curves(body: BaseModel) -> dict[str, Any]:
     return out
 
 
-def _scenario(text: str) -> Scenario:
-    """A scenario from TOML text; one that names a file is refused."""
+def _scenario(text: str) -> tuple[Scenario, list[str]]:
+    """A scenario from TOML text, and its plausibility warnings; one that names a file is
+    refused."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -474,8 +576,9 @@ def _scenario(text: str) -> Scenario:
                         )
                     ],
                 )
-    with _library_errors():
-        return parse_scenario(data, source="scenario")
+    with _library_errors(), collected() as found:
+        scenario = parse_scenario(data, source="scenario")
+    return scenario, [message.removeprefix("scenario: ") for message in found]
 
 
 def _check_work(scenario: Scenario, limit: int, *, times: bool = True) -> None:
@@ -503,7 +606,7 @@ def _check_work(scenario: Scenario, limit: int, *, times: bool = True) -> None:
 def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
     from targetacq.model import ModelChain
 
-    scenario = _scenario(body.scenario)
+    scenario, found = _scenario(body.scenario)
     _check_work(scenario, max_evaluations)
     with _library_errors():
         results = ModelChain(scenario).evaluate()
@@ -516,7 +619,10 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
             return Response(
                 content,
                 media_type=media,
-                headers={"Content-Disposition": f"attachment; filename={name}"},
+                headers={
+                    "Content-Disposition": f"attachment; filename={name}",
+                    **_warnings_header(found),
+                },
             )
     ds = results.dataset
     document: dict[str, Any] = {
@@ -529,16 +635,17 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
         document[f"fused_{task}"] = ds[f"fused_{task}"].transpose("target", "time").values
     for task in ("detection", "recognition", "identification"):
         document[task] = ds[task].transpose("sensor", "target", "time").values
+    document["warnings"] = found
     return _json(document)
 
 
-def _report(body: ReportRequest, max_evaluations: int) -> str:
+def _report(body: ReportRequest, max_evaluations: int) -> Response:
     from targetacq import __version__
     from targetacq.cli.figures import _REPORT_PROBABILITIES, _scenario_report
     from targetacq.report import render_report
     from targetacq.services.range_case import option_probabilities
 
-    scenario = _scenario(body.scenario)  # refuses files and locates problems first
+    scenario, found = _scenario(body.scenario)  # refuses files and locates problems first
     _check_work(scenario, max_evaluations)
     with _library_errors(["probability", "max_range"]):
         probabilities = option_probabilities(body.probability or _REPORT_PROBABILITIES)
@@ -546,9 +653,10 @@ def _report(body: ReportRequest, max_evaluations: int) -> str:
             path = Path(folder) / "scenario.toml"
             path.write_text(body.scenario, encoding="utf-8")
             title = scenario.name or "scenario"
-            heading, performance, sections, figures, captions = _scenario_report(
-                str(path), body.max_range, title, probabilities
-            )
+            with collected():  # the file read again: its warnings are listed already
+                heading, performance, sections, figures, captions = _scenario_report(
+                    str(path), body.max_range, title, probabilities
+                )
         sections = {
             section: {
                 key: ("scenario (sent to the explorer)" if value == str(path) else value)
@@ -556,9 +664,10 @@ def _report(body: ReportRequest, max_evaluations: int) -> str:
             }
             for section, items in sections.items()
         }
-        return render_report(
+        page = render_report(
             performance, sections, figures, title=heading, version=__version__, captions=captions
         )
+    return Response(page, media_type="text/html", headers=_warnings_header(found))
 
 
 @dataclass
@@ -583,9 +692,13 @@ class _Sessions:
                 self._items.popitem(last=False)
         return key
 
-    def get(self, key: str) -> _Session:
+    def peek(self, key: str) -> _Session | None:
+        """The session ``key``, or None."""
         with self._lock:
-            session = self._items.get(key)
+            return self._items.get(key)
+
+    def get(self, key: str) -> _Session:
+        session = self.peek(key)
         if session is None:
             raise ApiError(
                 404,
@@ -601,44 +714,79 @@ class _Sessions:
         return session
 
 
-def _count(value: Any) -> int:
-    if isinstance(value, list):
-        return sum(_count(item) for item in value)
-    return 1
+_STEP_ARRAYS = {
+    "sensor_positions": 3,
+    "target_positions": 3,
+    "target_headings": 1,
+    "sensor_pointing": 2,
+}
+"""The arrays of a ``/step`` body and the numbers in each of their rows (checked by the body's
+schema), so that their sizes are counted without walking them."""
 
 
-def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> dict[str, Any]:
-    from targetacq.simulation import Simulation
-
-    arrays = ("sensor_positions", "target_positions", "target_headings", "sensor_pointing")
-    for name in arrays:
+def _check_sizes(body: StepRequest, max_elements: int) -> None:
+    for name, width in _STEP_ARRAYS.items():
         value = getattr(body, name)
-        if value is not None and _count(value) > max_elements:
+        count = 0 if value is None else len(value) * width
+        if count > max_elements:
             raise ApiError(
                 422,
-                [
-                    (
-                        ["body", name],
-                        f"{name} has {_count(value):,} numbers; the limit is {max_elements:,}",
-                    )
-                ],
+                [(["body", name], f"{name} has {count:,} numbers; the limit is {max_elements:,}")],
             )
+
+
+def _session(body: StepRequest, sessions: _Sessions, max_elements: int) -> tuple[str, list[str]]:
+    """The session of a ``/step`` body (started from its scenario when it names none), and the
+    scenario's warnings when it starts one."""
+    from targetacq.simulation import Simulation
+
     if body.session is not None:
-        key = body.session
-        session = sessions.get(key)
-    else:
-        if body.scenario is None:
-            raise ApiError(
-                422, [(["body", "scenario"], "give the scenario (TOML text) or a session")]
-            )
-        scenario = _scenario(body.scenario)
-        _check_work(scenario, max_elements, times=False)  # a session keeps its pairs' state
-        with _library_errors(["seed"]):
-            simulation = Simulation.from_scenario(scenario, seed=body.seed)
-        key = sessions.add(simulation)
-        session = sessions.get(key)
-    with session.lock, _library_errors(list(arrays)):
+        if not body.reset:
+            for name in ("seed", "run"):
+                if getattr(body, name) is not None:
+                    raise ApiError(
+                        422,
+                        [
+                            (
+                                ["body", name],
+                                f"{name} is taken when a session starts, or with reset: true; "
+                                "a session's later steps go on with its own",
+                            )
+                        ],
+                    )
+        sessions.get(body.session)  # an unknown session is a 404 before any work
+        return body.session, []
+    if body.reset:
+        raise ApiError(
+            422,
+            [
+                (
+                    ["body", "reset"],
+                    "reset: true starts a session again: give its session (a body with the "
+                    "scenario and no session starts a new one)",
+                )
+            ],
+        )
+    if body.scenario is None:
+        raise ApiError(422, [(["body", "scenario"], "give the scenario (TOML text) or a session")])
+    scenario, found = _scenario(body.scenario)
+    _check_work(scenario, max_elements, times=False)  # a session keeps its pairs' state
+    with _library_errors(["seed", "run"]):
+        simulation = Simulation.from_scenario(scenario, seed=body.seed or 0)
+        if body.run:
+            simulation.reset(run=body.run)
+    return sessions.add(simulation), found
+
+
+def _step_answer(body: StepRequest, key: str, sessions: _Sessions, found: list[str]) -> Response:
+    """Step the session ``key`` (after its reset, if asked) and answer the step as JSON."""
+    from targetacq.simulation import TASKS
+
+    session = sessions.get(key)
+    with session.lock, _library_errors(list(_STEP_ARRAYS)), _step_warnings() as raised:
         simulation = session.simulation
+        if body.reset:
+            simulation.reset(seed=body.seed, run=body.run or 0)
         result = simulation.step(
             body.time,
             body.dt,
@@ -648,33 +796,48 @@ def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> dict[str
             sensor_pointing=body.sensor_pointing,
         )
     false = result.false_detections
-    return {
+    document: dict[str, Any] = {
         "session": key,
         "time": result.time,
         "sensors": list(simulation.sensors),
         "targets": list(simulation.targets),
-        "detection": result.detection,
-        "recognition": result.recognition,
-        "identification": result.identification,
-        "fused_detection": result.fused_detection,
-        "fused_recognition": result.fused_recognition,
-        "fused_identification": result.fused_identification,
-        "in_view": result.in_view,
-        "events": [
-            {"sensor": e.sensor, "target": e.target, "task": e.task, "time": e.time}
-            for e in result.events
-        ],
-        "false_detections": [
-            {
-                "sensor": str(s),
-                "time": float(t),
-                "x": float(p[0]),
-                "y": float(p[1]),
-                "z": float(p[2]),
-            }
-            for s, t, p in zip(false.sensor, false.time, false.position, strict=True)
-        ],
     }
+    # Plain lists (tolist), written by one json.dumps: no per-element conversion.
+    for name in (
+        *TASKS,
+        *(f"fused_{task}" for task in TASKS),
+        "in_view",
+        *_FLAGS,
+        *(f"fused_{flag}" for flag in _FLAGS),
+    ):
+        document[name] = getattr(result, name).tolist()
+    document["events"] = [event._asdict() for event in result.events]
+    document["false_detections"] = [
+        {"sensor": str(s), "time": float(t), "x": float(p[0]), "y": float(p[1]), "z": float(p[2])}
+        for s, t, p in zip(false.sensor, false.time, false.position, strict=True)
+    ]
+    document["warnings"] = found + raised
+    return _plain_json(document)
+
+
+_FLAGS = ("detected", "recognised", "identified")
+"""The cumulative flags of :class:`targetacq.simulation.StepResult` (and ``fused_`` each)."""
+
+
+def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> Response:
+    """``POST /step`` whole: the session (maybe a new one), its step, the answer."""
+    _check_sizes(body, max_elements)
+    key, found = _session(body, sessions, max_elements)
+    return _step_answer(body, key, sessions, found)
+
+
+def _pairs(body: StepRequest, sessions: _Sessions) -> float:
+    """Sensor rows × targets of the body's session (inf for a new or unknown one)."""
+    session = None if body.session is None else sessions.peek(body.session)
+    if session is None:
+        return math.inf
+    simulation = session.simulation
+    return float(len(simulation.sensors) * len(simulation.targets))
 
 
 def _registries() -> dict[str, Any]:
@@ -830,10 +993,20 @@ def create_app(
 
     @app.post("/report", summary="The HTML report of a scenario (targetacq report)")
     def report(body: ReportRequest) -> Response:
-        return Response(_report(body, max_evaluations), media_type="text/html")
+        return _report(body, max_evaluations)
 
-    @app.post("/step", summary="One step of a simulation kept between requests")
-    def step(body: StepRequest) -> Response:
-        return _json(_step(body, sessions, max_elements))
+    @app.post(
+        "/step",
+        summary="One step of a simulation kept between requests",
+        openapi_extra=_body_schema(StepRequest),
+    )
+    async def step(request: Request) -> Response:
+        # The body validated from its bytes in one pass; a small session's step runs here,
+        # on the event loop (no hop to a worker thread), a large one or a new session in a
+        # worker thread.
+        body = _parse(StepRequest, await request.body())
+        if _pairs(body, sessions) <= INLINE_PAIRS:
+            return _step(body, sessions, max_elements)
+        return await run_in_threadpool(_step, body, sessions, max_elements)
 
     return app

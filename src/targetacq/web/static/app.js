@@ -374,6 +374,14 @@ function showScenarioErrors(lines) {
   list.replaceChildren(items);
 }
 
+// The scenario's plausibility warnings (a valid value no real sensor has: a unit slip?).
+function showScenarioWarnings(lines) {
+  const list = document.getElementById("scenario-warnings");
+  const items = document.createDocumentFragment();
+  for (const text of lines) items.appendChild(Object.assign(document.createElement("li"), { textContent: `warning: ${text}` }));
+  list.replaceChildren(items);
+}
+
 function setDownloads(enabled) {
   for (const id of ["download-csv", "download-parquet", "download-report"]) {
     document.getElementById(id).disabled = !enabled;
@@ -391,6 +399,7 @@ async function evaluateScenario(text) {
   setDownloads(false);
   clearTimeline();
   showScenarioErrors([]);
+  showScenarioWarnings([]);
   let result;
   try {
     result = await postJSON("/evaluate", { scenario: text, format: "json" });
@@ -406,6 +415,7 @@ async function evaluateScenario(text) {
       : [errorText(result)]);
     return;
   }
+  showScenarioWarnings(Array.isArray(result.data.warnings) ? result.data.warnings : []);
   try {
     drawTimeline(result.data);
   } catch (err) {

@@ -51,6 +51,7 @@ EXAMPLES = HERE.parent / "src" / "targetacq" / "examples"
 UAV = EXAMPLES / "uav_haze.toml"
 FUSED = EXAMPLES / "two_sensors_fused.toml"
 AIRCRAFT = EXAMPLES / "ground_observer_aircraft.toml"
+RADAR = EXAMPLES / "radar_surveillance.toml"
 
 PREFIX = "targetacq: error:"
 IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
@@ -1832,6 +1833,15 @@ S("stop-1e400s", "size", put("time.stop", "1e400 s"), ["stop"])
 S("stop-1e15s", "size", put("time.stop", "1e15 s"), [("step", "stop")])
 S("pixels-overflowing", "size", put("sensors[0].pixels", [2**64, 512]), ["pixels"])
 
+# -- decibels beyond double precision (10 ** (dB / 10) overflowed: OverflowError, exit 1) ----
+S(
+    "radar-gain-4000dB",
+    "non-finite",
+    put("sensors[0].radar.gain", "4000 dB"),
+    ["gain", "3000 dB"],
+    base=RADAR,
+)
+
 
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "scenario"], ids=lambda c: c.id)
 def test_scenario_file(case: Case, tmp_path: Path, capsys: Any) -> None:
@@ -2448,6 +2458,51 @@ process(
 process("evaluate-sigterm-no-temporary-file", "output", _sigterm)
 
 
+def _without(packages: Sequence[str], argv: list[str], names: Names) -> Callable[[Path], None]:
+    """``targetacq argv`` where importing each of ``packages`` fails (a base install)."""
+
+    def check(tmp: Path) -> None:
+        hide = "; ".join(f"sys.modules[{p!r}] = None" for p in packages)
+        code = f"import sys; {hide}; from targetacq.cli import main; main()"
+        full = [a.replace("{tmp}", str(tmp)) for a in argv]
+        done = subprocess.run(
+            [sys.executable, "-c", code, *full],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        _one_line(done, names, full)
+        assert sorted(p.name for p in tmp.iterdir()) == [], "a file is left"
+
+    return check
+
+
+SWEEP_ARGS = ["sweep", "--example", "--focal-length", "35mm,50mm"]
+# A write that fails part-way (netCDF4 says "NetCDF: HDF error", as on a full disk): a
+# RuntimeError traceback with exit status 1 before.
+process(
+    "evaluate-out-nc-file-size-limit",
+    "output",
+    _file_size_limit(["evaluate", "--out", "{tmp}/x.nc"], "x.nc"),
+)
+process(
+    "sweep-out-nc-file-size-limit",
+    "output",
+    _file_size_limit([*SWEEP_ARGS, "--out", "{tmp}/x.nc"], "x.nc"),
+)
+# .nc and .zarr without the [sweep] extra: a ModuleNotFoundError traceback after the work.
+for _command, _argv in (("evaluate", ["evaluate"]), ("sweep", SWEEP_ARGS)):
+    for _suffix, _package in (("nc", "netCDF4"), ("zarr", "zarr")):
+        process(
+            f"{_command}-out-{_suffix}-without-the-sweep-extra",
+            "output",
+            _without(
+                [_package], [*_argv, "--out", f"{{tmp}}/x.{_suffix}"], [f"x.{_suffix}", "[sweep]"]
+            ),
+        )
+
+
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "process"], ids=lambda c: c.id)
 def test_process(case: Case, tmp_path: Path) -> None:
     case.what(tmp_path)
@@ -2676,6 +2731,26 @@ accepted("masked-array-keeps-mask", "nan-in-nan-out", _masked)
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "accepted"], ids=lambda c: c.id)
 def test_accepted(case: Case, tmp_path: Path, capsys: Any) -> None:
     case.what(tmp_path, capsys)
+
+
+# -- the web API: the scenario's refusals are 4xx, never 500 ---------------------------------
+
+
+def test_web_evaluate_refuses_decibels_beyond_the_range_with_422() -> None:
+    """``radar.gain = "4000 dB"`` raised OverflowError inside validation: an HTTP 500."""
+    pytest.importorskip("fastapi")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+        from fastapi.testclient import TestClient
+    from targetacq.web.api import create_app
+
+    text = RADAR.read_text(encoding="utf-8").replace('gain = "32 dB"', 'gain = "4000 dB"')
+    assert '"4000 dB"' in text
+    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as client:
+        answer = client.post("/evaluate", json={"scenario": text})
+    assert answer.status_code == 422, answer.text
+    items = answer.json()["detail"]
+    assert any("gain" in str(i["loc"]) and "3000 dB" in i["msg"] for i in items), items
 
 
 # -- the table itself -----------------------------------------------------------------------

@@ -43,8 +43,8 @@ def sweep(
     workers: Annotated[
         int | None,
         typer.Option(
-            help="Workers of a local Dask cluster (default: serial up to "
-            "1,000 points, else one per CPU)."
+            help="Workers of a local Dask cluster, at most one per CPU (default: serial up "
+            "to 1,000 points, else one per CPU)."
         ),
     ] = None,
     scheduler: Annotated[

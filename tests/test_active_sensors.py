@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import itertools
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -210,7 +211,9 @@ def test_laser_radar_clutter_lowers_detection() -> None:
         document["sensors"][0].update(ifov="1 mrad")
         document["sensors"][0]["laser"]["nep"] = "0 W"
         document.pop("atmosphere")  # no noise: at low SNR the noise, not the clutter, decides
-        found[relief] = _along(ModelChain(parse_scenario(document)), ground)[1].detection[0, 0]
+        with pytest.warns(UserWarning, match="a receiver without noise"):
+            scenario = parse_scenario(document)
+        found[relief] = _along(ModelChain(scenario), ground)[1].detection[0, 0]
     assert np.all(found["5 m"] < found["0.05 m"])
 
 
@@ -333,6 +336,30 @@ def test_dri_and_report_of_a_scenario_on_the_command_line(tmp_path: Path) -> Non
 def test_active_sensor_mistakes_are_located(document: dict, message: str) -> None:
     with pytest.raises(ScenarioError, match=message):
         parse_scenario(document)
+
+
+def test_a_laser_nep_of_0_w_is_the_documented_noiseless_receiver_and_said() -> None:
+    # nep = "0 W" was accepted without a word. 0 is documented (Laser, LaserArrays.nep,
+    # laser_snr: "0: no receiver noise") and the project's own clutter study uses it, so it
+    # stays accepted; typed in a scenario it is now said, naming the input.
+    document = _laser_document()
+    document["sensors"][0]["laser"]["nep"] = "0 W"
+    with pytest.warns(UserWarning, match="laser.nep") as caught:
+        quiet = parse_scenario(copy.deepcopy(document))
+    (warning,) = caught
+    assert str(warning.message).startswith(
+        "sensors[0].laser.nep = 0 W: a receiver without noise, so the laser radar 'ladar' sees "
+        "only its path's noise"
+    )
+    # What it means: the receiver adds nothing, so the SNR is the two-way path's alone.
+    ground = np.array([500.0, 2000.0])
+    found, _ = _along(ModelChain(quiet), ground)
+    tau = np.exp(-0.3e-3 * np.hypot(ground, HEIGHT))
+    path = (tau**2 / (1 - tau**2)) ** 2  # Eq. (7.7) over the two-way path, as a power ratio
+    np.testing.assert_allclose(found.snr[0, 0], 10 * np.log10(path), rtol=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a receiver's NEP given: nothing to say
+        parse_scenario(_laser_document())
 
 
 def test_the_laser_radar_noise_is_its_receiver() -> None:

@@ -51,6 +51,9 @@ EXAMPLES = HERE.parent / "src" / "targetacq" / "examples"
 UAV = EXAMPLES / "uav_haze.toml"
 FUSED = EXAMPLES / "two_sensors_fused.toml"
 AIRCRAFT = EXAMPLES / "ground_observer_aircraft.toml"
+RADAR = EXAMPLES / "radar_surveillance.toml"
+COLOUR = EXAMPLES / "colour_camera.toml"
+LASER = EXAMPLES / "laser_radar.toml"
 
 PREFIX = "targetacq: error:"
 IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
@@ -1385,6 +1388,49 @@ if not IS_ROOT:
     )
 
 
+# -- issue 28: what an analyst hits first --------------------------------------------------
+
+
+def _png(name: str, shape: tuple[int, int]) -> Callable[[Path], None]:
+    def setup(tmp: Path) -> None:
+        from PIL import Image
+
+        Image.fromarray(np.full(shape, 100, dtype=np.uint8)).save(tmp / name)
+
+    return setup
+
+
+# An image clutter measure needs background pixels around the box: NaN and exit 0 before.
+cli(
+    "clutter-1x1-image",
+    "out-of-domain",
+    ["clutter", "{tmp}/one.png", "--box", "0,0,1,1"],
+    ["box", "background"],
+    setup=_png("one.png", (1, 1)),
+)
+cli(
+    "clutter-box-whole-image",
+    "out-of-domain",
+    ["clutter", CAM, "--box", "0,0,512,512"],
+    ["box", "background"],
+)
+# A sweep beyond the points limit, refused before any work (a 9-million-point sweep failed
+# after 178 s before).
+cli(
+    "sweep-1001x1000-points",
+    "size",
+    [
+        "sweep",
+        "--example",
+        "--focal-length",
+        ",".join(f"{v}mm" for v in range(10, 1011)),
+        "--scr",
+        ",".join(str(v) for v in range(1, 1001)),
+    ],
+    ["1,001,000 points", "1,000,000"],
+)
+
+
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "cli"], ids=lambda c: c.id)
 def test_command_line(case: Case, tmp_path: Path, capsys: Any) -> None:
     if case.setup is not None:
@@ -1831,6 +1877,48 @@ S("step-1ns", "size", put("time.step", "1 ns"), ["step"])
 S("stop-1e400s", "size", put("time.stop", "1e400 s"), ["stop"])
 S("stop-1e15s", "size", put("time.stop", "1e15 s"), [("step", "stop")])
 S("pixels-overflowing", "size", put("sensors[0].pixels", [2**64, 512]), ["pixels"])
+
+# -- decibels beyond double precision (10 ** (dB / 10) overflowed: OverflowError, exit 1) ----
+S(
+    "radar-gain-4000dB",
+    "non-finite",
+    put("sensors[0].radar.gain", "4000 dB"),
+    ["gain", "3000 dB"],
+    base=RADAR,
+)
+# -- silently accepted before ----------------------------------------------------------------
+S(
+    "colour-reflectance-band-uv",
+    "unknown",
+    put("targets[0].reflectance.uv", 0.3),
+    ["reflectance", "uv"],
+    base=COLOUR,
+)
+S(
+    "colour-irradiance-band-nir",
+    "unknown",
+    put(
+        "background.irradiance",
+        {"red": "5 W/m^2", "green": "5 W/m^2", "blue": "5 W/m^2", "nir": "9 W/m^2"},
+    ),
+    ["irradiance.nir"],
+    base=COLOUR,
+)
+S(
+    "false-targets-sensors-empty",
+    "obvious",
+    put("false_targets.sensors", []),
+    ["false_targets.sensors", "empty"],
+    base=LASER,
+)
+# -- an image box with no background around it (NaN probabilities, exit 0 before) ----------
+S(
+    "image-box-whole-image",
+    "referenced-file",
+    put("targets[0].image_box", [0, 0, 512, 512]),
+    ["image_box", "background"],
+    base=IMAGE,
+)
 
 
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "scenario"], ids=lambda c: c.id)
@@ -2339,6 +2427,50 @@ api(
 )
 
 
+# -- issue 28 ---------------------------------------------------------------------------
+
+
+def _radar_gain(tmp: Path) -> Any:
+    from targetacq.scenario import parse_scenario
+
+    document = read_base(RADAR)
+    document["sensors"][0]["radar"]["gain"] = "4000 dB"  # OverflowError before
+    return parse_scenario(document)
+
+
+def _sweep_of(**options: Any) -> Callable[[Path], Any]:
+    def call(tmp: Path) -> Any:
+        from targetacq.studies import sweep
+
+        with watchdog(10):  # refused before any work, or this fails (not hours later)
+            return sweep({"example": True, **options})
+
+    return call
+
+
+api("parse-radar-gain-4000dB", "non-finite", _radar_gain, ["radar.gain", "3000 dB"])
+api(
+    "studies-sweep-1001x1000-points",
+    "size",
+    _sweep_of(
+        focal_length=[f"{v}mm" for v in range(10, 1011)], scr=[str(v) for v in range(1, 1001)]
+    ),
+    ["1,000,000 points"],
+)
+api(
+    "image-clutter-1x1-image",
+    "out-of-domain",
+    lambda tmp: _ta().image_clutter(np.ones((1, 1)), [(0, 0, 1, 1)]),
+    ["box 0", "background"],
+)
+api(
+    "image-clutter-box-whole-image",
+    "out-of-domain",
+    lambda tmp: _ta().image_clutter(np.ones((30, 40)), [(0, 0, 40, 30)]),
+    ["box 0", "background"],
+)
+
+
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "api"], ids=lambda c: c.id)
 def test_python(case: Case, tmp_path: Path) -> None:
     with pytest.raises((ValueError, TypeError)) as raised:
@@ -2446,6 +2578,51 @@ process(
     _file_size_limit(["evaluate", "--out", "{tmp}/x.csv"], "x.csv"),
 )
 process("evaluate-sigterm-no-temporary-file", "output", _sigterm)
+
+
+def _without(packages: Sequence[str], argv: list[str], names: Names) -> Callable[[Path], None]:
+    """``targetacq argv`` where importing each of ``packages`` fails (a base install)."""
+
+    def check(tmp: Path) -> None:
+        hide = "; ".join(f"sys.modules[{p!r}] = None" for p in packages)
+        code = f"import sys; {hide}; from targetacq.cli import main; main()"
+        full = [a.replace("{tmp}", str(tmp)) for a in argv]
+        done = subprocess.run(
+            [sys.executable, "-c", code, *full],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
+        _one_line(done, names, full)
+        assert sorted(p.name for p in tmp.iterdir()) == [], "a file is left"
+
+    return check
+
+
+SWEEP_ARGS = ["sweep", "--example", "--focal-length", "35mm,50mm"]
+# A write that fails part-way (netCDF4 says "NetCDF: HDF error", as on a full disk): a
+# RuntimeError traceback with exit status 1 before.
+process(
+    "evaluate-out-nc-file-size-limit",
+    "output",
+    _file_size_limit(["evaluate", "--out", "{tmp}/x.nc"], "x.nc"),
+)
+process(
+    "sweep-out-nc-file-size-limit",
+    "output",
+    _file_size_limit([*SWEEP_ARGS, "--out", "{tmp}/x.nc"], "x.nc"),
+)
+# .nc and .zarr without the [sweep] extra: a ModuleNotFoundError traceback after the work.
+for _command, _argv in (("evaluate", ["evaluate"]), ("sweep", SWEEP_ARGS)):
+    for _suffix, _package in (("nc", "netCDF4"), ("zarr", "zarr")):
+        process(
+            f"{_command}-out-{_suffix}-without-the-sweep-extra",
+            "output",
+            _without(
+                [_package], [*_argv, "--out", f"{{tmp}}/x.{_suffix}"], [f"x.{_suffix}", "[sweep]"]
+            ),
+        )
 
 
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "process"], ids=lambda c: c.id)
@@ -2673,9 +2850,52 @@ accepted("nan-target-row-in-step", "nan-in-nan-out", _nan_step)
 accepted("masked-array-keeps-mask", "nan-in-nan-out", _masked)
 
 
+def _nan_target_temperature(tmp: Path, capsys: Any) -> None:
+    """No noise, no clutter: the contrast entered no factor (P = 0.99999 for a NaN before)."""
+    got = _ta().scene_acquisition(**{**SCENE, "target_temperature": np.array([305.0, NAN])})
+    for task in ("detection", "recognition", "identification"):
+        _nan_at(getattr(got, task), [False, True])
+
+
+def _laser_nep_zero(tmp: Path, capsys: Any) -> None:
+    """nep = 0 W is documented (no receiver noise): accepted, and said in one warning line."""
+    document = read_base(LASER)
+    document["sensors"][0]["laser"]["nep"] = "0 W"
+    path = tmp / "ideal.toml"
+    path.write_text(toml_dumps(document), encoding="utf-8")
+    code, _, err, caught = run_cli(capsys, ["validate", str(path)])
+    assert code == 0 and not caught, err
+    assert err.startswith("targetacq: warning: sensors[0].laser.nep = 0 W: a receiver without")
+    assert err.count("\n") == 1, err
+
+
+accepted("nan-target-temperature-without-noise", "nan-in-nan-out", _nan_target_temperature)
+accepted("laser-nep-0-W-said", "accepted", _laser_nep_zero)
+
+
 @pytest.mark.parametrize("case", [c for c in CASES if c.kind == "accepted"], ids=lambda c: c.id)
 def test_accepted(case: Case, tmp_path: Path, capsys: Any) -> None:
     case.what(tmp_path, capsys)
+
+
+# -- the web API: the scenario's refusals are 4xx, never 500 ---------------------------------
+
+
+def test_web_evaluate_refuses_decibels_beyond_the_range_with_422() -> None:
+    """``radar.gain = "4000 dB"`` raised OverflowError inside validation: an HTTP 500."""
+    pytest.importorskip("fastapi")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+        from fastapi.testclient import TestClient
+    from targetacq.web.api import create_app
+
+    text = RADAR.read_text(encoding="utf-8").replace('gain = "32 dB"', 'gain = "4000 dB"')
+    assert '"4000 dB"' in text
+    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as client:
+        answer = client.post("/evaluate", json={"scenario": text})
+    assert answer.status_code == 422, answer.text
+    items = answer.json()["detail"]
+    assert any("gain" in str(i["loc"]) and "3000 dB" in i["msg"] for i in items), items
 
 
 # -- the table itself -----------------------------------------------------------------------

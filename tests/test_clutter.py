@@ -71,12 +71,19 @@ def test_summed_area_tables_equal_direct_cells(seed, height, width, dtype, cell_
         )
     boxes.append((0, 0, 3, 2))  # touching two edges
     boxes.append((width - 4, height - 5, 4, 5))  # touching the other two
-    result = image_clutter(image, boxes, cell_factor)
-    for k, box in enumerate(boxes):
-        clutter, pos, neg = direct_clutter(image, box, cell_factor)
-        assert result.clutter[k] == pytest.approx(clutter, rel=1e-9, nan_ok=True)
-        assert result.scr_positive[k] == pytest.approx(pos, rel=1e-9, nan_ok=True)
-        assert result.scr_negative[k] == pytest.approx(neg, rel=1e-9, nan_ok=True)
+    direct = [direct_clutter(image, box, cell_factor) for box in boxes]
+    # No cell with two background pixels (a thin box in small cells): refused, the box named.
+    empty = [k for k, (clutter, _, _) in enumerate(direct) if np.isnan(clutter)]
+    if empty:
+        with pytest.raises(ValueError, match=rf"^box {empty[0]} .* leaves no background"):
+            image_clutter(image, boxes, cell_factor)
+    kept = [k for k in range(len(boxes)) if k not in empty]
+    result = image_clutter(image, [boxes[k] for k in kept], cell_factor)
+    for i, k in enumerate(kept):
+        clutter, pos, neg = direct[k]
+        assert result.clutter[i] == pytest.approx(clutter, rel=1e-9, nan_ok=True)
+        assert result.scr_positive[i] == pytest.approx(pos, rel=1e-9, nan_ok=True)
+        assert result.scr_negative[i] == pytest.approx(neg, rel=1e-9, nan_ok=True)
 
 
 def test_uniform_background_has_zero_clutter_and_infinite_scr():
@@ -257,3 +264,33 @@ def test_features_with_a_mask_and_bad_input():
         target_features(image, (20, 20, 21, 21), mask=disc[:-1])
     with pytest.raises(ValueError, match="edge_detector must be one of sobel"):
         target_features(image, (20, 20, 5, 5), edge_detector="canny")
+
+
+@pytest.mark.parametrize(
+    ("shape", "box"),
+    [
+        ((1, 1), (0, 0, 1, 1)),  # a 1 x 1 image
+        ((40, 60), (0, 0, 60, 40)),  # a box covering the whole image
+    ],
+)
+def test_a_box_without_background_is_refused_not_nan(shape, box, tmp_path, capsys):
+    # The clutter of Eq. (3.12) is measured on background pixels around the box: with none,
+    # the clutter, SCR and P(detection) were NaN, and `targetacq clutter` exited 0.
+    image = np.random.default_rng(1).uniform(0, 200, shape).astype(np.uint8)
+    x, y, w, h = box
+    expected = rf"^box 0 \({x}, {y}, {w}, {h}\) leaves no background in the {shape[1]} x "
+    with pytest.raises(ValueError, match=expected):
+        image_clutter(image, [box])
+    with pytest.raises(ValueError, match=expected):
+        target_features(image, box)
+    path = tmp_path / "small.png"
+    from PIL import Image
+
+    Image.fromarray(image).save(path)
+    from targetacq.cli import main
+
+    with pytest.raises(SystemExit) as done:
+        main(["clutter", str(path), "--box", ",".join(map(str, box))])
+    err = capsys.readouterr().err
+    assert done.value.code == 2 and err.count("\n") == 1
+    assert err.startswith(f"targetacq: error: box 0 ({x}, {y}, {w}, {h}) leaves no background")

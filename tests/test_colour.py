@@ -163,6 +163,34 @@ def test_colour_scenarios_are_checked(change, message) -> None:
         parse_scenario(document)
 
 
+@pytest.mark.parametrize(
+    ("change", "where"),
+    [
+        (lambda d: d["targets"][0]["reflectance"].update(uv=0.3), "targets[0].reflectance.uv"),
+        (lambda d: d["background"]["reflectance"].update(uv=0.1), "background.reflectance.uv"),
+        (
+            lambda d: d["background"].update(
+                irradiance={"red": "1 W/m^2", "green": "1 W/m^2", "Red": "2 W/m^2"}
+            ),
+            "background.irradiance.Red",
+        ),
+    ],
+)
+def test_a_band_no_colour_camera_has_is_refused_not_ignored(change, where) -> None:
+    # A value for band "uv" (or a typo) was accepted and silently unused.
+    document = _document(
+        [_colour(["red", "green"])], {"red": 0.2, "green": 0.3}, {"red": 0.1, "green": 0.1}
+    )
+    change(document)
+    with pytest.raises(ScenarioError) as error:
+        parse_scenario(document)
+    (problem,) = error.value.problems
+    band = where.rsplit(".", 1)[1]
+    assert problem == (
+        f"scenario: {where}: {band!r} is not a band of the colour cameras (bands: red, green)"
+    )
+
+
 def test_a_tv_camera_refuses_a_table_of_bands() -> None:
     with pytest.raises(ScenarioError, match="a table of bands is for colour cameras"):
         parse_scenario(_document([_tv()], {"red": 0.2}, 0.1))

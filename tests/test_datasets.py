@@ -233,3 +233,77 @@ def test_a_seed_beyond_int64_is_kept_exactly_in_netcdf(tmp_path):
     ds = annotate(xr.Dataset({"snr": ("time", [1.0])}, coords={"time": [0.0]}))
     out = write_output(Output(ds, provenance({}, seed=seed)), tmp_path / "big.nc")
     assert json.loads(_open(out).attrs["seed"]) == seed
+
+
+# -- a full disk and a missing [sweep] extra: one line, exit 2, nothing left behind ----------
+
+WRITES = {
+    "evaluate": ["evaluate", SCENARIO, "--out"],  # chunk by chunk (targetacq.streaming)
+    "sweep": [*SWEEP, "--out"],  # whole (targetacq.datasets.write_output)
+}
+
+
+def _disk_fills(monkeypatch, error):
+    """Every netCDF write puts a few bytes in its file, then fails with ``error``, the disk
+    reported full."""
+    import shutil
+
+    def to_netcdf(self, path=None, *args, **kwargs):
+        Path(path).write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(100))  # a partial file
+        raise error
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", to_netcdf)
+    usage = shutil.disk_usage("/")
+    monkeypatch.setattr("targetacq.datasets.shutil.disk_usage", lambda path: usage._replace(free=0))
+
+
+@pytest.mark.parametrize("command", list(WRITES))
+def test_netcdf_on_a_full_disk_is_one_line_and_leaves_nothing(
+    capsys, tmp_path, monkeypatch, command
+):
+    # netCDF4 reports ENOSPC as RuntimeError("NetCDF: HDF error"): a 51-85-line traceback
+    # with exit status 1 before.
+    _disk_fills(monkeypatch, RuntimeError("NetCDF: HDF error"))
+    out = tmp_path / "e.nc"
+    code, _, err = run(capsys, *WRITES[command], out)
+    assert code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.startswith(f"targetacq: error: cannot write {str(out)!r}: No space left on device")
+    assert "NetCDF: HDF error" in err
+    assert list(tmp_path.iterdir()) == [], "a partial or temporary file is left behind"
+
+
+def test_netcdf_write_errors_that_are_not_the_library_s_are_not_hidden(tmp_path, monkeypatch):
+    _disk_fills(monkeypatch, RuntimeError("a bug elsewhere"))
+    ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    with pytest.raises(RuntimeError, match="a bug elsewhere"):
+        write_output(Output(ds, provenance({})), tmp_path / "r.nc")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(("suffix", "package"), [("nc", "netCDF4"), ("zarr", "zarr")])
+@pytest.mark.parametrize("command", list(WRITES))
+def test_nc_or_zarr_without_the_sweep_extra_is_one_line_before_any_work(
+    capsys, tmp_path, monkeypatch, command, suffix, package
+):
+    # A base install has neither: a 47-64-line ModuleNotFoundError traceback before, after the
+    # whole run. Now refused before any work, naming the extra.
+    monkeypatch.setitem(__import__("sys").modules, package, None)  # its import fails
+    monkeypatch.setattr(ModelChain, "__init__", lambda *a, **k: pytest.fail("work started"))
+    monkeypatch.setattr("targetacq.studies.sweep", lambda *a, **k: pytest.fail("work started"))
+    out = tmp_path / f"e.{suffix}"
+    code, _, err = run(capsys, *WRITES[command], out)
+    assert code == 2, err
+    assert err == (
+        f"targetacq: error: --out {str(out)!r}: a .{suffix} file needs the {package} package, "
+        "which is not installed: pip install 'targetacq[sweep]'\n"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_write_output_without_netcdf4_names_the_extra(tmp_path, monkeypatch):
+    monkeypatch.setitem(__import__("sys").modules, "netCDF4", None)
+    ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    with pytest.raises(ValueError, match=r"netCDF4 package.*pip install 'targetacq\[sweep\]'"):
+        write_output(Output(ds, provenance({})), tmp_path / "r.nc")
+    assert list(tmp_path.iterdir()) == []

@@ -405,6 +405,19 @@ def test_false_target_problems_are_located():
     assert none.startswith("false_targets: no sensor has a field of view")
 
 
+def test_an_empty_false_target_sensor_list_is_refused_not_silently_empty():
+    # sensors = [] named no sensor: the table was accepted and no false target ever drawn.
+    sc = _scenario()
+    table = FalseTargets(density=1e-6, probability=0.1, max_range=1e3, sensors=[])
+    (empty,) = false_target_problems(sc.model_copy(update={"false_targets": table}))
+    assert empty.startswith("false_targets.sensors: an empty list names no sensor")
+    with pytest.raises(ValueError, match=r"false_targets\.sensors: an empty list"):
+        _scenario(table={"density": 1e-6, "probability": 0.1, "max_range": 1e3, "sensors": []})
+    sensors = core.compile_scenario(sc).scene.sensors
+    with pytest.raises(ValueError, match=r"^false_targets\.sensors: an empty list"):
+        FalseTargetSampler(table, sensors, 3.4, seed=0)
+
+
 def test_simulation_refuses_an_unknown_false_target_sensor():
     table = {"density": 1e-6, "probability": 0.1, "max_range": 1e3, "sensors": ["nope"]}
     with pytest.raises(ScenarioError, match=r"false_targets\.sensors\[0\]: unknown sensor 'nope'"):

@@ -192,3 +192,28 @@ def test_zero_contrast_with_a_netd_is_never_detected():
     noisy = ta.scene_acquisition(ranges, 2.3, 2e-4, "lwir", 295.0, 295.0, netd=0.05)
     assert quiet.detection[0] > 0.9
     assert np.all(noisy.detection < 0.01)
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [
+        {},  # no noise, no clutter: the contrast entered no factor (P = 0.99999 before)
+        {"quantisation_step": 0.1},
+        {"scr": 5.0},
+        {"netd": 0.05},  # these two gave NaN probabilities already (not a NaN SNR or SCR)
+        {"clutter_std": 2.0},
+    ],
+)
+@pytest.mark.parametrize(
+    "nan", [{"target_temperature": [305.0, np.nan]}, {"target_emissivity": [0.9, np.nan]}]
+)
+def test_a_nan_signature_gives_nan_out_without_noise_or_clutter(extra, nan):
+    base = {"range": 1000.0, "critical_dimension": 2.3, "ifov": 2e-4, "band": "lwir"}
+    base |= {"target_temperature": 305.0, "background_temperature": 295.0}
+    found = ta.scene_acquisition(**{**base, **extra, **{k: np.array(v) for k, v in nan.items()}})
+    alone = ta.scene_acquisition(**{**base, **extra, **{k: v[0] for k, v in nan.items()}})
+    for name in ("detection", "recognition", "identification", "contrast", "snr", "scr"):
+        values = getattr(found, name)
+        assert np.isnan(values[1]), f"{name}: {values[1]} where the input is NaN"
+        # the known row as computed alone (to rounding: a batch may round differently)
+        np.testing.assert_allclose(values[0], getattr(alone, name), rtol=1e-14, err_msg=name)

@@ -4,16 +4,21 @@ Every number of a sweep must equal that of a single `targetacq dri` run with the
 serially and on Dask; the clear-path numbers are also checked against the closed forms.
 """
 
+import contextlib
 import itertools
 import json
 import math
+import os
+import socket
 import sys
+import time
 
 import numpy as np
 import pytest
 
+from targetacq import studies
 from targetacq.cli import main
-from targetacq.studies import sweep, sweep_rows
+from targetacq.studies import local_cluster, sweep, sweep_rows
 
 FOCAL = ["35mm", "50mm", "75mm"]
 TARGETS = {"person": "0.75m", "vehicle": "2.3m"}
@@ -129,11 +134,9 @@ def _options():
 
 
 def test_sweep_on_a_local_dask_cluster_equals_single_dri_runs(capsys):
-    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("distributed")
     expected = _single_dri_runs(capsys)
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster:
+    with local_cluster(2, processes=False) as cluster:
         ds = sweep(_options(), scheduler=cluster, chunk_size=5)
     assert ds["range"].dims == (
         "focal_length",
@@ -285,14 +288,126 @@ def test_small_sweeps_run_serially_without_dask(monkeypatch):
 
 
 def test_sweep_cli_on_an_existing_scheduler_by_address(capsys):
-    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("distributed")
     args = ["sweep", "--example", "--focal-length", "35mm,50mm,75mm", "--scr", "1,2"]
     code, serial, err = run(capsys, *args, "--format", "csv")
     assert code == 0, err
-    with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
-    ) as cluster:
+    with local_cluster(2, processes=False) as cluster:
         address = cluster.scheduler_address
         code, on_dask, err = run(capsys, *args, "--format", "csv", "--scheduler", address)
     assert code == 0, err
     assert on_dask == serial
+
+
+# -- Dask: no fixed port, workers capped at the CPUs, a lost scheduler, the size up front ------
+
+QUICK_SWEEP = ["sweep", "--example", "--focal-length", "35mm,50mm", "--scr", "1,2"]
+
+
+@contextlib.contextmanager
+def _port_taken(port):
+    """``port`` held by a listening socket (a notebook's Dask dashboard), or by whoever holds
+    it already."""
+    with socket.socket() as held:
+        with contextlib.suppress(OSError):  # taken already: the condition holds as well
+            held.bind(("", port))
+            held.listen()
+        yield
+
+
+def test_the_dask_paths_run_with_port_8787_taken(capsys):
+    # Dask's default dashboard port: its scheduler took it (and warned when it could not) even
+    # with the dashboard off, so `make test` failed (2 failed, 2 errors) and a user's
+    # `sweep --workers` printed a warning.
+    pytest.importorskip("distributed")
+    code, serial, err = run(capsys, *QUICK_SWEEP, "--format", "csv")
+    assert code == 0, err
+    with _port_taken(8787):
+        code, on_dask, err = run(capsys, *QUICK_SWEEP, "--format", "csv", "--workers", "1")
+        assert (code, err) == (0, ""), err
+        with local_cluster(1, processes=False) as cluster:
+            ds = sweep({"example": True, "focal_length": "35mm,50mm"}, scheduler=cluster)
+    assert on_dask == serial
+    assert ds["range"].sizes["focal_length"] == 2
+
+
+def test_workers_beyond_the_cpus_are_capped_with_a_one_line_note(capsys, monkeypatch):
+    pytest.importorskip("distributed")
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0}, raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)
+    started = []
+    real = studies.local_cluster
+
+    def in_threads(workers=None, **kwargs):
+        cluster = real(workers, processes=False)
+        started.append(len(cluster.workers))
+        return cluster
+
+    monkeypatch.setattr(studies, "local_cluster", in_threads)
+    code, _, err = run(capsys, *QUICK_SWEEP, "--format", "csv", "--workers", "64")
+    assert code == 0, err
+    assert err == (
+        "targetacq: warning: workers 64 is more than the CPUs this process may use (1): using 1\n"
+    )
+    assert started == [1]
+    with pytest.warns(UserWarning, match=r"\(1\): using 1$"):
+        assert studies.cluster_workers(64) == 1
+
+
+def test_a_sweep_beyond_the_point_limit_is_refused_before_any_work(capsys, monkeypatch):
+    # A 9-million-point sweep failed after 178 s; 1,001 x 1,000 points is refused at once.
+    monkeypatch.setattr(studies, "option_product", lambda *a: pytest.fail("work started"))
+    focal = ",".join(f"{v}mm" for v in range(10, 1011))
+    scr = ",".join(str(v) for v in range(1, 1001))
+    code, _, err = run(capsys, "sweep", "--example", "--focal-length", focal, "--scr", scr)
+    assert code == 2
+    assert err == (
+        "targetacq: error: the sweep of 1,001,000 points (1,001 --focal-length x 1,000 --scr) "
+        "is more than the limit of 1,000,000 points (targetacq.studies.MAX_SWEEP_POINTS); "
+        "sweep fewer values, or split the study\n"
+    )
+    with pytest.raises(ValueError, match=r"1,000,000 points"):
+        sweep({"example": True, "focal_length": focal, "scr": scr})
+
+
+def test_a_sweep_beyond_the_memory_is_refused_with_its_estimate(capsys, monkeypatch):
+    monkeypatch.setattr("targetacq.limits.available_memory", lambda: 10_000)
+    monkeypatch.setattr(studies, "option_product", lambda *a: pytest.fail("work started"))
+    code, _, err = run(capsys, *QUICK_SWEEP, "--probability", "0.5,0.9")
+    assert code == 2 and err.count("\n") == 1, err
+    # 4 points x 2,048 B + 4 points x 4 tasks x 2 probabilities x 1,024 B = 40,960 B
+    assert "the sweep of 4 points (2 --focal-length x 2 --scr) at 8 values each needs " in err
+    assert "about 4.1e+04 bytes" in err
+    assert studies.sweep_bytes(4, 32) == 40_960
+
+
+_LOSE = {}
+
+
+def _block_losing_the_scheduler(points, grid, default_probability):
+    """The sweep's block of work; the second one closes the scheduler under the sweep."""
+    _LOSE["calls"] += 1
+    if _LOSE["calls"] == 2:
+        _LOSE["cluster"].loop.add_callback(_LOSE["cluster"].scheduler.close)
+        time.sleep(0.5)
+    return _LOSE["block"](points, grid, default_probability)
+
+
+def test_losing_the_scheduler_mid_sweep_is_one_line(capsys, monkeypatch):
+    # An 85-line FutureCancelledError traceback with exit status 1 before.
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("distributed")
+    _LOSE.update(calls=0, block=studies._block)
+    monkeypatch.setattr(studies, "_block", _block_losing_the_scheduler)
+    args = ["--focal-length", "35mm,50mm,75mm,100mm", "--scr", "1,2,3", "--chunk-size", "2"]
+    with (
+        dask.config.set({"distributed.comm.timeouts.connect": "2s"}),  # the client's reconnect
+        local_cluster(1, processes=False) as cluster,
+    ):
+        _LOSE["cluster"] = cluster
+        address = cluster.scheduler_address
+        code, _, err = run(capsys, "sweep", "--example", *args, "--scheduler", address)
+    assert code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.startswith(f"targetacq: error: the Dask scheduler {address} was lost during the ")
+    assert "scheduler-connection-lost" in err and "re-run the sweep" in err

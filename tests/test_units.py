@@ -170,3 +170,14 @@ def test_to_si_strict_refuses_non_finite_and_non_numbers_too(value):
 @pytest.mark.parametrize(("value", "si"), [(17, 17.0), (__import__("numpy").float32(0.5), 0.5)])
 def test_to_si_accepts_real_numbers_of_any_type(value, si):
     assert to_si(value, "length", "pitch") == si
+
+
+@pytest.mark.parametrize("text", ["4000 dB", "3083 dB", "-4000 dB", "1e400 dB", "3000.5 dB"])
+def test_decibels_beyond_the_stated_range_are_refused_naming_it(text):
+    # 10 ** (dB / 10) overflows a double above about 3,083 dB (an OverflowError, not a
+    # ValueError, before; -4000 dB read as 0): the range is stated instead, and the input named.
+    with pytest.raises(ValueError, match=r"^radar\.gain must be within ±3000 dB .*got '"):
+        parse_quantity(text, "power ratio", "radar.gain")
+    # The ends of the stated range are read.
+    assert parse_quantity("3000 dB", "power ratio", "g") == pytest.approx(1e300, rel=1e-12)
+    assert parse_quantity("-3000 dB", "power ratio", "g") == pytest.approx(1e-300, rel=1e-12)

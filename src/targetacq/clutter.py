@@ -174,7 +174,8 @@ class ImageClutter:
     ----------
     clutter : numpy.ndarray
         (3.12): RMS of the cells' standard deviations [image units]; 0 for a uniform
-        background; NaN where no cell has two background pixels.
+        background. (A box with no cell of two background pixels is refused:
+        :func:`as_boxes`.)
     scr_positive, scr_negative : numpy.ndarray
         (3.14) ``|g_0,max − g_mean| / clutter`` and (3.15) ``|g_0,min − g_mean| / clutter``;
         +inf where the clutter is 0 and the contrast is not.
@@ -205,13 +206,18 @@ class ImageClutter:
     cell_pixels: Any
 
 
-def as_boxes(boxes: Any, shape: tuple[int, int]) -> Any:
-    """Validated (k, 4) integer array of (x, y, width, height) boxes inside an image.
+def as_boxes(boxes: Any, shape: tuple[int, int], cell_factor: float = 2.0) -> Any:
+    """Validated (k, 4) integer array of (x, y, width, height) boxes inside an image, each
+    with background around it for :func:`image_clutter`'s cells of ``cell_factor``.
 
     Raises
     ------
     ValueError
-        For a box that is not four integers, has zero or negative size, or leaves the image.
+        For a box that is not four integers, has zero or negative size, or leaves the image;
+        or that leaves no background to measure the clutter on: no cell of :func:`image_clutter`
+        (``cell_factor`` times the box's smaller side) has two pixels outside the box, as for a
+        box covering the whole image or a 1 x 1 image (whose clutter, SCR and probabilities
+        would all be NaN).
     """
     import numpy as np
 
@@ -232,7 +238,42 @@ def as_boxes(boxes: Any, shape: tuple[int, int]) -> Any:
                 f"box {k} ({x}, {y}, {w}, {h}) leaves the {width} x {height} image "
                 "(x + width <= image width, y + height <= image height)"
             )
+    side, _, n = _cells(b, shape, cell_factor)
+    for k, used in enumerate((n >= _MIN_CELL_PIXELS).any(axis=1)):
+        if not used:
+            x, y, w, h = b[k]
+            raise ValueError(
+                f"box {k} ({x}, {y}, {w}, {h}) leaves no background in the {width} x {height} "
+                "image to measure its clutter on (Eq. (3.12) takes the background pixels "
+                f"around the box, in cells of {side[k]} px: none has two outside it); give a "
+                "smaller box, a larger image, or (for a thin box) a larger cell factor"
+            )
     return b
+
+
+def _cells(b: Any, shape: tuple[int, int], cell_factor: float) -> tuple[Any, Any, Any]:
+    """The cell side of each box, its 3 × 3 cells (k, 9, 4) as (x0, y0, x1, y1) clipped to the
+    image, end-exclusive, and the background pixels (outside the box) in each (k, 9)."""
+    import numpy as np
+
+    height, width = shape
+    x, y, w, h = (b[:, i] for i in range(4))
+    side = np.maximum(1, np.round(cell_factor * np.minimum(w, h))).astype(np.int64)
+    # The centre cell is centred on the box centre; the other eight tile around it.
+    cx0 = np.floor(x + w / 2.0 - side / 2.0).astype(np.int64)
+    cy0 = np.floor(y + h / 2.0 - side / 2.0).astype(np.int64)
+    di = np.array([i for i, _ in _CELL_OFFSETS])
+    dj = np.array([j for _, j in _CELL_OFFSETS])
+    x0 = np.clip(cx0[:, None] + di * side[:, None], 0, width)
+    y0 = np.clip(cy0[:, None] + dj * side[:, None], 0, height)
+    x1 = np.clip(cx0[:, None] + (di + 1) * side[:, None], 0, width)
+    y1 = np.clip(cy0[:, None] + (dj + 1) * side[:, None], 0, height)
+    # The box's part in each cell, left out.
+    bx0, by0 = np.maximum(x0, x[:, None]), np.maximum(y0, y[:, None])
+    bx1, by1 = np.minimum(x1, (x + w)[:, None]), np.minimum(y1, (y + h)[:, None])
+    bx1, by1 = np.maximum(bx1, bx0), np.maximum(by1, by0)
+    n = (x1 - x0) * (y1 - y0) - (bx1 - bx0) * (by1 - by0)
+    return side, np.stack([x0, y0, x1, y1, bx0, by0, bx1, by1], axis=-1), n
 
 
 def _summed_area(values: Any) -> Any:
@@ -285,6 +326,14 @@ def image_clutter(image: Any, boxes: Any, cell_factor: float = 2.0) -> ImageClut
     -------
     ImageClutter
 
+    Raises
+    ------
+    ValueError
+        For an image that is not 2-D real numbers, a ``cell_factor`` that is not > 0, or a box
+        :func:`as_boxes` refuses: outside the image, or with no background around it (no cell
+        with two pixels outside the box, e.g. a box covering the whole image, or a 1 x 1
+        image), where the clutter would be undefined.
+
     Examples
     --------
     A background of alternating rows at 10 and 11 (every cell's standard deviation 0.5, mean
@@ -317,31 +366,15 @@ def image_clutter(image: Any, boxes: Any, cell_factor: float = 2.0) -> ImageClut
         isinstance(cell_factor, (int, float)) and math.isfinite(cell_factor) and cell_factor > 0
     ):
         raise ValueError(f"cell_factor must be a finite number > 0, got {cell_factor!r}")
-    b = as_boxes(boxes, img.shape)
-    height, width = img.shape
+    b = as_boxes(boxes, img.shape, cell_factor)
     values = img.astype(np.float64)
     reference = float(values.mean())
     shifted = values - reference
     sat1 = _summed_area(shifted)
     sat2 = _summed_area(shifted * shifted)
 
-    x, y, w, h = (b[:, i] for i in range(4))
-    side = np.maximum(1, np.round(cell_factor * np.minimum(w, h))).astype(np.int64)
-    # The centre cell is centred on the box centre; the other eight tile around it.
-    cx0 = np.floor(x + w / 2.0 - side / 2.0).astype(np.int64)
-    cy0 = np.floor(y + h / 2.0 - side / 2.0).astype(np.int64)
-    di = np.array([i for i, _ in _CELL_OFFSETS])
-    dj = np.array([j for _, j in _CELL_OFFSETS])
-    x0 = np.clip(cx0[:, None] + di * side[:, None], 0, width)
-    y0 = np.clip(cy0[:, None] + dj * side[:, None], 0, height)
-    x1 = np.clip(cx0[:, None] + (di + 1) * side[:, None], 0, width)
-    y1 = np.clip(cy0[:, None] + (dj + 1) * side[:, None], 0, height)
-    # The box's part in each cell, to leave out.
-    bx0, by0 = np.maximum(x0, x[:, None]), np.maximum(y0, y[:, None])
-    bx1, by1 = np.minimum(x1, (x + w)[:, None]), np.minimum(y1, (y + h)[:, None])
-    bx1, by1 = np.maximum(bx1, bx0), np.maximum(by1, by0)
-
-    n = (x1 - x0) * (y1 - y0) - (bx1 - bx0) * (by1 - by0)
+    _, corners, n = _cells(b, img.shape, cell_factor)
+    x0, y0, x1, y1, bx0, by0, bx1, by1 = np.moveaxis(corners, -1, 0)
     s1 = _rect_sum(sat1, x0, y0, x1, y1) - _rect_sum(sat1, bx0, by0, bx1, by1)
     s2 = _rect_sum(sat2, x0, y0, x1, y1) - _rect_sum(sat2, bx0, by0, bx1, by1)
     used = n >= _MIN_CELL_PIXELS

@@ -25,14 +25,25 @@ SHA-256 of the scenario file or of the options that made it.
     are in the other formats.
 
 Every file is written atomically and with the user's umask (mode 0644 under umask 022).
+
+Failures are one line naming the file (:class:`targetacq.outputs.OutputError`, a
+``ValueError``): a .nc or .zarr output without its package (the ``[sweep]`` extra,
+:data:`FORMAT_PACKAGES`) is refused before any work (:func:`output_file`), and the netCDF
+library's ``RuntimeError`` on a failed write ("NetCDF: HDF error", e.g. on a full disk) is
+reported as the failure to write the file it is; nothing half-written is left behind.
 """
 
 from __future__ import annotations
 
+import contextlib
 import datetime
+import errno
 import hashlib
+import importlib
 import json
-from collections.abc import Callable, Mapping
+import os
+import shutil
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -47,11 +58,14 @@ from targetacq.outputs import (
 
 __all__ = [
     "DIRECTORY_FORMATS",
+    "FORMAT_PACKAGES",
     "OUTPUT_FORMATS",
     "Output",
     "annotate",
     "json_head",
+    "netcdf_errors",
     "options_sha256",
+    "output_file",
     "parquet_schema",
     "provenance",
     "sha256_file",
@@ -356,8 +370,59 @@ def json_head(output: Output, columns: Any) -> str:
     return '{"meta": ' + json_text(meta, 1) + ',\n"rows": '
 
 
+_LOW_SPACE = 1 << 20  # bytes free on the file system below which a failed write is "disk full"
+
+
+@contextlib.contextmanager
+def netcdf_errors(path: Path) -> Iterator[None]:
+    """The netCDF library's ``RuntimeError`` while writing ``path`` as an ``OSError``, which
+    :func:`targetacq.outputs.write_atomically` reports in one line naming the file (and
+    removes the temporary file).
+
+    netCDF4 raises ``RuntimeError("NetCDF: HDF error")`` where the system said "No space left
+    on device" or "File too large"; the reason given says which, where it can tell.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with netcdf_errors(Path(tempfile.mkdtemp()) / "x.nc"):
+    ...     raise RuntimeError("NetCDF: HDF error")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    OSError: [Errno 5] NetCDF: HDF error (the netCDF library could not write the file...)
+    """
+    try:
+        yield
+    except RuntimeError as error:
+        if not any(word in str(error) for word in ("NetCDF", "HDF")):
+            raise  # not the library's report of a failed write
+        raise OSError(*_netcdf_reason(error, path)) from error
+
+
+def _netcdf_reason(error: RuntimeError, path: Path) -> tuple[int, str]:
+    """(errno, reason) for a failed netCDF write: the file system's state where it explains
+    the library's message."""
+    message = str(error) or "the netCDF library failed"
+    with contextlib.suppress(OSError):
+        if shutil.disk_usage(path.parent).free < _LOW_SPACE:
+            return errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} ({message})"
+    with contextlib.suppress(ImportError, OSError, ValueError):
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+        if soft != resource.RLIM_INFINITY:
+            return errno.EFBIG, (
+                f"{os.strerror(errno.EFBIG)} (a file-size limit of {soft} bytes is set; {message})"
+            )
+    return errno.EIO, (
+        f"{message} (the netCDF library could not write the file: a full disk, a file-size "
+        "limit or a failing device gives this)"
+    )
+
+
 def _write_netcdf(output: Output, path: Path) -> None:
-    stored_dataset(output).to_netcdf(path, engine="netcdf4")
+    with netcdf_errors(path):
+        stored_dataset(output).to_netcdf(path, engine="netcdf4")
 
 
 def _write_zarr(output: Output, path: Path) -> None:
@@ -395,6 +460,52 @@ OUTPUT_FORMATS: dict[str, Callable[[Output, Path], None]] = {
 DIRECTORY_FORMATS = ("zarr",)
 """The formats written as a folder."""
 
+FORMAT_PACKAGES: dict[str, tuple[str, ...]] = {"nc": ("netCDF4",), "zarr": ("zarr",)}
+"""Format → the packages its writer needs beyond the base install (the ``[sweep]`` extra)."""
+
+_EXTRA = "sweep"
+
+
+def output_file(path: str | Path, what: str = "output") -> tuple[Path, str]:
+    """Check an output before any work: its suffix is one of :data:`OUTPUT_FORMATS`
+    (:func:`targetacq.outputs.output_path`: a writable place, not a folder unless a Zarr
+    store) and the packages its format needs (:data:`FORMAT_PACKAGES`) are installed.
+
+    Parameters
+    ----------
+    path : path
+        The output file.
+    what : str
+        The input's name for messages (e.g. ``"--out"``).
+
+    Returns
+    -------
+    path, format : (Path, str)
+
+    Raises
+    ------
+    ValueError
+        Naming ``what`` or the file: a suffix that is not one of the formats, a place that
+        cannot be written (:class:`targetacq.outputs.OutputError`), or a format whose package
+        is missing, with the command that installs it.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> output_file(f"{tempfile.mkdtemp()}/r.csv", "--out")[1]
+    'csv'
+    """
+    out, kind = output_path(path, OUTPUT_FORMATS, what, directories=DIRECTORY_FORMATS)
+    for package in FORMAT_PACKAGES.get(kind, ()):
+        try:
+            importlib.import_module(package)
+        except ImportError:
+            raise ValueError(
+                f"{what} {str(out)!r}: a .{kind} file needs the {package} package, which is not "
+                f"installed: pip install 'targetacq[{_EXTRA}]'"
+            ) from None
+    return out, kind
+
 
 def write_by_suffix(path: str | Path, write: Callable[[Path, str], object]) -> Path:
     """Check ``path`` (:func:`targetacq.outputs.output_path`, before any work), then call
@@ -418,7 +529,8 @@ def write_by_suffix(path: str | Path, write: Callable[[Path, str], object]) -> P
     ------
     ValueError
         If the suffix is not one of :data:`OUTPUT_FORMATS`, or (``OutputError``) the file
-        cannot be written: the message names the file and the reason.
+        cannot be written (its format's package missing included, :func:`output_file`): the
+        message names the file and the reason.
 
     Examples
     --------
@@ -427,7 +539,7 @@ def write_by_suffix(path: str | Path, write: Callable[[Path, str], object]) -> P
     >>> out.read_text()
     'csv'
     """
-    out, kind = output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)
+    out, kind = output_file(path)
     if kind in DIRECTORY_FORMATS:
         return write_directory_atomically(out, lambda p: write(p, kind))
     return write_atomically(out, lambda p: write(p, kind))

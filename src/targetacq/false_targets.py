@@ -703,12 +703,20 @@ def _pointed(sensor: Any) -> bool:
     )
 
 
+# An empty list names no sensor: no false target would ever be drawn, without a word.
+_NO_SENSORS = (
+    "false_targets.sensors: an empty list names no sensor, so none would report false targets; "
+    "name at least one sensor, or leave sensors out for every sensor with a field of view (or "
+    "remove the [false_targets] table)"
+)
+
+
 def false_target_problems(scenario: Any) -> list[str]:
     """What is wrong with a scenario's ``[false_targets]`` table, each problem located.
 
-    ``false_targets.sensors`` must name sensors of the scenario, each with a field of view
-    (``pixels``) and a pointing (``look_at``, or ``azimuth`` and ``depression``), once; without
-    ``sensors``, at least one sensor must have a field of view.
+    ``false_targets.sensors`` must name sensors of the scenario, at least one, each with a
+    field of view (``pixels``) and a pointing (``look_at``, or ``azimuth`` and ``depression``),
+    once; without ``sensors``, at least one sensor must have a field of view.
 
     Parameters
     ----------
@@ -730,6 +738,8 @@ def false_target_problems(scenario: Any) -> list[str]:
                 "none can report false targets; give one pixels and a pointing"
             ]
         return []
+    if not table.sensors:
+        return [_NO_SENSORS]
     problems = []
     seen: set[str] = set()
     for k, name in enumerate(table.sensors):
@@ -771,8 +781,8 @@ class FalseTargetSampler:
     Raises
     ------
     ValueError
-        Where ``table.sensors`` names a sensor that is unknown or has no field of view
-        (:func:`false_target_problems`'s words).
+        Where ``table.sensors`` is empty or names a sensor that is unknown or has no field of
+        view (:func:`false_target_problems`'s words).
     """
 
     def __init__(self, table: Any, sensors: SensorArrays, search_time: float, seed: int) -> None:
@@ -790,7 +800,7 @@ class FalseTargetSampler:
         if table.sensors is None:
             chosen = [g for g in first if np.isfinite(half[first[g]]).all()]
         else:
-            problems = []
+            problems = [] if table.sensors else [_NO_SENSORS]
             for k, name in enumerate(table.sensors):
                 if name not in first:
                     problems.append(f"false_targets.sensors[{k}]: unknown sensor {name!r}")

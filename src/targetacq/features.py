@@ -98,7 +98,7 @@ def target_features(
     img = np.asarray(image, dtype=np.float64)
     if img.ndim != 2:
         raise ValueError(f"image must be 2-D (one channel); got shape {img.shape}")
-    ((x, y, w, h),) = as_boxes(box, img.shape)
+    ((x, y, w, h),) = as_boxes(box, img.shape, cell_factor)
     silhouette = np.ones((h, w), dtype=bool) if mask is None else np.asarray(mask, dtype=bool)
     if silhouette.shape != (h, w):
         raise ValueError(f"mask must have the box's shape (height, width) = ({h}, {w})")

@@ -32,6 +32,7 @@ from typing import Any
 __all__ = [
     "BYTES_PER_EVALUATION",
     "MAX_ANGLE_TURN",
+    "MAX_DECIBELS",
     "MAX_DEPRESSION",
     "MAX_ELEMENTS",
     "MAX_INPUT_BYTES",
@@ -64,6 +65,13 @@ MAX_DEPRESSION = math.pi / 2
 
 MAX_ANGLE_TURN = 2 * math.pi
 """Largest azimuth or heading magnitude [rad]: one full turn either way."""
+
+MAX_DECIBELS = 3000.0
+"""Largest magnitude [dB] of a power ratio written in decibels: 10^±300 as a linear ratio.
+
+``10 log10`` of the largest double is about 3,083 dB, so a larger value cannot become a linear
+ratio (``10 ** (dB / 10)`` overflows); below about -3,076 dB the ratio loses precision and then
+reads as 0. No antenna, receiver or backscatter comes near either end."""
 
 MAX_SEED = 2**128 - 1
 """Largest seed: seeds are hashed as 16-byte unsigned integers (:mod:`targetacq.sampling`)."""

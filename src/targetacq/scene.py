@@ -335,11 +335,18 @@ def scene_acquisition(
         invisible = contrast < step
         det, rec, ide = (xp.where(invisible, 0.0 * p, p) for p in (det, rec, ide))
     scr_out = xp.full_like(contrast, xp.inf) if scr_value is None else scr_value
+    # A NaN signature (a NaN temperature, emissivity or exitance) is NaN out: without noise or
+    # clutter the contrast enters no factor, and the geometric answer would hide it.
+    unknown = xp.isnan(contrast)
+    det, rec, ide = (xp.where(unknown, xp.nan, p) for p in (det, rec, ide))
+    snr = xp.where(unknown, xp.nan, _arrays.as_float(found.snr, xp))
+    scr_out = xp.where(unknown, xp.nan, _arrays.as_float(scr_out, xp))
     arrays = xp.broadcast_arrays(
         *_arrays.arrays(found.cycles)[1],
         contrast,
-        _arrays.as_float(scr_out, xp),
-        *_arrays.arrays(found.transmittance, found.snr)[1],
+        scr_out,
+        *_arrays.arrays(found.transmittance)[1],
+        snr,
         det,
         rec,
         ide,

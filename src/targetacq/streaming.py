@@ -51,16 +51,16 @@ from typing import Any
 import numpy as np
 
 from targetacq.datasets import (
-    DIRECTORY_FORMATS,
-    OUTPUT_FORMATS,
     Output,
     json_head,
+    netcdf_errors,
+    output_file,
     parquet_schema,
     stored_dataset,
     write_by_suffix,
 )
 from targetacq.model import ModelChain, Results
-from targetacq.outputs import json_records, output_path
+from targetacq.outputs import json_records
 
 __all__ = ["CHUNK_TRIPLES", "chunk_sizes", "write_chunks"]
 
@@ -284,7 +284,7 @@ def write_chunks(
     >>> pq.read_table(out).schema.field("range").metadata[b"units"]
     b'm'
     """
-    output_path(path, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)  # before work
+    output_file(path)  # before work
     run = _run(chain, times, meta, targets_per_chunk, times_per_chunk, on_chunk)
     return write_by_suffix(path, lambda temporary, kind: _WRITERS[kind](run, temporary))
 
@@ -374,16 +374,18 @@ def _write_netcdf(run: _Run, path: Path) -> None:
     import netCDF4
 
     stored, encoding = _layout(run, "chunksizes")
-    stored.to_netcdf(path, engine="netcdf4", unlimited_dims=["time"], encoding=encoding)
-    with netCDF4.Dataset(path, "a") as nc:
-        nc.set_auto_maskandscale(False)  # the values as they are, as xarray wrote them
-        for name in encoding:
-            # Whole chunks are written once each: no cache (HDF5 writes them through).
-            nc[name].set_var_chunk_cache(size=0)
-        nc["time"][:] = run.times
-        for targets, times, _, arrays in run.each():
-            for name, value in arrays.items():
-                nc[name][(slice(None),) * (value.ndim - 2) + (targets, times)] = _stored(value)
+    with netcdf_errors(path):  # "NetCDF: HDF error" on a full disk: one line naming the file
+        stored.to_netcdf(path, engine="netcdf4", unlimited_dims=["time"], encoding=encoding)
+        with netCDF4.Dataset(path, "a") as nc:
+            nc.set_auto_maskandscale(False)  # the values as they are, as xarray wrote them
+            for name in encoding:
+                # Whole chunks are written once each: no cache (HDF5 writes them through).
+                nc[name].set_var_chunk_cache(size=0)
+            nc["time"][:] = run.times
+            for targets, times, _, arrays in run.each():
+                for name, value in arrays.items():
+                    index = (slice(None),) * (value.ndim - 2) + (targets, times)
+                    nc[name][index] = _stored(value)
 
 
 def _write_zarr(run: _Run, path: Path) -> None:

@@ -6,17 +6,27 @@ a single ``dri`` run (``range_setup`` then :func:`targetacq.ranges.case_ranges` 
 probability), so each number equals the one ``targetacq dri`` prints for that combination.
 Large sweeps run on ``dask.distributed``, in blocks of points, each block computed by the same
 pure function as the serial path: the results are identical.
+
+Limits, checked before any work: at most :data:`MAX_SWEEP_POINTS` points, and the sweep's
+estimated memory (:func:`sweep_bytes`: points × outputs × bytes) within what this machine has;
+a local cluster has at most one worker per CPU (:func:`cluster_workers`) and never takes a fixed
+port (:func:`local_cluster`: Dask's dashboard, port 8787 by default, is off). A cluster lost
+during the sweep (its scheduler, or a worker that died) is :class:`ClusterLostError`, one line.
 """
 
 from __future__ import annotations
 
+import contextlib
+import logging
 import math
 import os
-from collections.abc import Callable, Mapping, Sequence
+import warnings
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from targetacq.limits import check_size
 from targetacq.services.options import (
     LIST_SEPARATORS,
     RANGE_CASE_OPTIONS,
@@ -26,11 +36,40 @@ from targetacq.services.options import (
 )
 from targetacq.services.range_case import option_probabilities
 
-__all__ = ["SERIAL_LIMIT", "sweep", "sweep_rows"]
+__all__ = [
+    "BYTES_PER_SWEEP_POINT",
+    "BYTES_PER_SWEEP_VALUE",
+    "MAX_SWEEP_POINTS",
+    "SERIAL_LIMIT",
+    "ClusterLostError",
+    "cluster_workers",
+    "local_cluster",
+    "sweep",
+    "sweep_bytes",
+    "sweep_rows",
+]
 
 SERIAL_LIMIT = 1000
 """A sweep of at most this many points runs serially unless a scheduler or workers are asked
 for; a larger one runs on a Dask cluster."""
+
+MAX_SWEEP_POINTS = 1_000_000
+"""Most points (combinations of the listed values) one sweep computes: at 10 to 30 ms a point,
+hours on one core and tens of minutes on a 16-core cluster. A larger study is several sweeps."""
+
+BYTES_PER_SWEEP_POINT = 2048
+"""Memory [bytes] one point of a sweep takes until the sweep returns: its options (about 430 B
+measured), its place in a block of work and its result."""
+
+BYTES_PER_SWEEP_VALUE = 1024
+"""Memory [bytes] one output value (a point's task at one probability or range) takes: the
+dataset's float, and its row of the table the command line prints or writes (about 700 B)."""
+
+
+class ClusterLostError(ConnectionError):
+    """The Dask cluster of a sweep was lost before the sweep finished: its scheduler (the
+    connection to it) or a worker that died. Nothing of the sweep is returned."""
+
 
 _DRI_TASKS = ("detection", "recognition", "identification")
 _MAX_CHUNK = 250
@@ -170,16 +209,27 @@ def sweep(
     ------
     ValueError
         For a list with an empty item or the same value twice, an unknown option, or any
-        option ``targetacq dri`` refuses (naming it).
+        option ``targetacq dri`` refuses (naming it); for a sweep of more than
+        :data:`MAX_SWEEP_POINTS` points, or whose estimated memory (:func:`sweep_bytes`)
+        exceeds what this machine has available (both before any work).
     ModuleNotFoundError
         If the sweep needs Dask and ``dask.distributed`` is not installed.
+    ClusterLostError
+        If the Dask scheduler, or a worker, is lost before the sweep finishes.
+
+    Warns
+    -----
+    UserWarning
+        Where ``workers`` is more than this machine's CPUs: the local cluster has one worker
+        per CPU (:func:`cluster_workers`).
 
     Notes
     -----
     **Serial or Dask.** The sweep runs serially in this process when it has at most
     :data:`SERIAL_LIMIT` (1,000) points and neither ``scheduler`` nor ``workers`` is given;
-    otherwise on Dask: on ``scheduler`` if given, else on a new local cluster of ``workers``
-    processes (default: the machine's CPU count), closed afterwards. The grid is cut into
+    otherwise on Dask: on ``scheduler`` if given, else on a new local cluster
+    (:func:`local_cluster`) of ``workers`` processes, at most one per CPU (default: the CPUs
+    this process may use), closed afterwards. The grid is cut into
     blocks of ``chunk_size`` points, each computed by the same function as the serial path, so
     the numbers are identical.
 
@@ -209,11 +259,14 @@ def sweep(
         if len(np.unique(grid)) != grid.size:
             raise ValueError("ranges: a range appears twice")
     lists = option_lists(text)
-    product = option_product(text)
-    points = [full for _, full in product]
     probability_text = text["probability"] or default_probability
     split_list("--probability", probability_text)  # a coordinate: no empty or repeated value
     probabilities = option_probabilities(probability_text)
+    # The size, before the points are made (a product of lists can be millions of points).
+    per_point = len(_DRI_TASKS) + 1 if grid is None else len(_DRI_TASKS)  # + orientation
+    _check_sweep_size(lists, per_point * (len(grid) if grid is not None else len(probabilities)))
+    product = option_product(text)
+    points = [full for _, full in product]
     # The first point checked here, before any cluster starts: most mistakes show at once.
     _point(dict(points[0]), grid, default_probability)
     blocks = _blocks(points, chunk_size, scheduler, workers)
@@ -305,10 +358,130 @@ def _si_values(name: str, values: list[Any]) -> tuple[str, str, np.ndarray] | No
     return f"{name}_{_SUFFIX[unit]}", unit, array
 
 
+def sweep_bytes(points: int, values: int) -> int:
+    """Estimated memory [bytes] of a sweep of ``points`` points and ``values`` output values
+    (points × tasks × probabilities or ranges): :data:`BYTES_PER_SWEEP_POINT` per point and
+    :data:`BYTES_PER_SWEEP_VALUE` per value.
+
+    Examples
+    --------
+    >>> sweep_bytes(1000, 4000)  # 1,000 points, 4 tasks at one probability
+    6144000
+    """
+    return points * BYTES_PER_SWEEP_POINT + values * BYTES_PER_SWEEP_VALUE
+
+
+def _check_sweep_size(lists: Mapping[str, Sequence[Any]], per_point: int) -> None:
+    """Refuse, before any work, a sweep of more than :data:`MAX_SWEEP_POINTS` points or one
+    whose estimated memory (:func:`sweep_bytes`) this machine does not have."""
+    points = math.prod(len(values) for values in lists.values())
+    shape = " x ".join(f"{len(values):,} {_SPECS[name].flag}" for name, values in lists.items())
+    what = f"the sweep of {points:,} points ({shape})" if lists else "the sweep"
+    if points > MAX_SWEEP_POINTS:
+        raise ValueError(
+            f"{what} is more than the limit of {MAX_SWEEP_POINTS:,} points "
+            "(targetacq.studies.MAX_SWEEP_POINTS); sweep fewer values, or split the study"
+        )
+    check_size(
+        sweep_bytes(points, points * per_point),
+        1,
+        f"{what} at {per_point} values each",
+        "sweep fewer values, or split the study",
+    )
+
+
+def _cpus() -> int:
+    """CPUs this process may run on (its affinity where the system says, else the count)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return max(1, os.cpu_count() or 1)
+
+
+def cluster_workers(workers: int | None = None) -> int:
+    """Workers of a new local cluster: ``workers`` (default: one per CPU), at most one per CPU
+    this process may use; more would only share the CPUs and add processes' memory.
+
+    Warns
+    -----
+    UserWarning
+        Where ``workers`` is more than the CPUs, saying so and how many are used.
+
+    Raises
+    ------
+    ValueError
+        If ``workers`` is not an integer >= 1.
+
+    Examples
+    --------
+    >>> cluster_workers(1)
+    1
+    """
+    cpus = _cpus()
+    if workers is None:
+        return cpus
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
+    if workers > cpus:
+        warnings.warn(
+            f"workers {workers} is more than the CPUs this process may use ({cpus}): "
+            f"using {cpus}",
+            UserWarning,
+            stacklevel=3,
+        )
+        return cpus
+    return workers
+
+
+def local_cluster(workers: int | None = None, *, processes: bool = True) -> Any:
+    """A new local Dask cluster that takes no fixed port: ``workers`` workers
+    (:func:`cluster_workers`), one thread each.
+
+    Dask's dashboard (port 8787 by default) is off, and the scheduler's HTTP server, which Dask
+    starts even then and would put on port 8787, listens on a free port of this machine only:
+    a notebook's dashboard, or another cluster, on 8787 changes nothing.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Workers (default: one per CPU); more than the CPUs are capped, with a warning.
+    processes : bool
+        Workers in processes (the sweep's default) or in threads of this process.
+
+    Returns
+    -------
+    distributed.LocalCluster
+        Close it (or use it as a context manager).
+
+    Raises
+    ------
+    ModuleNotFoundError
+        If ``dask.distributed`` is not installed, naming the extra.
+    """
+    try:
+        import distributed
+    except ImportError as error:
+        raise ModuleNotFoundError(
+            "a sweep on Dask needs dask.distributed: pip install 'targetacq[sweep]'"
+        ) from error
+    return distributed.LocalCluster(
+        n_workers=cluster_workers(workers),
+        threads_per_worker=1,
+        processes=processes,
+        dashboard_address=None,
+        # dashboard_address=None still starts the scheduler's HTTP server on port 8787 (and
+        # warns when it is taken): a free port of this machine instead.
+        scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"},
+        silence_logs=logging.ERROR,
+    )
+
+
 def _cluster_size(scheduler: Any, workers: int | None) -> int:
-    if workers is not None:
-        return max(1, workers)
-    return max(1, os.cpu_count() or 1) if scheduler is None else 4
+    if scheduler is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # said once, when the cluster starts
+            return cluster_workers(workers)
+    return max(1, workers) if workers is not None else 4
 
 
 def _blocks(
@@ -362,44 +535,83 @@ def _distributed(
         raise ModuleNotFoundError(
             "a sweep on Dask needs dask.distributed: pip install 'targetacq[sweep]'"
         ) from error
-    import logging
 
     cluster = client = None
+    total = sum(len(b) for b in blocks)
+    done = 0
     try:
         if isinstance(scheduler, distributed.Client):
             client = scheduler
         elif scheduler is not None:
             client = distributed.Client(scheduler)  # an address or a cluster object
         else:
-            cluster = distributed.LocalCluster(
-                n_workers=_cluster_size(None, workers),
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=logging.ERROR,
-            )
+            cluster = local_cluster(workers)
             client = distributed.Client(cluster)
-        futures = client.map(
-            _block,
-            blocks,
-            grid=grid,
-            default_probability=default_probability,
-            pure=False,
-        )
-        bar, advance = _bar(progress, sum(len(b) for b in blocks))
-        size = {future.key: len(block) for future, block in zip(futures, blocks, strict=True)}
-        with bar:
-            for future in distributed.as_completed(futures):
-                advance(size[future.key])
-        results: list[tuple[tuple[str, ...], np.ndarray]] = []
-        for block in client.gather(futures):
-            results += block
+        with _lost_cluster(client, lambda: done, total), _client_logs_quiet():
+            futures = client.map(
+                _block,
+                blocks,
+                grid=grid,
+                default_probability=default_probability,
+                pure=False,
+            )
+            bar, advance = _bar(progress, total)
+            size = {future.key: len(block) for future, block in zip(futures, blocks, strict=True)}
+            with bar:
+                for future in distributed.as_completed(futures):
+                    if future.status == "finished":  # not cancelled, as on a lost scheduler
+                        advance(size[future.key])
+                        done += size[future.key]
+            results: list[tuple[tuple[str, ...], np.ndarray]] = []
+            for block in client.gather(futures):
+                results += block
         return results
     finally:
-        if client is not None and client is not scheduler:
-            client.close()
-        if cluster is not None:
-            cluster.close()
+        with _client_logs_quiet():
+            if client is not None and client is not scheduler:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _lost_cluster(client: Any, done: Callable[[], int], total: int) -> Iterator[None]:
+    """The cluster's failures as :class:`ClusterLostError`, one line saying what was lost and how
+    far the sweep got; the sweep's own errors (a ValueError of a point) pass unchanged."""
+    from concurrent.futures import CancelledError
+
+    from distributed.comm import CommClosedError
+    from distributed.scheduler import KilledWorker
+
+    try:
+        yield
+    except (CancelledError, CommClosedError, ConnectionError, TimeoutError) as error:
+        address = getattr(getattr(client, "scheduler", None), "address", None)
+        where = f" {address}" if address else ""
+        # A cancelled future says why ("scheduler-connection-lost"); the rest, their message.
+        reason = getattr(error, "reason", None) or " ".join(str(error).split())
+        raise ClusterLostError(
+            f"the Dask scheduler{where} was lost during the sweep ({done():,} of {total:,} "
+            f"points done; {reason or type(error).__name__}): re-run the sweep"
+        ) from None
+    except KilledWorker:
+        raise ClusterLostError(
+            f"Dask workers died computing a block of the sweep ({done():,} of {total:,} points "
+            "done), more often than Dask retries it: out of memory, or killed"
+        ) from None
+
+
+@contextlib.contextmanager
+def _client_logs_quiet() -> Iterator[None]:
+    """The Dask client's log lines (e.g. "Failed to reconnect to scheduler") kept off standard
+    error while a sweep runs: :class:`ClusterLostError` says it in one line."""
+    logger = logging.getLogger("distributed.client")
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def sweep_rows(dataset: Any) -> list[dict[str, Any]]:

@@ -16,7 +16,7 @@ import re
 import sys
 from typing import Any
 
-from targetacq.limits import check_finite
+from targetacq.limits import MAX_DECIBELS, check_finite
 
 __all__ = [
     "DIMENSIONS",
@@ -119,8 +119,9 @@ def parse_quantity(text: str, kind: str, name: str) -> float:
     ------
     ValueError
         If the text is not a finite number with a unit of that kind (``"nan m"``, or
-        ``"1e400 m"``, which overflows double precision); the message names the input and gives
-        an example.
+        ``"1e400 m"``, which overflows double precision), or is a power ratio beyond
+        ±:data:`targetacq.limits.MAX_DECIBELS` dB (``"4000 dB"``, whose linear ratio overflows);
+        the message names the input and gives an example or the valid range.
     """
     if kind not in DIMENSIONS:
         raise ValueError(f"kind must be one of {', '.join(DIMENSIONS)}; got {kind!r}")
@@ -148,6 +149,12 @@ def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> fl
     if kind == "power ratio":
         if unit.replace(" ", "") not in ("dB", "db"):
             raise ValueError(f"{name}: a power ratio is given in dB, e.g. {example}; got {text!r}")
+        if not abs(value) <= MAX_DECIBELS:
+            # 10 ** (value / 10) overflows double precision above about 3,083 dB.
+            raise ValueError(
+                f"{name} must be within ±{MAX_DECIBELS:g} dB (a linear ratio of 10^±"
+                f"{MAX_DECIBELS / 10:g}); got {_shown(text)}"
+            )
         return 10.0 ** (value / 10.0)
     plain = _PLAIN_UNITS[kind].get(unit.replace(" ", ""))
     if plain is not None:

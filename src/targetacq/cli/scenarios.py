@@ -23,11 +23,10 @@ from targetacq.cli import (
 )
 from targetacq.cli.params import complete_names
 from targetacq.core.compile import check_runnable
-from targetacq.datasets import DIRECTORY_FORMATS, OUTPUT_FORMATS, sha256_file
+from targetacq.datasets import output_file, sha256_file
 from targetacq.engines import ENGINES, get_engine
 from targetacq.limits import check_seed
 from targetacq.model import ModelChain
-from targetacq.outputs import output_path
 from targetacq.scenario import Scenario, ScenarioError, load_scenario
 from targetacq.search import check_simulation_size
 from targetacq.search import simulate as simulate_runs
@@ -124,7 +123,7 @@ def evaluate(
 
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
-        output_path(out, OUTPUT_FORMATS, "output", directories=DIRECTORY_FORMATS)  # before work
+        output_file(out, "--out")  # before work
     get_engine(engine)  # before work: an unknown or missing engine is one line
     loaded, source = _scenario_path(scenario)
     chain = _chain(loaded, source, engine)
@@ -253,11 +252,9 @@ def simulate(
     """
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
-        output_path(out, OUTPUT_FORMATS, "--out", directories=DIRECTORY_FORMATS)  # before work
+        output_file(out, "--out")  # before work
     if false_detections is not None:
-        output_path(
-            false_detections, OUTPUT_FORMATS, "--false-detections", directories=DIRECTORY_FORMATS
-        )
+        output_file(false_detections, "--false-detections")
         if out is not None and os.path.realpath(out) == os.path.realpath(false_detections):
             raise ValueError("--false-detections and --out name the same file; give two")
     t_total = parse_quantity(duration, "time", "--duration")

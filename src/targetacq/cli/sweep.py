@@ -43,8 +43,8 @@ def sweep(
     workers: Annotated[
         int | None,
         typer.Option(
-            help="Workers of a local Dask cluster (default: serial up to "
-            "1,000 points, else one per CPU)."
+            help="Workers of a local Dask cluster, at most one per CPU (default: serial up "
+            "to 1,000 points, else one per CPU)."
         ),
     ] = None,
     scheduler: Annotated[
@@ -69,11 +69,11 @@ def sweep(
     Example: targetacq sweep --pitch 12um --focal-length 35mm,50mm,75mm
     --critical-dimension 0.75m,2.3m --band lwir --obscurant none,fog:low --probability 0.5,0.9
     """
-    from targetacq.datasets import DIRECTORY_FORMATS, OUTPUT_FORMATS
+    from targetacq.datasets import output_file
 
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
-        output_path(out, OUTPUT_FORMATS, "--out", directories=DIRECTORY_FORMATS)
+        output_file(out, "--out")
     if figure is not None:
         output_path(figure, ("png",), "--figure")
     if workers is not None and workers < 1:

@@ -79,9 +79,15 @@ def requirements(scenario: Any) -> list[str]:
             problems.append(f"{where}: colour cameras need {what}")
         elif isinstance(value, dict):
             missing = [b for b in bands if b not in value]
+            unknown = [b for b in value if b not in bands]
             if missing:
                 problems.append(
                     f"{where}: no value for band {missing[0]!r} of the colour cameras "
+                    f"(bands: {', '.join(bands)})"
+                )
+            elif unknown:  # a typo, or a band no camera has: it would be silently unused
+                problems.append(
+                    f"{where}.{unknown[0]}: {unknown[0]!r} is not a band of the colour cameras "
                     f"(bands: {', '.join(bands)})"
                 )
 

@@ -19,6 +19,7 @@ target's reflectance (``targets.reflectance``) is at the laser's wavelength, and
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -36,7 +37,23 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
 
 
 def requirements(scenario: Any) -> list[str]:
-    """What a scenario lacks for laser radars, each problem located (``table.key: what``)."""
+    """What a scenario lacks for laser radars, each problem located (``table.key: what``).
+
+    A ``laser.nep`` given as 0 W is accepted, as documented (a receiver without noise: the
+    laser radar's SNR is its two-way path's alone), and said: a ``UserWarning`` naming it,
+    since a zero typed for a receiver's noise may as well be a slip.
+    """
+    for k, s in enumerate(scenario.sensors):
+        laser = getattr(s, "laser", None)
+        given = laser is not None and "nep" in laser.model_fields_set
+        if s.type == "laser_radar" and given and laser.nep == 0:
+            warnings.warn(
+                f"sensors[{k}].laser.nep = 0 W: a receiver without noise, so the laser "
+                f"radar {s.name!r} sees only its path's noise (give the receiver's "
+                "noise-equivalent power, e.g. 5 nW, for its own)",
+                UserWarning,
+                stacklevel=2,
+            )
     problems = [
         f"targets[{k}].reflectance: laser radars need one reflectance per target (at the "
         "laser's wavelength)"

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import os
+import re
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -87,3 +90,151 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         assert text.count("\n   * - ") == len(registry) + 1, origin  # the header and one per entry
         for name in registry:
             assert f"``{name}``" in text, (origin, name)
+
+
+# --- `make docs` on its own: a fresh venv with only the extras the target installs --------------
+
+
+def _docs_extras() -> list[str]:
+    """The extras the Makefile's docs target installs (``pip install -e '.[docs,...]'``)."""
+    text = (ROOT / "Makefile").read_text(encoding="utf-8")
+    recipe = re.search(r"^\$\(VENV\)/\.installed-docs:.*\n((?:\t.*\n)+)", text, re.MULTILINE)
+    assert recipe, "the Makefile has no $(VENV)/.installed-docs target"
+    extras = re.search(r"pip install .*-e '\.\[([^\]]*)\]'", recipe.group(1))
+    assert extras, recipe.group(1)
+    return [e.strip() for e in extras.group(1).split(",")]
+
+
+def _installed_closure(requirements: list[str]) -> set[str]:
+    """The canonical names of the distributions that ``requirements`` pull in (as pip would:
+    extras followed, markers evaluated), read from the installed distributions' metadata."""
+    from importlib.metadata import PackageNotFoundError, distribution
+
+    from packaging.requirements import Requirement
+    from packaging.utils import canonicalize_name
+
+    seen: set[tuple[str, str]] = set()  # (distribution, extra)
+    pending = [(Requirement(r), "") for r in requirements]  # (requirement, extra asking)
+    while pending:
+        requirement, asking = pending.pop()
+        if requirement.marker and not requirement.marker.evaluate({"extra": asking}):
+            continue
+        name = canonicalize_name(requirement.name)
+        for extra in ("", *requirement.extras):
+            if (name, extra) in seen:
+                continue
+            seen.add((name, extra))
+            try:
+                requires = distribution(name).requires or []
+            except PackageNotFoundError:  # not installed here: nothing of it can be imported
+                break
+            pending += [(Requirement(r), extra) for r in requires]
+    return {name for name, _ in seen}
+
+
+def _site_packages_of(extras: list[str], view: Path) -> Path:
+    """A folder of links to the entries of this environment's site-packages that a fresh
+    ``pip install -e '.[extras]'`` would install (the closure of the project's requirements),
+    and to nothing else: the modules of every other distribution are simply not there."""
+    import sysconfig
+    from importlib.metadata import packages_distributions
+
+    from packaging.utils import canonicalize_name
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    optional = config["project"]["optional-dependencies"]
+    requirements = list(config["project"]["dependencies"])
+    for extra in extras:
+        requirements += optional[extra]
+    allowed = _installed_closure(requirements) | {"targetacq"}
+    owners = {
+        module: {canonicalize_name(d) for d in dists}
+        for module, dists in packages_distributions().items()
+    }
+    view.mkdir()
+    for folder in dict.fromkeys(sysconfig.get_paths()[k] for k in ("purelib", "platlib")):
+        for entry in Path(folder).iterdir():
+            if entry.name.endswith(".pth") or (view / entry.name).exists():
+                continue  # .pth files are not read here (python -S); src is on the path
+            if entry.name.endswith((".dist-info", ".egg-info")):
+                dist = canonicalize_name(entry.name.split("-")[0])
+                keep = dist in allowed
+            else:
+                dists = owners.get(entry.name.split(".")[0])
+                keep = dists is None or bool(dists & allowed)  # not a module, or one we keep
+            if keep:
+                (view / entry.name).symlink_to(entry)
+    return view
+
+
+# Imports what the docs build imports: docs/conf.py, every API page's module and the names its
+# __all__ lists (autodoc reads them), the pages the extensions generate, and the gallery scripts
+# (sphinx-gallery runs them).
+DOCS_IMPORTS = """\
+import importlib, os, runpy, sys, tempfile
+from pathlib import Path
+
+os.environ["MPLBACKEND"] = "Agg"
+conf = runpy.run_path({conf!r})
+for module in conf["api_modules"]:
+    imported = importlib.import_module(module)
+    for name in getattr(imported, "__all__", ()):
+        getattr(imported, name)
+import registry_tables
+
+out = Path(tempfile.mkdtemp())
+registry_tables.write_pages(out, conf["api_modules"])
+for script in sorted(Path({gallery!r}).glob("plot_*.py")):
+    os.chdir(out)
+    runpy.run_path(str(script), run_name="__main__")
+print("imported", len(conf["api_modules"]), "modules")
+"""
+
+
+def test_make_docs_installs_every_extra_the_docs_import(tmp_path: Path) -> None:
+    """`make docs` in a fresh clone installs only the docs target's extras: in an environment
+    of just those (this one's site-packages less every other distribution), the docs' modules,
+    generated pages and gallery import and run, so the API pages of targetacq.envs and
+    targetacq.web render."""
+    pytest.importorskip("packaging.requirements")
+    extras = _docs_extras()
+    assert "docs" in extras
+    view = _site_packages_of(extras, tmp_path / "site-packages")
+    code = DOCS_IMPORTS.format(
+        conf=str(ROOT / "docs" / "conf.py"), gallery=str(ROOT / "docs" / "gallery")
+    )
+    path = os.pathsep.join([str(ROOT / "src"), str(ROOT / "docs" / "_ext"), str(view)])
+    env = {**os.environ, "PYTHONPATH": path}
+    done = subprocess.run(
+        [sys.executable, "-S", "-c", code],  # -S: no site-packages but the view
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert done.returncode == 0, (
+        f"the docs import something `make docs` does not install (extras {extras}):\n"
+        + done.stderr[-3000:]
+    )
+    conf = (ROOT / "docs" / "conf.py").read_text(encoding="utf-8")
+    documented = re.findall(r'^\s+"(targetacq[\w.]*)",$', conf, re.MULTILINE)
+    assert {"targetacq.envs", "targetacq.web"} <= set(documented)
+
+
+def test_ci_builds_the_docs_in_a_fresh_venv_of_their_own() -> None:
+    """`.ci/run` still runs `make test`, and builds the docs with `make docs` alone in a venv
+    that `make test` never installed into (the Makefile's VENV can be set)."""
+    makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
+    assert re.search(r"^VENV \?= \.venv$", makefile, re.MULTILINE), "VENV must be overridable"
+    lines = [
+        line.strip()
+        for line in (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    assert "make test" in lines
+    docs = [line for line in lines if re.search(r"\bmake docs\b", line)]
+    assert docs, "`.ci/run` does not build the docs"
+    for line in docs:
+        venv = re.match(r"^VENV=(\S+) make docs$", line)
+        assert venv and venv.group(1) not in (".venv", ".venv/"), line
+        assert f"rm -rf {venv.group(1)}" in lines, f"{venv.group(1)} is not made afresh"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -238,3 +239,142 @@ def test_ci_builds_the_docs_in_a_fresh_venv_of_their_own() -> None:
         venv = re.match(r"^VENV=(\S+) make docs$", line)
         assert venv and venv.group(1) not in (".venv", ".venv/"), line
         assert f"rm -rf {venv.group(1)}" in lines, f"{venv.group(1)} is not made afresh"
+
+
+# --- the site works offline: math as MathML, nothing loaded from another host -------------------
+
+
+@pytest.fixture(scope="module")
+def offline():  # the docs' Sphinx extension, docs/_ext/offline.py
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import offline
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    return offline
+
+
+def test_remote_resources_are_what_a_page_loads_from_another_host(offline, tmp_path) -> None:
+    import doctest
+
+    assert doctest.testmod(offline).failed == 0
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "page.html").write_text(
+        '<a href="https://example.org/">a link is not loaded</a>\n'
+        '<script src="_static/local.js"></script><script>inline()</script>\n'
+        '<script src="//cdn.example/a.js"></script>\n'
+        '<link rel="stylesheet" href="https://fonts.example/css">\n'
+        '<link rel="canonical" href="https://example.org/page">\n'
+        '<img srcset="small.png 1x, http://img.example/big.png 2x">\n'
+        '<div style="background: url(https://img.example/b.png)"></div>\n'
+        "<style>@import 'https://css.example/x.css';</style>\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "site.css").write_text("a {}\n@import url(https://css.example/y.css);\n")
+    assert offline.remote_resources(tmp_path) == [
+        "site.css:2: <css> https://css.example/y.css",
+        "sub/page.html:3: <script> //cdn.example/a.js",
+        "sub/page.html:4: <link> https://fonts.example/css",
+        "sub/page.html:6: <img> http://img.example/big.png",
+        "sub/page.html:7: <div> https://img.example/b.png",
+        "sub/page.html:8: <style> https://css.example/x.css",
+    ]
+
+
+def test_math_converts_to_mathml(offline) -> None:
+    pytest.importorskip("latex2mathml")
+    block = offline.mathml(r"\frac{1}{\mathrm{SNR}^2} = \sum_i x_i", display=True)
+    assert block.startswith('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block">')
+    assert "<mfrac>" in block and "\\" not in block
+    assert 'display="inline"' in offline.mathml("x", display=False)
+
+
+@pytest.fixture(scope="module")
+def small_site(tmp_path_factory) -> tuple[Path, subprocess.CompletedProcess[str]]:
+    """The docs' pages built with docs/conf.py and -W, less the gallery (its scripts take
+    minutes; a stub stands for its index) and with one API page: a few seconds."""
+    pytest.importorskip("sphinx")
+    pytest.importorskip("latex2mathml")
+    import runpy
+
+    base = tmp_path_factory.mktemp("docs")
+    source = base / "source"
+    shutil.copytree(
+        ROOT / "docs",
+        source,
+        ignore=shutil.ignore_patterns(
+            "_ext", "conf.py", "gallery", "auto_gallery", "generated", "sg_execution_times.rst"
+        ),
+    )
+    (source / "auto_gallery").mkdir()
+    (source / "auto_gallery" / "index.rst").write_text("Gallery\n=======\n", encoding="utf-8")
+    extensions = runpy.run_path(str(ROOT / "docs" / "conf.py"))["extensions"]
+    extensions = [e for e in extensions if not e.startswith("sphinx_gallery")]
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src"), "MPLBACKEND": "Agg"}
+    done = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sphinx",
+            "-E",
+            "-W",
+            "--keep-going",
+            "-q",
+            "-b",
+            "html",
+            "-c",
+            str(ROOT / "docs"),
+            "-D",
+            f"extensions={','.join(extensions)}",
+            "-D",
+            "api_modules=targetacq.bundled",
+            str(source),
+            str(base / "html"),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    return base / "html", done
+
+
+def test_the_built_site_has_mathml_and_loads_no_remote_script(offline, small_site) -> None:
+    site, done = small_site
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert offline.remote_resources(site) == []
+    pages = [p for p in (ROOT / "docs").rglob("*.rst") if ".. math::" in p.read_text("utf-8")]
+    assert len(pages) >= 5
+    for page in pages:
+        html = (site / page.relative_to(ROOT / "docs")).with_suffix(".html").read_text("utf-8")
+        assert html.count('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block">') >= (
+            page.read_text("utf-8").count(".. math::")
+        ), page.name
+        assert "mathjax" not in html.lower() and "\\frac" not in html, page.name
+    for html in site.rglob("*.html"):
+        assert not re.search(r"<script[^>]*\bsrc=[\"']?(https?:)?//", html.read_text("utf-8"))
+
+
+def test_a_page_loading_a_remote_script_fails_the_build(offline, tmp_path) -> None:
+    """The extension's check runs in every build: a page that would load a script from another
+    host is a warning (an error under -W)."""
+    pytest.importorskip("sphinx")
+    (tmp_path / "conf.py").write_text(
+        f"import sys\nsys.path.insert(0, {str(ROOT / 'docs' / '_ext')!r})\n"
+        "extensions = ['offline']\nhtml_math_renderer = 'mathml'\n",
+        encoding="utf-8",
+    )
+    (tmp_path / "index.rst").write_text(
+        "Page\n====\n\n:math:`x^2`\n\n.. raw:: html\n\n"
+        '   <script src="https://cdn.example/m.js"></script>\n',
+        encoding="utf-8",
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "sphinx", "-q", "-b", "html", str(tmp_path), str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert "loads a resource from another host: index.html:" in done.stderr, done.stderr
+    assert "https://cdn.example/m.js" in done.stderr
+    assert "<math" in (tmp_path / "o" / "index.html").read_text("utf-8")

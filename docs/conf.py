@@ -26,6 +26,7 @@ extensions = [
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "registry_tables",
+    "cli_reference",
     "offline",
 ]
 

@@ -181,10 +181,11 @@ for module in conf["api_modules"]:
     imported = importlib.import_module(module)
     for name in getattr(imported, "__all__", ()):
         getattr(imported, name)
-import registry_tables
+import cli_reference, registry_tables
 
 out = Path(tempfile.mkdtemp())
 registry_tables.write_pages(out, conf["api_modules"])
+cli_reference.write_reference(out / "cli.rst.inc")
 for script in sorted(Path({gallery!r}).glob("plot_*.py")):
     os.chdir(out)
     runpy.run_path(str(script), run_name="__main__")
@@ -378,3 +379,69 @@ def test_a_page_loading_a_remote_script_fails_the_build(offline, tmp_path) -> No
     assert "loads a resource from another host: index.html:" in done.stderr, done.stderr
     assert "https://cdn.example/m.js" in done.stderr
     assert "<math" in (tmp_path / "o" / "index.html").read_text("utf-8")
+
+
+# --- the command-line reference, generated from the command ------------------------------------
+
+
+@pytest.fixture(scope="module")
+def cli_reference():  # the docs' Sphinx extension, docs/_ext/cli_reference.py
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        import cli_reference
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    return cli_reference
+
+
+def _help(capsys, monkeypatch, path: tuple[str, ...]) -> str:
+    from targetacq.cli import main
+
+    monkeypatch.setenv("COLUMNS", "400")  # no wrapping: one option a line
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as done:
+        main([*path, "--help"])
+    assert done.value.code in (0, None)
+    return capsys.readouterr().out
+
+
+def test_the_cli_reference_has_every_command_option_choice_and_default(
+    cli_reference, capsys, monkeypatch
+) -> None:
+    """Each command and sub-command has a section, and every option, choice and default that
+    `targetacq ... --help` prints is in it."""
+    from targetacq.cli import COMMANDS, all_commands
+
+    docs = cli_reference.commands()
+    text = cli_reference.render(docs)
+    paths = [d.path for d in docs]
+    assert paths[0] == () and set(COMMANDS) <= {p[0] for p in paths if p}
+    assert ("examples", "copy") in paths and ("examples", "list") in paths
+    assert set(all_commands()) == {p[0] for p in paths if len(p) == 1}
+    sections = re.split(r"^\.\. _(cli[\w-]*):$", text, flags=re.MULTILINE)[1:]
+    by_label = dict(zip(sections[::2], sections[1::2], strict=True))
+    assert list(by_label) == [d.label for d in docs]
+    for doc in docs:
+        section = " ".join(by_label[doc.label].split())
+        assert f"``{doc.name}``" in section
+        printed = _help(capsys, monkeypatch, doc.path)
+        for option in set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", printed)) - {"--help"}:
+            assert f"``{option}" in section or f"/ {option}" in section or option in section, (
+                doc.name,
+                option,
+            )
+        for default in re.findall(r"\[default: ([^\]]+)\]", printed):
+            assert f"``{default.strip()}``" in section, (doc.name, default)
+        for line in printed.splitlines():  # the registries' choices, as the help lists them
+            choices = re.search(r"(?:Criteria set|Transform|Noise model): ([^()]+)", line)
+            if choices:
+                assert choices.group(1).split("(")[0].strip(" .") in section, (doc.name, line)
+    assert "sweep" in text and "design" in text and "report" in text
+
+
+def test_the_cli_reference_page_includes_the_generated_text() -> None:
+    page = (ROOT / "docs" / "cli.rst").read_text(encoding="utf-8")
+    assert ".. include:: /generated/cli.rst.inc" in page
+    assert "list-table" not in page and "--focal-length" not in page  # no option typed by hand
+    index = (ROOT / "docs" / "index.rst").read_text(encoding="utf-8")
+    assert "\n   cli\n" in index and "\n   trade_study\n" in index

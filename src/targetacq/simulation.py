@@ -70,7 +70,7 @@ from targetacq import _arrays, core, engines
 from targetacq.core.evaluate import footprint_scr
 from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
-from targetacq.scenario import Scenario, ScenarioError, load_scenario
+from targetacq.scenario import Scenario, ScenarioError, Sensor, load_scenario
 from targetacq.search import (
     ShortVisitWarning,
     _SearchState,
@@ -292,9 +292,20 @@ class Simulation:
         false_targets: Any = None,
     ) -> None:
         chosen = engines.for_steps(engine)
+        for name, items in (("sensors", sensors), ("targets", targets)):
+            if isinstance(items, (str, bytes, Mapping)) or not isinstance(items, Sequence):
+                raise ScenarioError(
+                    f"{name} must be a list of records (mappings or targetacq.scenario "
+                    f"objects), got {type(items).__name__}"
+                )
         sensors = [_record(s) for s in sensors]
         targets = [_record(t) for t in targets]
         for k, sensor in enumerate(sensors):
+            if not isinstance(sensor, (Mapping, Sensor)):
+                raise ScenarioError(
+                    f"sensors[{k}]: a sensor is a targetacq.scenario.Sensor or a mapping of its "
+                    f"fields (name, band, ...), got {type(sensor).__name__} {sensor!r:.40}"
+                )
             kind = sensor.get("type", "thermal") if isinstance(sensor, Mapping) else sensor.type
             try:
                 get_sensor_type(kind)

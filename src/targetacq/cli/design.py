@@ -16,6 +16,7 @@ import typer
 
 from targetacq.cli import FORMATS, FormatOption, _csv, _model_line, app
 from targetacq.cli.options import range_case_options
+from targetacq.limits import check_count
 from targetacq.outputs import json_text
 from targetacq.services.options import typed_options
 from targetacq.services.range_case import (
@@ -27,7 +28,7 @@ from targetacq.services.range_case import (
 
 # targetacq.design (NumPy, the model) is imported when the command runs.
 
-_NOT_FOR_DESIGN = ("ifov", "hfov", "pixels", "projection", "pixel_density", "mrtd")
+_NOT_FOR_DESIGN = ("ifov", "hfov", "projection", "pixel_density", "mrtd")
 """Range-case options that give the resolution the design solves for."""
 
 _NOT_MODEL = ("critical_dimension", "ifov", "cycle", "mrtd")
@@ -86,6 +87,11 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
                 "focal length), --focal-length (to find the pitch) or neither (the IFOV)"
             )
     pitch, focal_length = options.pop("pitch"), options.pop("focal_length")
+    # Pixels across the detector: each design's field of view, 2 atan(pixels · IFOV / 2)
+    # (Eq. (5.1) with pitch / focal length = IFOV), as a datasheet would give it.
+    pixels = options.pop("pixels", None)
+    if pixels is not None:
+        check_count("--pixels", pixels)
     if pitch is not None and focal_length is not None:
         raise ValueError(
             "give --pitch (design finds the focal length) or --focal-length (it finds the "
@@ -106,7 +112,7 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
         sensor = {"pitch": f"{f * 1e-3!r}m", "focal_length": focal_length, "ifov": None}
     else:
         sensor = {"pitch": None, "focal_length": None, "ifov": "1mrad"}
-    setup = range_setup(**{**options, **sensor}, default_probability="0.5")
+    setup = range_setup(**{**options, **sensor, "pixels": None}, default_probability="0.5")
     case, crit = setup.case, setup.criterion
     if crit.gives_probabilities:
         chosen = get_transform(case.transform)
@@ -165,6 +171,8 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
                         else weather["extinction_np_per_km"],
                         "ifov_rad": ifov,
                     }
+                    if pixels is not None:
+                        row["hfov_rad"] = 2.0 * math.atan(pixels * ifov / 2.0)
                     if solve_for == "focal_length":
                         row["focal_length_m"] = lens["pitch"] / ifov
                     elif solve_for == "pitch":
@@ -187,6 +195,7 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
         "criterion": crit.name,
         "transform": case.transform if crit.gives_probabilities else None,
         "options": case.options,
+        "pixels": pixels,
         "rows": rows,
     }
 
@@ -253,6 +262,8 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     header = f"{'task':<16}{'P':>6}  {'range [m]':>10}  {'weather':>14}  {wanted[0]:>18}"
     if solve_for != "ifov":
         header += f"  {'IFOV [mrad]':>12}"
+    if report["pixels"] is not None:
+        header += f"  {'FOV [deg]':>10}"
     lines += [header, "-" * len(header)]
     for row in rows:
         p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
@@ -263,5 +274,7 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         )
         if solve_for != "ifov":
             line += f"  {row['ifov_rad'] * 1e3:>12.4g}"
+        if report["pixels"] is not None:
+            line += f"  {math.degrees(row['hfov_rad']):>10.4g}"
         lines.append(line)
     return "\n".join(lines) + "\n"

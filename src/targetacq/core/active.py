@@ -73,7 +73,9 @@ def _geometry(s_pos: Any, t_pos: Any, rows: tuple[int, ...], xp: Any) -> tuple[A
     return xp.sqrt(horizontal * horizontal + z * z), xp.atan2(horizontal, -z)
 
 
-def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> Any:
+def active_factors(
+    scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any, visible_fraction: Any = None
+) -> Any:
     """The factors of a scene's radar and laser-radar rows in place of the imager's.
 
     Parameters
@@ -84,6 +86,11 @@ def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> An
         Every row computed as an imager.
     s_pos, t_pos : array
         The checked positions ``(n_s, *batch, 3)``, ``(n_g, *batch, 3)`` [m].
+    visible_fraction : array, optional
+        A visible fraction given for this call, checked and with the pairs' axes
+        (:func:`targetacq.core.evaluate.check_visible_fraction`). A laser radar's relief SCR
+        ``f h / sqrt(σ_z² + Δr²/12)`` is proportional to it: the compiled SCR (at the targets'
+        own fraction) is scaled by the ratio of the two.
 
     Returns
     -------
@@ -141,6 +148,15 @@ def active_factors(scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any) -> An
             total = sensor_noise.combined_snr(path, own)
         snr = _scatter(snr, rows, total, xp)
         seen = _per_pair(scene.signature.scr, rows, ndim, xp)
+        if visible_fraction is not None:
+            given = visible_fraction
+            if given.shape[0] > 1:
+                given = _rows(given, rows, xp)
+            own = xp.reshape(
+                _arrays.as_float(scene.targets.visible_fraction, xp),
+                (1, -1) + (1,) * (ndim - 2),
+            )
+            seen = seen * (given / own)
         scr = _scatter(scr, rows, xp.broadcast_to(seen, (len(rows), *rng.shape[1:])), xp)
     return dataclasses.replace(
         found, cycles=cycles, snr=snr, scr=scr, optical_depth=depth, transmittance=tau
@@ -177,13 +193,18 @@ def _radar_tasks(scene: SceneArrays, found: Any, xp: Any) -> tuple[Any, Any, Any
     return out[0], xp.where(nan, xp.nan, out[1]), xp.where(nan, xp.nan, out[2])
 
 
-def active_probabilities(scene: SceneArrays, found: Any) -> tuple[Any, Any, Any]:
+def active_probabilities(
+    scene: SceneArrays, found: Any, moving: Any = None
+) -> tuple[Any, Any, Any]:
     """Every row's ordered probabilities by its kind, before the field of view.
 
     The imaging and laser-radar rows go through
     :func:`targetacq.core.evaluate.task_probabilities` in groups of the same clutter (an SCR
     or none) and noise (an SNR, or none where neither the path nor the sensor adds noise); the
     radar rows through :func:`_radar_tasks`.
+
+    ``moving``: the targets' moving flags for this call (default their own), for the
+    imaging and laser-radar rows.
 
     Returns
     -------
@@ -209,6 +230,7 @@ def active_probabilities(scene: SceneArrays, found: Any) -> tuple[Any, Any, Any]
             _rows(found.snr, rows, xp) if has_snr else None,
             _rows(found.scr, rows, xp) if has_scr else None,
             scene,
+            moving=moving,
         )
         for k, row in enumerate(rows):
             parts[row] = (tasks[0][k], tasks[1][k], tasks[2][k])

@@ -98,7 +98,10 @@ __all__ = [
     "Factors",
     "Probabilities",
     "boresight",
+    "check_moving",
+    "check_visible_fraction",
     "evaluate",
+    "evaluate_step",
     "factors",
     "footprint_scr",
     "probabilities",
@@ -225,6 +228,84 @@ def boresight(
 
 
 # --------------------------------------------------------------------------------------------
+# Per-call inputs that replace the scene's own: a visible fraction, moving flags
+# --------------------------------------------------------------------------------------------
+
+
+def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: Any = None) -> Any:
+    """A visible fraction given per call, checked and shaped against the pairs ``shape``.
+
+    Parameters
+    ----------
+    visible_fraction : array_like
+        Fraction of each target's height in view, in (0, 1] [1]; NaN gives NaN probabilities
+        for the pairs it reaches. Shape ``(n_g,)`` (one per target), or an array whose axes
+        are the pairs' from the left, each of its size or 1: ``(n_s, n_g)``, ``(1, n_g,
+        n_t)``, ``(n_s, n_g, *batch)``, ... (missing trailing batch axes are added).
+    shape : tuple of int
+        The pairs, ``(n_s, n_g, *batch)``.
+    xp : module, optional
+        The array namespace of the result (default: the input's).
+
+    Returns
+    -------
+    array
+        ``len(shape)`` axes, each of ``shape``'s size or 1.
+
+    Raises
+    ------
+    ValueError
+        A shape that does not fit the pairs, or a value outside (0, 1].
+    """
+    space, (value,) = _arrays.arrays(visible_fraction, names=("visible_fraction",))
+    xp = space if xp is None else xp
+    if isinstance(value, np.ndarray) and xp is not np and xp is not _arrays._NUMPY:
+        value = xp.asarray(value)
+    full = len(shape)
+    per = "(n_s, n_g, *batch) = " + str(tuple(shape))
+    if value.ndim == 1 and value.shape[0] == shape[1]:
+        value = xp.reshape(value, (1, shape[1]) + (1,) * (full - 2))
+    elif 2 <= value.ndim <= full and all(
+        v in (1, n) for v, n in zip(value.shape, shape, strict=False)
+    ):
+        value = xp.reshape(value, tuple(value.shape) + (1,) * (full - value.ndim))
+    else:
+        raise ValueError(
+            f"visible_fraction must have shape ({shape[1]},) (one per target), or axes of the "
+            f"pairs {per} from the left, each of its size or 1; got {tuple(value.shape)}"
+        )
+    if not _arrays.is_traced(value):
+        bad = (value <= 0) | (value > 1)
+        if _arrays.any_known(bad, xp):
+            first = float(xp.reshape(value[bad], (-1,))[0])
+            raise ValueError(f"visible_fraction must be in (0, 1] (NaN for unknown); got {first:g}")
+    return value
+
+
+def check_moving(moving: Any, count: int) -> Any:
+    """Moving flags given per call: a bool array (n_g,), as NumPy where it is not JAX's.
+
+    Raises
+    ------
+    ValueError
+        Not booleans, or not one per target.
+    """
+    value = moving if hasattr(moving, "dtype") and not isinstance(moving, np.ndarray) else None
+    if value is None:
+        value = np.asarray(moving)
+    if str(value.dtype) != "bool":
+        raise ValueError(
+            f"moving must be booleans (True/False), one per target, shape ({count},); got "
+            f"{value.dtype} values"
+        )
+    if tuple(value.shape) != (count,):
+        raise ValueError(
+            f"moving must have shape ({count},): one flag per target; got {tuple(value.shape)}"
+        )
+    return value
+
+
+# --------------------------------------------------------------------------------------------
 # NumPy: what a scene fixes, once; the factors block by block; the probabilities in view only
 # --------------------------------------------------------------------------------------------
 
@@ -300,6 +381,16 @@ class _TargetGroups:
         if same is not None:
             return same
         return (self.hot if name == "hot" else self.moving)[targets()]
+
+    def with_moving(self, moving: np.ndarray | None) -> _TargetGroups:
+        """The same groups with other moving flags (n_g,) bool; None: these."""
+        if moving is None or np.array_equal(moving, self.moving):
+            return self
+        if self.group is None:
+            same: tuple[bool | None, ...] = (_same(moving),)
+        else:
+            same = tuple(_same(moving[self.group == k]) for k in range(len(self.rows)))
+        return dataclasses.replace(self, moving=moving, moving_same=same)
 
 
 def _same(values: np.ndarray) -> bool | None:
@@ -491,6 +582,7 @@ def _factors_numpy(
     headings: np.ndarray | None,
     pointing: Any,
     scr: Any,
+    visible_fraction: np.ndarray | None = None,
 ) -> Factors:
     """:func:`factors` with NumPy, block by block (:func:`_blocks`), the same arithmetic.
 
@@ -514,37 +606,46 @@ def _factors_numpy(
     frame, fixed = _sensor_frames(s3, sensors, pointing)
     moving_frame = frame[0].shape[1] > 1
     tan_h, tan_v = fixed.half_tangents
-    clouds = path.cloud_center.reshape(-1, 3).shape[0]
     noisy = sensors.has_noise
     shape3 = (n_s, n_g, n_b)
     floats, in_view, spare = _outputs(7 if noisy else 6, shape3)
     rng, critical, cycles, depth_out, tau_out, snr_out = floats[:6]
     ratio_out = floats[6] if noisy else None
     per_batch = sin_h.shape[1] > 1
+    visible = _visible_blocks(visible_fraction, parts.visible, batch)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for sb, gb, bb in _blocks(n_s, n_g, n_b):
             block = (sb, gb, bb)
+            seen_part = visible(sb, gb, bb)
             x = t_east[None, gb, bb] - s_east[sb, None, bb]  # (ks, kg, kb)
             y = t_north[None, gb, bb] - s_north[sb, None, bb]
             z = t_up[None, gb, bb] - s_up[sb, None, bb]
             h_b = bb if per_batch else slice(None)
-            r, horizontal, vertical = geometry._outline_numpy(
-                x,
-                y,
-                z,
+            chain = _Chain(
                 sin_h[gb, h_b],
                 cos_h[gb, h_b],
                 parts.length[gb],
                 parts.width[gb],
                 parts.height[gb],
+                seen_part,
+                parts.cycle[sb],
+                parts.extinction[sb],
+                tuple(g[sb] for g in parts.segments),
+                parts.ifov[sb],
+                parts.noise_equivalent[sb],
+                parts.contrast[sb, gb],
+            )
+
+            def ends(
+                sb: slice = sb, gb: slice = gb, bb: slice = bb
+            ) -> tuple[np.ndarray, np.ndarray]:
+                return s3[sb, None, bb], t3[None, gb, bb]
+
+            r, seen, _, depth, tau, snr, pair_ratio = _chain_numpy(
+                x, y, z, chain, parts.lengths, path, ends, noisy, cycles[block]
             )
             rng[block] = r
-            seen = vertical * parts.visible[gb]
-            np.minimum(horizontal, seen, out=seen)
             critical[block] = seen
-            footprint = np.maximum(r, 1e-9)
-            footprint *= parts.cycle[sb]
-            np.divide(seen, footprint, out=cycles[block])
             # The field of view, for the pointed sensors with one; NaN lines of sight are out.
             known = r == r
             viewing = fixed.viewing[sb]
@@ -558,35 +659,10 @@ def _factors_numpy(
                 np.logical_and(inside, known, out=in_view[block])
             else:
                 in_view[block] = known
-            # The path: optical depth, transmittance, SNR of Eq. (7.7).
-            depth = atmosphere._segmented_depth(
-                r, parts.extinction[sb], parts.lengths, [g[sb] for g in parts.segments], np
-            )
-            for c in range(clouds):
-                chord = atmosphere.sphere_chord_length(
-                    s3[sb, None, bb], t3[None, gb, bb], path.cloud_center[c], path.cloud_radius[c]
-                )
-                depth = depth + path.cloud_extinction[c] * chord
             depth_out[block] = depth
-            tau = np.negative(depth)
-            np.exp(tau, out=tau)
             tau_out[block] = tau
-            snr = atmosphere._snr_db(depth, np)
             if noisy:
-                # The area seen: the outline's horizontal side times the visible part of its
-                # height.
-                area = horizontal * vertical * parts.visible[gb]
-                pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), parts.ifov[sb])
-                own, inverse, unknown = sensor_noise._sensor_db(
-                    parts.contrast[sb, gb], parts.noise_equivalent[sb], tau, pixels, np
-                )
-                snr = sensor_noise._combined_db([snr, own], np)
-                # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
-                path_inverse = np.expm1(depth)
-                total = path_inverse * path_inverse
-                total += inverse * inverse
-                np.sqrt(total, out=total)
-                ratio_out[block] = np.where(unknown | np.isnan(depth), np.nan, total)  # type: ignore[index]
+                ratio_out[block] = pair_ratio  # type: ignore[index]
             snr_out[block] = snr
     full = (n_s, n_g, *batch)
     if scr is None and scene.signature.scr is not None:
@@ -606,6 +682,110 @@ def _factors_numpy(
     if spare is not None:
         object.__setattr__(found, _SPARE, spare.reshape((len(TASKS), *full)))
     return found
+
+
+@dataclass(frozen=True)
+class _Chain:
+    """What the chain of :func:`_chain_numpy` takes of the targets and sensors of its pairs,
+    each array broadcasting against the pairs' line-of-sight components."""
+
+    sin_h: Any
+    cos_h: Any
+    length: Any
+    width: Any
+    height: Any
+    visible: Any
+    cycle: Any
+    extinction: Any
+    segments: tuple[Any, ...]
+    ifov: Any
+    noise_equivalent: Any
+    contrast: Any
+
+
+def _chain_numpy(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    chain: _Chain,
+    lengths: tuple[float, ...],
+    path: Any,
+    ends: Callable[[], tuple[np.ndarray, np.ndarray]],
+    noisy: bool,
+    cycles: np.ndarray,
+) -> tuple[Any, ...]:
+    """Range, critical dimension, cycles (into ``cycles``), optical depth, transmittance, SNR
+    [dB] and the noise-to-signal amplitude ratio (None without a sensor's own noise) of pairs
+    seen along ``(x, y, z)`` (NumPy, called under an ``errstate`` that ignores divisions by
+    zero, invalid values and overflows). ``ends()``: the sensors' and targets' positions
+    ``(…, 3)`` of the pairs, for the local clouds.
+
+    The chain of the NumPy core, the same for a block of :func:`_factors_numpy` and for the
+    pairs in view of :func:`step`: geometry (:func:`targetacq.geometry.box_outline`), N, the
+    path (segments, clouds; Eq. (7.7)) and the sensor's own noise.
+    """
+    r, horizontal, vertical = geometry._outline_numpy(
+        x, y, z, chain.sin_h, chain.cos_h, chain.length, chain.width, chain.height
+    )
+    seen = vertical * chain.visible
+    np.minimum(horizontal, seen, out=seen)
+    footprint = np.maximum(r, 1e-9)
+    footprint *= chain.cycle
+    np.divide(seen, footprint, out=cycles)
+    # The path: optical depth, transmittance, SNR of Eq. (7.7).
+    depth = atmosphere._segmented_depth(r, chain.extinction, lengths, list(chain.segments), np)
+    clouds = path.cloud_center.reshape(-1, 3).shape[0]
+    if clouds:
+        start, end = ends()
+        for c in range(clouds):
+            chord = atmosphere.sphere_chord_length(
+                start, end, path.cloud_center[c], path.cloud_radius[c]
+            )
+            depth = depth + path.cloud_extinction[c] * chord
+    tau = np.negative(depth)
+    np.exp(tau, out=tau)
+    snr = atmosphere._snr_db(depth, np)
+    ratio = None
+    if noisy:
+        # The area seen: the outline's horizontal side times the visible part of its height.
+        area = horizontal * vertical * chain.visible
+        pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), chain.ifov)
+        own, inverse, unknown = sensor_noise._sensor_db(
+            chain.contrast, chain.noise_equivalent, tau, pixels, np
+        )
+        snr = sensor_noise._combined_db([snr, own], np)
+        # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
+        path_inverse = np.expm1(depth)
+        total = path_inverse * path_inverse
+        total += inverse * inverse
+        np.sqrt(total, out=total)
+        ratio = np.where(unknown | np.isnan(depth), np.nan, total)
+    return r, seen, cycles, depth, tau, snr, ratio
+
+
+def _visible_blocks(
+    given: np.ndarray | None, own: np.ndarray, batch: tuple[int, ...]
+) -> Callable[[slice, slice, slice], np.ndarray]:
+    """The visible fraction of a block ``(sb, gb, bb)`` of :func:`_factors_numpy`: the targets'
+    own ``(n_g, 1)``, else the one given per call (:func:`check_visible_fraction`, axes of the
+    pairs of their size or 1), its axes of size 1 kept."""
+    if given is None:
+        return lambda sb, gb, bb: own[gb]
+    lead = given.shape[:2]
+    if all(n == 1 for n in given.shape[2:]):
+        flat = given.reshape(*lead, 1)
+    else:
+        flat = np.broadcast_to(given, (*lead, *batch)).reshape(*lead, math.prod(batch))
+    whole = slice(None)
+
+    def part(sb: slice, gb: slice, bb: slice) -> np.ndarray:
+        return flat[
+            sb if flat.shape[0] > 1 else whole,
+            gb if flat.shape[1] > 1 else whole,
+            bb if flat.shape[2] > 1 else whole,
+        ]
+
+    return part
 
 
 def _outputs(count: int, shape: tuple[int, ...]) -> tuple[list[np.ndarray], np.ndarray, Any]:
@@ -697,7 +877,9 @@ def _noise_ratio(found: Factors, shape: tuple[int, ...], picked: np.ndarray | No
     return _pair_values(source, shape, picked)
 
 
-def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
+def _probabilities_numpy(
+    scene: SceneArrays, found: Factors, moving: np.ndarray | None = None
+) -> Probabilities:
     """:func:`probabilities` with NumPy: the transforms run on the pairs in view only."""
     rng = np.asarray(found.range)
     shape = rng.shape
@@ -718,8 +900,9 @@ def _probabilities_numpy(scene: SceneArrays, found: Factors) -> Probabilities:
         index = np.arange(rng.size) if picked is None else picked
         return (index // per_pair) % n_g
 
-    tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene)
+    tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene, moving)
     unknown = np.isnan(rng)
+    unknown |= np.isnan(np.broadcast_to(np.asarray(found.cycles, dtype=float), shape))
     some_unknown = bool(unknown.any())
     room = found.__dict__.pop(_SPARE, None)  # once: a second call allocates its own
     if picked is not None and (room is None or room.shape[1:] != shape):
@@ -764,11 +947,12 @@ def _in_view_tasks(
     scr: np.ndarray | None,
     target: Callable[[], np.ndarray],
     scene: SceneArrays,
+    moving: np.ndarray | None = None,
 ) -> list[np.ndarray]:
     """Ordered probabilities of flat arrays of pairs (``target()``: each element's target), the
     targets that share a criterion together, in blocks of :data:`_PROBABILITY_BLOCK`; the same
     calls as :func:`task_probabilities` makes for them, element by element."""
-    groups = _groups(scene.targets)
+    groups = _groups(scene.targets).with_moving(moving)
     chosen: _Choices = derived(scene, "choices", _scene_choices)
     noise = None if snr is None else chosen.noise
     size = cycles.size
@@ -822,6 +1006,7 @@ def factors(
     headings: Any = None,
     pointing: Any = None,
     scr: Any = None,
+    visible_fraction: Any = None,
 ) -> Factors:
     """Range, critical dimension, cycles, field of view, path and clutter of every pair.
 
@@ -838,10 +1023,22 @@ def factors(
         See :func:`boresight`.
     scr : array ``(n_s, n_g, *batch)``, optional
         SCR per pair, replacing the scene's (e.g. :func:`footprint_scr` of a terrain map).
+    visible_fraction : array, optional
+        Fraction of each target's height in view for this call, in (0, 1] [1], replacing the
+        targets' own (:attr:`TargetArrays.visible_fraction`): ``(n_g,)``, ``(n_s, n_g)`` or
+        axes of ``(n_s, n_g, *batch)`` from the left, each of its size or 1
+        (:func:`check_visible_fraction`). It scales the critical dimension's vertical side,
+        the area a sensor's own noise sees and a laser radar's relief SCR; NaN gives NaN
+        probabilities for the pairs it reaches.
 
     Returns
     -------
     Factors
+
+    Raises
+    ------
+    ValueError
+        Infinite positions, or a visible fraction of the wrong shape or outside (0, 1].
 
     Notes
     -----
@@ -857,13 +1054,30 @@ def factors(
     for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
         if type(value) is not np.ndarray or not value.ndim or np.isinf(value).any():
             _arrays.require_finite(name, value, xp, "m")
-    if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr):
-        found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr)
+    visible = None
+    if visible_fraction is not None:
+        visible = check_visible_fraction(visible_fraction, _pairs(scene, s_pos, t_pos), xp)
+    if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr) and (
+        visible is None or isinstance(visible, np.ndarray)
+    ):
+        found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr, visible)
     else:
-        found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp)
+        found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp, visible)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
-        return active.active_factors(scene, found, s_pos, t_pos)
+        return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
+
+
+def _pairs(scene: SceneArrays, s_pos: Any, t_pos: Any) -> tuple[int, ...]:
+    """``(n_s, n_g, *batch)`` of positions (their batch axes broadcast together)."""
+    try:
+        batch = np.broadcast_shapes(tuple(s_pos.shape[1:-1]), tuple(t_pos.shape[1:-1]))
+    except ValueError:
+        raise ValueError(
+            f"sensor_positions {tuple(s_pos.shape)} and target_positions {tuple(t_pos.shape)}: "
+            "their batch dimensions (between the first and the last) do not broadcast"
+        ) from None
+    return (*scene.shape, *batch)
 
 
 def _factors_generic(
@@ -874,10 +1088,13 @@ def _factors_generic(
     pointing: Any,
     scr: Any,
     xp: Any,
+    visible: Any = None,
 ) -> Factors:
     """:func:`factors` of checked positions in any array namespace (whole arrays at once)."""
     sensors, targets, path = scene.sensors, scene.targets, scene.path
     batch = s_pos.ndim - 2
+    if visible is None:
+        visible = _per_target(targets.visible_fraction, batch, xp)
     # Components (n_s, n_g, *batch), each contiguous in memory.
     x, y, z = (t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3))
     heading = _per_target(targets.heading, batch, xp) if headings is None else headings[None]
@@ -891,9 +1108,7 @@ def _factors_generic(
         _per_target(dims[:, 1], batch, xp),
         _per_target(dims[:, 2], batch, xp),
     )
-    critical = geometry.critical_dimension_seen(
-        horizontal, vertical, _per_target(targets.visible_fraction, batch, xp)
-    )
+    critical = geometry.critical_dimension_seen(horizontal, vertical, visible)
     with np.errstate(divide="ignore"):
         cycles = critical / (xp.maximum(rng, 1e-9) * _per_sensor(sensors.cycle, batch, xp))
 
@@ -931,7 +1146,7 @@ def _factors_generic(
     snr = atmosphere.snr_from_optical_depth(depth)
     if sensors.has_noise:
         # The area seen: the outline's horizontal side times the visible part of its height.
-        area = horizontal * vertical * _per_target(targets.visible_fraction, batch, xp)
+        area = horizontal * vertical * visible
         pixels = sensor_noise.pixels_on_target(
             area, xp.maximum(rng, 1e-9), _per_sensor(sensors.ifov, batch, xp)
         )
@@ -956,7 +1171,9 @@ def _factors_generic(
     )
 
 
-def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> tuple[Any, Any, Any]:
+def task_probabilities(
+    cycles: Any, snr: Any, scr: Any, scene: SceneArrays, moving: Any = None
+) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
 
     :func:`targetacq.acquisition.ordered_probabilities` with each target's N50s, hot-spot and
@@ -972,6 +1189,8 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
         [dB]; None for no path noise.
     scr : array or None
     scene : SceneArrays
+    moving : array of bool (n_g,), optional
+        The targets' moving flags for this call (:func:`check_moving`); default their own.
 
     Returns
     -------
@@ -983,7 +1202,10 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     numpy = isinstance(targets.n50, np.ndarray) and isinstance(n, np.ndarray)
     resolved = _choices(choices) if numpy else _resolve(choices)
     noise = None if snr is None else resolved.noise
-    groups = _groups(targets) if numpy else None
+    if numpy and moving is not None:
+        moving = np.asarray(moving, dtype=bool)
+    groups = _groups(targets).with_moving(moving) if numpy else None
+    traced_moving = moving is not None and not isinstance(moving, np.ndarray)
 
     def run(members: Any, n50: list[Any], k: int = 0) -> tuple[Any, Any, Any]:
         def pick(value: Any) -> Any:
@@ -994,7 +1216,10 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
                 same = (groups.hot_same if name == "hot" else groups.moving_same)[k]
                 if same is not None:
                     return same
-            values = np.asarray(targets.hot_spot if name == "hot" else targets.moving, dtype=bool)
+            if name == "moving" and traced_moving:  # JAX's flags: per target, as they come
+                return _per_target(moving if members is None else moving[members], batch, xp)
+            own = targets.moving if moving is None else moving
+            values = np.asarray(targets.hot_spot if name == "hot" else own, dtype=bool)
             chosen = values if members is None else values[members]
             if chosen.size and bool(np.all(chosen == chosen[0])):
                 return bool(chosen[0])
@@ -1028,20 +1253,42 @@ def task_probabilities(cycles: Any, snr: Any, scr: Any, scene: SceneArrays) -> t
     return out[0], out[1], out[2]
 
 
-def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
+def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Probabilities:
     """Probabilities of every pair from its factors, zero outside the field of view, NaN where
-    the geometry is NaN, and their sensor-level fusion (8.4).
+    the geometry (the range or the cycles) is NaN, and their sensor-level fusion (8.4).
 
     With NumPy the transforms run on the pairs in view only, and the noise comes from the optical
     depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
     same.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    found : Factors
+    moving : array of bool (n_g,), optional
+        Which targets move in this call, replacing the targets' own flags
+        (:attr:`TargetArrays.moving`): the motion rule of the scene's choices detects the
+        moving ones (§3.9).
+
+    Returns
+    -------
+    Probabilities
+
+    Raises
+    ------
+    ValueError
+        ``moving`` not booleans, one per target.
     """
+    if moving is not None:
+        moving = check_moving(moving, scene.shape[1])
     if active.has_active(scene):
-        found_p = _probabilities_generic(scene, found, active.active_probabilities(scene, found))
+        found_p = _probabilities_generic(
+            scene, found, active.active_probabilities(scene, found, moving)
+        )
     elif _numpy_factors(scene, found):
-        found_p = _probabilities_numpy(scene, found)
+        found_p = _probabilities_numpy(scene, found, _host_flags(moving))
     else:
-        found_p = _probabilities_generic(scene, found)
+        found_p = _probabilities_generic(scene, found, moving=moving)
     if scene.sensors.groups:  # colour cameras: their bands are one look, not several
         groups = scene.sensors.groups
         found_p = dataclasses.replace(
@@ -1053,15 +1300,23 @@ def probabilities(scene: SceneArrays, found: Factors) -> Probabilities:
     return found_p
 
 
+def _host_flags(moving: Any) -> np.ndarray | None:
+    """Checked moving flags as a NumPy array (None stays None)."""
+    return None if moving is None else np.asarray(moving, dtype=bool)
+
+
 def _probabilities_generic(
-    scene: SceneArrays, found: Factors, tasks: tuple[Any, Any, Any] | None = None
+    scene: SceneArrays,
+    found: Factors,
+    tasks: tuple[Any, Any, Any] | None = None,
+    moving: Any = None,
 ) -> Probabilities:
     """:func:`probabilities` in any array namespace: every pair, then the field of view."""
-    xp, (rng,) = _arrays.arrays(found.range)
+    xp, (rng, cycles) = _arrays.arrays(found.range, found.cycles)
     if tasks is None:
         snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
-        tasks = task_probabilities(found.cycles, snr, found.scr, scene)
-    unknown = xp.isnan(rng)
+        tasks = task_probabilities(found.cycles, snr, found.scr, scene, moving=moving)
+    unknown = xp.isnan(rng) | xp.isnan(cycles)
     out = [
         xp.where(unknown, xp.nan, xp.where(found.in_view, _arrays.as_float(p, xp), 0.0))
         for p in tasks
@@ -1077,10 +1332,241 @@ def evaluate(
     headings: Any = None,
     pointing: Any = None,
     scr: Any = None,
+    visible_fraction: Any = None,
+    moving: Any = None,
 ) -> tuple[Factors, Probabilities]:
-    """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`)."""
-    found = factors(scene, sensor_positions, target_positions, headings, pointing, scr)
-    return found, probabilities(scene, found)
+    """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`).
+
+    ``visible_fraction`` goes to :func:`factors`, ``moving`` to :func:`probabilities`: both
+    replace the targets' own for this call.
+    """
+    found = factors(
+        scene, sensor_positions, target_positions, headings, pointing, scr, visible_fraction
+    )
+    return found, probabilities(scene, found, moving)
+
+
+def evaluate_step(
+    scene: SceneArrays,
+    sensor_positions: Any,
+    target_positions: Any,
+    headings: Any = None,
+    pointing: Any = None,
+    visible_fraction: Any = None,
+    moving: Any = None,
+    scr: Any = None,
+) -> tuple[Any, Any, Any]:
+    """One time of the core: which pairs are in view, their probabilities and their fusion.
+
+    :func:`evaluate` of positions of one time, with only what a step of the step API uses.
+    With NumPy the geometry and the field of view are computed for every pair, and the rest of
+    the chain (critical dimension, path, noise, the transforms) for the pairs in view (and
+    those of unknown geometry) only: the numbers of :func:`evaluate`, elementwise.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    sensor_positions : array (n_s, 3)
+        [m].
+    target_positions : array (n_g, 3)
+        [m].
+    headings : array (n_g,), optional
+        [rad]; default the targets' own.
+    pointing : array (n_s, 2), optional
+        Azimuth and depression [rad] (:func:`boresight`).
+    visible_fraction : array, optional
+        ``(n_g,)`` or ``(n_s, n_g)``, in (0, 1] (:func:`check_visible_fraction`).
+    moving : array of bool (n_g,), optional
+        (:func:`check_moving`).
+    scr : array (n_s, n_g), optional
+        SCR per pair, replacing the scene's.
+
+    Returns
+    -------
+    in_view : array of bool (n_s, n_g)
+    probabilities : array (3, n_s, n_g)
+        Detection, recognition, identification: zero outside the field of view, NaN where the
+        geometry (range or cycles) is NaN.
+    fused : array (3, n_g)
+        Their sensor-level fusion (8.4) (colour cameras: each camera's best band first).
+
+    Raises
+    ------
+    ValueError
+        Positions not of one time (``(n_s, 3)``, ``(n_g, 3)``), infinite positions or
+        headings, a visible fraction or moving flags that do not fit (:func:`factors`,
+        :func:`probabilities`).
+    """
+    n_s, n_g = scene.shape
+    xp, (s_pos, t_pos) = _arrays.arrays(
+        sensor_positions, target_positions, names=_POSITIONS, broadcast=False
+    )
+    for name, value, count in zip(_POSITIONS, (s_pos, t_pos), (n_s, n_g), strict=True):
+        if tuple(value.shape) != (count, 3):
+            raise ValueError(
+                f"{name} must have shape ({count}, 3) for one time (east, north, up [m]); got "
+                f"{tuple(value.shape)}"
+            )
+    if (
+        not active.has_active(scene)
+        and _numpy_path(scene, s_pos, t_pos, headings, pointing, scr)
+        and (visible_fraction is None or isinstance(visible_fraction, np.ndarray))
+        and (moving is None or isinstance(moving, (np.ndarray, list, tuple)))
+    ):
+        return _step_numpy(scene, s_pos, t_pos, headings, pointing, visible_fraction, moving, scr)
+    found, p = evaluate(scene, s_pos, t_pos, headings, pointing, scr, visible_fraction, moving)
+    in_view = xp.broadcast_to(xp.asarray(found.in_view), (n_s, n_g))
+    tasks = xp.stack([p.detection, p.recognition, p.identification])
+    fused = xp.stack([p.fused_detection, p.fused_recognition, p.fused_identification])
+    return in_view, tasks, fused
+
+
+# Pairs from which the NumPy step computes the chain on the pairs in view only (fewer pairs
+# than this: on all of them, saving the gathers).
+_COMPACT_FROM = 64
+
+
+def _step_numpy(
+    scene: SceneArrays,
+    s_pos: np.ndarray,
+    t_pos: np.ndarray,
+    headings: Any,
+    pointing: Any,
+    visible_fraction: Any,
+    moving: Any,
+    scr: Any,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`evaluate_step` with NumPy: the field of view of every pair, the chain
+    (:func:`_chain_numpy`) and the transforms (:func:`_in_view_tasks`) of the pairs in view."""
+    sensors, path = scene.sensors, scene.path
+    n_s, n_g = scene.shape
+    for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
+        if np.isinf(value).any():
+            _arrays.require_finite(name, value, np, "m")
+    flags = None if moving is None else np.asarray(check_moving(moving, n_g), dtype=bool)
+    parts: _Parts = derived(scene, "parts", _scene_parts)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if headings is None:
+            sin_h, cos_h, odd = parts.sin_h[:, 0], parts.cos_h[:, 0], None
+        else:
+            heading = np.broadcast_to(np.asarray(headings, dtype=float), (n_g,))
+            _arrays.require_finite("heading", heading, np, "rad")
+            sin_h, cos_h = np.sin(heading), np.cos(heading)
+            odd = np.isnan(heading)  # known geometry, unknown outline
+        visible: np.ndarray = parts.visible[:, 0]
+        if visible_fraction is not None:
+            given = check_visible_fraction(visible_fraction, (n_s, n_g), np)
+            visible = np.broadcast_to(given, (given.shape[0], n_g))
+            nan_visible = np.isnan(visible)
+            if nan_visible.any():
+                odd = nan_visible if odd is None else odd | nan_visible
+        # The field of view of every pair (exactly as factors() has it).
+        x = t_pos[:, 0] - s_pos[:, 0, None]  # (n_s, n_g)
+        y = t_pos[:, 1] - s_pos[:, 1, None]
+        z = t_pos[:, 2] - s_pos[:, 2, None]
+        frame, fixed = _sensor_frames(s_pos.reshape(n_s, 1, 3), sensors, pointing)
+        unknown = np.isnan(s_pos).any(axis=1)[:, None] | np.isnan(t_pos).any(axis=1)
+        viewing = fixed.viewing
+        if viewing.any():
+            tan_h, tan_v = fixed.half_tangents
+            in_view = geometry._within_numpy(
+                x, y, z, tuple(c[:, :1] for c in frame), tan_h[:, :, 0], tan_v[:, :, 0]
+            )
+            if not viewing.all():
+                in_view |= ~viewing[:, None]
+            in_view &= ~unknown
+        else:
+            in_view = ~unknown
+        needed = in_view | unknown
+        if odd is not None:
+            needed |= odd
+        size = n_s * n_g
+        picked = None
+        if size >= _COMPACT_FROM and not needed.all():
+            picked = np.flatnonzero(needed)
+        # The chain of the pairs needed: every pair (broadcast), or the picked ones (gathered).
+        if picked is None:
+            s_of: Any = slice(None)
+            g_of: Any = slice(None)
+            xs, ys, zs = x, y, z
+            shape: tuple[int, ...] = (n_s, n_g)
+            seen_visible = visible
+            contrast = parts.contrast[:, :, 0]
+        else:
+            s_of, g_of = np.divmod(picked, n_g)
+            xs, ys, zs = x.reshape(-1)[picked], y.reshape(-1)[picked], z.reshape(-1)[picked]
+            shape = (picked.size,)
+            seen_visible = (
+                visible[g_of] if visible.ndim == 1 else visible[s_of % visible.shape[0], g_of]
+            )
+            contrast = parts.contrast[s_of, g_of, 0]
+
+        def per_sensor(value: np.ndarray) -> np.ndarray:  # (n_s, 1, 1) of the parts
+            return value[:, :, 0] if picked is None else value[s_of, 0, 0]
+
+        chain = _Chain(
+            sin_h[g_of],
+            cos_h[g_of],
+            parts.length[g_of, 0],
+            parts.width[g_of, 0],
+            parts.height[g_of, 0],
+            seen_visible,
+            per_sensor(parts.cycle),
+            per_sensor(parts.extinction),
+            tuple(per_sensor(g) for g in parts.segments),
+            per_sensor(parts.ifov),
+            per_sensor(parts.noise_equivalent),
+            contrast,
+        )
+        cycles = np.empty(shape)
+        r, _, cycles, depth, _, snr, ratio = _chain_numpy(
+            xs,
+            ys,
+            zs,
+            chain,
+            parts.lengths,
+            path,
+            lambda: (s_pos[s_of] if picked is not None else s_pos[:, None], t_pos[g_of]),
+            sensors.has_noise,
+            cycles,
+        )
+        noisy = path.attenuates or sensors.has_noise
+        if noisy and ratio is None:  # the path's alone: Eq. (7.7) in amplitude, e^d − 1
+            ratio = np.expm1(depth)
+        if scr is None:
+            scr = scene.signature.scr
+        scr_of = None
+        if scr is not None:
+            full = np.broadcast_to(np.asarray(scr, dtype=float).reshape(n_s, n_g), (n_s, n_g))
+            scr_of = full.reshape(-1) if picked is None else full.reshape(-1)[picked]
+        flat = cycles.reshape(-1)
+
+        def target() -> np.ndarray:
+            return np.tile(np.arange(n_g), n_s) if picked is None else g_of
+
+        tasks = _in_view_tasks(
+            flat,
+            snr.reshape(-1) if noisy else None,
+            None if ratio is None or not noisy else ratio.reshape(-1),
+            scr_of,
+            target,
+            scene,
+            flags,
+        )
+        lost = np.isnan(r.reshape(-1)) | np.isnan(flat)  # NaN geometry: NaN probabilities
+        out = np.zeros((len(TASKS), size))
+        where = slice(None) if picked is None else picked
+        keep = in_view.reshape(-1)[where]
+        for k, p in enumerate(tasks):
+            values = np.where(keep, p, 0.0)
+            values[lost] = np.nan
+            out[k, where] = values
+        probabilities_ = out.reshape(len(TASKS), n_s, n_g)
+        if sensors.groups:  # colour cameras: their bands are one look, not several
+            fused = np.stack([np.asarray(fuse_groups(p, sensors.groups)) for p in probabilities_])
+        else:
+            fused = 1.0 - np.multiply.reduce(1.0 - probabilities_, axis=1)
+    return in_view, probabilities_, fused
 
 
 def footprint_scr(

@@ -163,7 +163,7 @@ def factors_kernel(
     sin_heading,  # (n_g, B)
     cos_heading,  # (n_g, B)
     dimensions,  # (n_g, 3)
-    visible_fraction,  # (n_g,)
+    visible_fraction,  # (1 or n_s, n_g, 1 or B)
     cycle,  # (n_s,)
     ifov,  # (n_s,)
     frame,  # (8, n_s, B): forward (3), right (2), up (3), unit, in east-north-up
@@ -176,7 +176,7 @@ def factors_kernel(
     noise_equivalent,  # (n_s,)
     contrast,  # (n_s, n_g)
     has_noise,  # bool
-    area,  # (B,) work space
+    area,  # (2, B) work space
     out_range,  # (n_s, n_g, B)
     out_critical,
     out_cycles,
@@ -188,15 +188,21 @@ def factors_kernel(
     """Per pair, in passes over the batch: the geometry, the optical depth (segment by segment,
     cloud by cloud), then transmittance and SNR."""
     n_s, n_g, n_b = out_range.shape
+    per_sensor = visible_fraction.shape[0] > 1
+    per_batch = 1 if visible_fraction.shape[2] > 1 else 0
     for s in range(n_s):
         tan_h, tan_v = half_tangents[s, 0], half_tangents[s, 1]
         gamma, sensor_cycle, pointed_s = extinction[s], cycle[s], pointed[s]
         noise_s, ifov_s = noise_equivalent[s], ifov[s]
+        sv = s if per_sensor else 0
         for g in range(n_g):
             length, width, height = dimensions[g, 0], dimensions[g, 1], dimensions[g, 2]
-            visible, signal = visible_fraction[g], contrast[s, g]
+            signal = contrast[s, g]
+            for b in range(n_b):  # the visible fraction of the pair, contiguous
+                area[1, b] = visible_fraction[sv, g, b * per_batch]
             # 1. Geometry: range, outline, critical dimension, cycles, field of view.
             for b in range(n_b):
+                visible = area[1, b]
                 x = target_positions[0, g, b] - sensor_positions[0, s, b]
                 y = target_positions[1, g, b] - sensor_positions[1, s, b]
                 z = target_positions[2, g, b] - sensor_positions[2, s, b]
@@ -207,7 +213,7 @@ def factors_kernel(
                 out_range[s, g, b] = rng
                 out_critical[s, g, b] = critical
                 out_cycles[s, g, b] = critical / (maximum(rng, 1e-9) * sensor_cycle)
-                area[b] = horizontal * vertical * visible
+                area[0, b] = horizontal * vertical * visible
                 ahead = x * frame[0, s, b] + y * frame[1, s, b] + z * frame[2, s, b]
                 right = x * frame[3, s, b] + y * frame[4, s, b]
                 up = x * frame[5, s, b] + y * frame[6, s, b] + z * frame[7, s, b]
@@ -245,7 +251,7 @@ def factors_kernel(
                     depth = out_depth[s, g, b]
                     tau = exp(-depth)
                     footprint = maximum(out_range[s, g, b], 1e-9) * ifov_s
-                    pixels = area[b] / (footprint * footprint)
+                    pixels = area[0, b] / (footprint * footprint)
                     own = sensor_snr(signal, noise_s, tau, pixels)
                     out_tau[s, g, b] = tau
                     out_snr[s, g, b] = combined_snr(path_snr(depth), own)
@@ -460,7 +466,8 @@ def probabilities_kernel(
             # most pairs of a large scenario never see each other.
             needed = False
             for b in range(n_b):
-                needed = needed or in_view[s, g, b] or rng[s, g, b] != rng[s, g, b]
+                unknown = rng[s, g, b] != rng[s, g, b] or cycles[s, g, b] != cycles[s, g, b]
+                needed = needed or in_view[s, g, b] or unknown
             if not needed:
                 for b in range(n_b):
                     out_detection[s, g, b] = 0.0
@@ -534,7 +541,7 @@ def probabilities_kernel(
                     rec = det * rec
                     ide = rec * ide
                 seen = in_view[s, g, b]
-                unknown = rng[s, g, b] != rng[s, g, b]
+                unknown = rng[s, g, b] != rng[s, g, b] or cycles[s, g, b] != cycles[s, g, b]
                 det = math.nan if unknown else (det if seen else 0.0)
                 rec = math.nan if unknown else (rec if seen else 0.0)
                 ide = math.nan if unknown else (ide if seen else 0.0)

@@ -1,6 +1,7 @@
 # Two commands do everything on a fresh machine: `make run` and `make test`.
+# VENV picks the virtual environment (CI builds the docs in a fresh one: VENV=.venv-docs make docs).
 PYTHON ?= python3
-VENV := .venv
+VENV ?= .venv
 BIN := $(VENV)/bin
 
 .PHONY: run test lint typecheck bench docs package clean
@@ -21,8 +22,10 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web]'
 	touch $@
 
+# The docs import every module they document (the API pages of targetacq.envs and targetacq.web
+# too) and run the gallery: the extras those modules need come with the docs' own.
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[docs,sweep]'
+	$(BIN)/python -m pip install --quiet -e '.[docs,sweep,rl,web]'
 	touch $@
 
 run: $(VENV)/.installed
@@ -51,4 +54,4 @@ bench: $(VENV)/.installed-test
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
 
 clean:
-	rm -rf $(VENV) build *.egg-info src/*.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis
+	rm -rf $(VENV) .venv-docs build *.egg-info src/*.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis

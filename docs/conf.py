@@ -1,6 +1,7 @@
 """Sphinx configuration of the targetacq documentation (``make docs``).
 
-Offline by design: no intersphinx, no downloaded theme; warnings are errors (``-W``).
+Offline by design: no intersphinx, no downloaded theme, math as MathML, no remote script (the
+``offline`` extension checks the built site); warnings are errors (``-W``).
 """
 
 from __future__ import annotations
@@ -22,13 +23,16 @@ version = release = targetacq.__version__
 
 extensions = [
     "sphinx.ext.autodoc",
-    "sphinx.ext.mathjax",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "registry_tables",
+    "cli_reference",
+    "offline",
 ]
 
-# MathJax would be fetched from a CDN by the reader's browser; the build itself stays offline.
+# Math is written as MathML (docs/_ext/offline.py): the browser draws it, nothing is downloaded,
+# and the build fails if a page would load anything from another host.
+html_math_renderer = "mathml"
 exclude_patterns = ["_build", "_ext", "gallery", "**.ipynb", "**.zip", "**.py.md5"]
 templates_path: list[str] = []
 source_suffix = {".rst": "restructuredtext"}
@@ -92,7 +96,9 @@ api_modules = [
     "targetacq.engines",
     "targetacq.streaming",
     "targetacq.web",
+    "targetacq.envs",
     "targetacq.scenario",
+    "targetacq.bundled",
     "targetacq.sensors",
     "targetacq.sensors.imaging",
     "targetacq.sensors.thermal",

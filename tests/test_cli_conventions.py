@@ -234,7 +234,8 @@ def test_examples_copy_writes_the_files_with_the_umask_and_keeps_existing_ones(c
 @pytest.mark.parametrize(
     ("args", "wanted"),
     [
-        (["nope", "."], "unknown example 'nope'; examples: all, "),
+        (["nope", "."], "unknown example 'nope'; valid: all, "),
+        (["uav_hase", "."], "unknown example 'uav_hase' (did you mean 'uav_haze.toml'?)"),
         (["uav_haze.toml", "FILE"], "it is not a folder"),
     ],
 )

@@ -266,6 +266,7 @@ NOT_KERNELS = {
     "SceneAcquisition",
     "Simulation",
     "get_criterion",
+    "example_path",  # a file name in, a path out: tests/test_examples_path.py
     "sweep",  # text options in, a Dataset out: NaN ranges are tested in test_studies
     "required_ifov",  # solvers (bisection): test_design.py::test_nan_in_nan_out
     "required_focal_length",

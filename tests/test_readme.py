@@ -10,7 +10,8 @@ touching this file. Each test runs in a temporary folder holding a copy of the r
   such as ``NAME``); ``make ...`` lines are left to CI. Each must exit with status 0 under umask
   022, and each file it writes (``--out``, ``--overlay``, ``--figure``) must exist with mode
   0644 (a Zarr folder 0755);
-- Python: the ```` ```python ```` blocks, in order, in one interpreter (they share names).
+- Python: the ```` ```python ```` blocks, in order, in one interpreter (they share names), in
+  an empty folder: a bundled example is found with ``targetacq.example_path``, as from a wheel.
 """
 
 from __future__ import annotations
@@ -282,13 +283,15 @@ for line, code in blocks:
 """
 
 
-def test_readme_python_blocks_run_in_order(workdir: Path) -> None:
+def test_readme_python_blocks_run_in_order(tmp_path: Path) -> None:
+    """In an empty folder, as a user of the installed package runs them: a block that needs a
+    bundled example finds it with ``targetacq.example_path``, not in ``./examples``."""
     # Each block starts at its README line number, so tracebacks point into README.md.
     code = RUNNER.format(blocks=[(b.line, "\n" * (b.line - 1) + b.code) for b in PYTHON_BLOCKS])
     env = {**os.environ, "MPLBACKEND": "Agg", "PYTHONWARNINGS": "error"}
     done = subprocess.run(
         [sys.executable, "-c", code],
-        cwd=workdir,
+        cwd=tmp_path,
         capture_output=True,
         text=True,
         env=env,

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-__all__ = ["RegistryTable", "registries", "render", "write_tables"]
+__all__ = ["RegistryTable", "module_page", "registries", "render", "write_pages", "write_tables"]
 
 
 @dataclass(frozen=True)
@@ -443,14 +443,15 @@ def module_page(module: str) -> str:
     return text
 
 
-def _on_builder_inited(app: Any) -> None:
-    generated = Path(app.srcdir) / "generated"
+def write_pages(generated: Path, modules: list[str]) -> None:
+    """Write everything this extension generates under ``generated`` (``docs/generated``): the
+    registry tables, one API page per module of ``modules``, their table of contents and the
+    summary of the package's names."""
     tables = write_tables(generated / "registries")
     _write(
         generated / "registries" / "all.rst.inc",
         "".join(f".. include:: /generated/registries/{path.name}\n" for path in tables),
     )
-    modules = app.config.api_modules
     for module in modules:
         _write(generated / "api" / f"{module}.rst", module_page(module))
     _write(
@@ -459,6 +460,10 @@ def _on_builder_inited(app: Any) -> None:
         + "".join(f"   /generated/api/{module}\n" for module in modules),
     )
     _write(generated / "api_summary.rst.inc", _api_summary())
+
+
+def _on_builder_inited(app: Any) -> None:
+    write_pages(Path(app.srcdir) / "generated", list(app.config.api_modules))
 
 
 def setup(app: Any) -> dict[str, Any]:

@@ -4,19 +4,18 @@ A scenario evaluated over time
 
 The bundled scenario ``uav_haze.toml``: a UAV's long-wave camera flies east at 1.5 km over a
 truck, a tank and a moving jeep in high haze. :class:`targetacq.model.ModelChain` evaluates
-every sensor × target × time in one pass; the fused detection probability of each target rises
+every sensor × target × time in one pass (:func:`targetacq.example_path` finds the bundled file); the fused detection probability of each target rises
 as the UAV closes in and drops when the target leaves the field of view.
 """
-
-from importlib.resources import files
 
 import matplotlib.pyplot as plt
 import numpy as np
 
+from targetacq import example_path
 from targetacq.model import ModelChain
 from targetacq.scenario import load_scenario
 
-scenario = load_scenario(str(files("targetacq") / "examples" / "uav_haze.toml"))
+scenario = load_scenario(example_path("uav_haze"))
 chain = ModelChain(scenario)
 dataset = chain.evaluate(np.arange(0.0, 120.5, 1.0)).dataset
 

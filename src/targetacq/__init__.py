@@ -38,6 +38,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "transmittance",
     ),
     "bands": ("BANDS",),
+    "bundled": ("example_path",),
     "clutter": (
         "image_clutter",
         "signal_to_clutter_ratio",
@@ -133,6 +134,7 @@ __all__ = [
     "dri_ranges",
     "effect_probability",
     "effective_scr",
+    "example_path",
     "extinction_from_visibility",
     "field_of_view",
     "fuse",
@@ -186,6 +188,9 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
     )
     from targetacq.bands import (
         BANDS,
+    )
+    from targetacq.bundled import (
+        example_path,
     )
     from targetacq.clutter import (
         image_clutter,

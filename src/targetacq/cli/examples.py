@@ -1,8 +1,9 @@
 """The `examples` commands: list the bundled examples, and copy them into a folder.
 
 The examples are the package data in ``targetacq/examples`` (scenario files, scripts, images
-and the box files of the ``clutter`` command), read with :mod:`importlib.resources` so that
-they are found in an installed wheel as in a checkout. Each one's description is the first
+and the box files of the ``clutter`` command): :func:`targetacq.bundled.example_files` finds
+them in an installed wheel as in a checkout, and :func:`targetacq.example_path` gives one's path
+to Python code. Each one's description is the first
 sentence of its leading comment or docstring; a file without one (an image) is described by
 the line that names it in another example's docstring (``- ``scene.png``: ...``).
 """
@@ -12,14 +13,14 @@ from __future__ import annotations
 import contextlib
 import functools
 import re
-from importlib import resources
-from importlib.resources.abc import Traversable
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from targetacq.bundled import example_files, example_name
 from targetacq.cli import app
+from targetacq.registry import unknown_name
 
 __all__ = ["example_descriptions", "example_files"]
 
@@ -32,23 +33,6 @@ app.add_typer(examples_app, name="examples")
 
 _TEXT_SUFFIXES = {".toml", ".py", ".csv", ".txt", ".md", ".json"}
 _LISTED = re.compile(r"^\s*[-*]\s+``([^`]+)``\s*:\s*(.+)$")
-
-
-def example_files() -> dict[str, Traversable]:
-    """The bundled example files: name → resource, sorted by name.
-
-    Examples
-    --------
-    >>> "uav_haze.toml" in example_files()
-    True
-    """
-    folder = resources.files("targetacq").joinpath("examples")
-    files = {
-        entry.name: entry
-        for entry in folder.iterdir()
-        if entry.is_file() and not entry.name.startswith((".", "_"))
-    }
-    return dict(sorted(files.items()))
 
 
 def _first_sentence(lines: list[str]) -> str:
@@ -134,7 +118,8 @@ def copy_command(
         str,
         typer.Argument(
             metavar="NAME",
-            help="An example's name (see `targetacq examples list`), or all.",
+            help="An example's name (see `targetacq examples list`; the suffix may be left "
+            "out), or all.",
             autocompletion=_complete_example,
         ),
     ],
@@ -154,10 +139,10 @@ def copy_command(
     files = example_files()
     if name == "all":
         chosen = list(files)
-    elif name in files:
-        chosen = [name]
+    elif name in files or name in {Path(file).stem for file in files}:
+        chosen = [example_name(name)]  # its file name (the suffix may be left out)
     else:
-        raise ValueError(f"unknown example {name!r}; examples: all, {', '.join(files)}")
+        raise unknown_name(name, ["all", *files], "example")
     target = Path(folder)
     if target.exists() and not target.is_dir():
         raise ValueError(f"cannot copy into {folder!r}: it is not a folder")

@@ -424,8 +424,7 @@ def cluster_workers(workers: int | None = None) -> int:
         raise ValueError(f"workers must be an integer >= 1; got {workers!r}")
     if workers > cpus:
         warnings.warn(
-            f"workers {workers} is more than the CPUs this process may use ({cpus}): "
-            f"using {cpus}",
+            f"workers {workers} is more than the CPUs this process may use ({cpus}): using {cpus}",
             UserWarning,
             stacklevel=3,
         )

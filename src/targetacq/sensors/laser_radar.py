@@ -45,8 +45,9 @@ def requirements(scenario: Any) -> list[str]:
     """
     for k, s in enumerate(scenario.sensors):
         laser = getattr(s, "laser", None)
-        given = laser is not None and "nep" in laser.model_fields_set
-        if s.type == "laser_radar" and given and laser.nep == 0:
+        if laser is None or "nep" not in laser.model_fields_set:
+            continue
+        if s.type == "laser_radar" and laser.nep == 0:
             warnings.warn(
                 f"sensors[{k}].laser.nep = 0 W: a receiver without noise, so the laser "
                 f"radar {s.name!r} sees only its path's noise (give the receiver's "

@@ -243,9 +243,11 @@ class Simulation:
         Seed of the random outcomes, >= 0.
     engine : str
         The compute engine for NumPy positions (:data:`targetacq.engines.ENGINES`: ``numpy``,
-        the default and reference, ``numba``, ``jax`` or ``auto``, which is ``numpy`` here:
-        :func:`targetacq.engines.for_steps`); JAX positions always go through the array core
-        in JAX.
+        the default and reference, ``numba``, ``jax`` or ``auto``, which is ``numba`` where it
+        is installed and compiles the scene: :func:`targetacq.engines.for_steps`). A step of
+        one camera and a few targets costs the numba engine's core about 10 µs against a few
+        hundred for NumPy's (``benchmarks/bench_step.py``): simulations that step often want
+        ``engine="auto"``. JAX positions always go through the array core in JAX.
 
     Attributes
     ----------

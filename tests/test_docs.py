@@ -440,7 +440,8 @@ def test_the_cli_reference_has_every_command_option_choice_and_default(
         for line in printed.splitlines():  # the registries' choices, as the help lists them
             choices = re.search(r"(?:Criteria set|Transform|Noise model): ([^()]+)", line)
             if choices:
-                assert choices.group(1).split("(")[0].strip(" .") in section, (doc.name, line)
+                listed = choices.group(1).split("(")[0].split("│")[0].strip(" .,")
+                assert listed in section, (doc.name, line)
     assert "sweep" in text and "design" in text and "report" in text
 
 

@@ -257,3 +257,14 @@ def test_simulate_prints_one_number_format_per_column(capsys):
         }
         assert len(decimals) <= 1, (column, decimals)
     assert any(re.fullmatch(r"[0-9]+\.[0-9]+", row[3]) for row in rows)
+
+
+def test_sweep_with_out_writes_the_rows_to_the_file_not_to_stdout(tmp_path, capsys):
+    out = tmp_path / "s.csv"
+    with pytest.raises(SystemExit) as done:
+        main(["sweep", "--example", "--focal-length", "50mm,75mm,100mm", "--out", str(out)])
+    assert done.value.code == 0
+    printed = capsys.readouterr().out.splitlines()
+    # 3 focal lengths × the criterion's tasks × 1 probability, said in one line.
+    rows = out.read_text().splitlines()[1:]
+    assert printed == [f"{len(rows)} points (focal_length × task × probability)", f"wrote {out}"]

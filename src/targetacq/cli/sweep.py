@@ -95,10 +95,15 @@ def sweep(
         write_sweep(ds, out)
     if figure is not None:
         write_figure(ds, figure)
+    written = "".join(f"wrote {name}\n" for name in (out, figure) if name is not None)
+    if out is not None:
+        # The rows are in the file: stdout says what was written, not every row again.
+        points = math.prod(ds.sizes[d] for d in ds.dims)
+        typer.echo(f"{points:,} points ({' × '.join(map(str, ds.dims))})\n{written}", nl=False)
+        return
     text = render_sweep(ds, output_format)
-    if output_format == "table":
-        written = [f"wrote {name}\n" for name in (out, figure) if name is not None]
-        text += "\n" + "".join(written) if written else ""
+    if output_format == "table" and written:
+        text += "\n" + written
     typer.echo(text, nl=False)
 
 

@@ -268,3 +268,18 @@ def test_sweep_with_out_writes_the_rows_to_the_file_not_to_stdout(tmp_path, caps
     # 3 focal lengths × the criterion's tasks × 1 probability, said in one line.
     rows = out.read_text().splitlines()[1:]
     assert printed == [f"{len(rows)} points (focal_length × task × probability)", f"wrote {out}"]
+
+
+def test_csv_outputs_carry_units_and_provenance(tmp_path, capsys):
+    import pandas as pd
+
+    out = tmp_path / "e.csv"
+    with pytest.raises(SystemExit) as done:
+        main(["evaluate", "examples/uav_haze.toml", "--out", str(out)])
+    assert done.value.code == 0, capsys.readouterr().err
+    first, second, *_ = out.read_text().splitlines()
+    assert first.startswith("# units: sensor, target, time [s], range [m]") and "snr [dB]" in first
+    meta = json.loads(second.removeprefix("# provenance: "))
+    assert meta["software"] == "targetacq" and meta["scenario_file"] == "uav_haze.toml"
+    frame = pd.read_csv(out, comment="#")
+    assert list(frame.columns[:4]) == ["sensor", "target", "time", "range"]

@@ -78,7 +78,7 @@ def test_sweep_round_trips_with_units_and_provenance(capsys, tmp_path, suffix):
         assert json.loads(ds.attrs["model"])["criterion"] == "johnson"
         return
     if suffix == "csv":
-        frame = pd.read_csv(out)
+        frame = pd.read_csv(out, comment="#")
         assert list(frame.columns) == [
             "focal_length",
             "scr",
@@ -87,7 +87,10 @@ def test_sweep_round_trips_with_units_and_provenance(capsys, tmp_path, suffix):
             "range_m",
             "reached",
         ]
-        assert not out.read_text().startswith("#")  # plain: provenance is in the other formats
+        # Units and provenance in "#" lines before the table (a CSV has no attributes).
+        head = [line for line in out.read_text().splitlines() if line.startswith("#")]
+        assert head[0].startswith("# units: focal_length, ") and "range_m [m]" in head[0]
+        assert json.loads(head[1].removeprefix("# provenance: "))["software"] == "targetacq"
     elif suffix == "parquet":
         table = pq.read_table(out)
         meta = json.loads(table.schema.metadata[b"targetacq"])
@@ -135,7 +138,7 @@ def test_evaluate_out_has_units_and_the_scenario_hash(capsys, tmp_path, suffix):
         assert document["meta"]["variables"]["snr"]["units"] == "dB"
         frame = pd.DataFrame(document["rows"])
     else:
-        frame = pd.read_csv(out)
+        frame = pd.read_csv(out, comment="#")
     assert len(frame) == len(expected)
     np.testing.assert_allclose(frame["detection"], expected["detection"], rtol=1e-12)
 
@@ -168,7 +171,7 @@ def test_simulate_out_records_the_seed(capsys, tmp_path, suffix):
         assert json.loads(table.schema.metadata[b"targetacq"])["seed"] == 7
         frame = table.to_pandas()
     else:
-        frame = pd.read_csv(out)
+        frame = pd.read_csv(out, comment="#")
     np.testing.assert_allclose(frame["fraction"], printed["fraction"], rtol=1e-12)
 
 

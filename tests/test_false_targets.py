@@ -457,7 +457,7 @@ def test_cli_writes_the_false_detections(capsys, tmp_path):
     reference = simulate(ModelChain(load_scenario(scenario)), 10.0, 1.0, runs=3, seed=5)
     expected = reference.false_detections.frame()
     assert len(expected) > 20
-    got = pd.read_csv(written["csv"])
+    got = pd.read_csv(written["csv"], comment="#")
     assert list(got.columns) == ["run", "sensor", "time", "x", "y", "z"]
     pd.testing.assert_frame_equal(got, expected, check_exact=False, rtol=1e-12)
     pd.testing.assert_frame_equal(pd.read_parquet(written["parquet"]), expected)

@@ -110,13 +110,19 @@ def test_parquet_equals_the_in_memory_write(chain, tmp_path, chunks):
 def test_csv_equals_the_in_memory_write(chain, tmp_path, chunks):
     whole, streamed = _written(chain, tmp_path, "csv", **chunks)
     a, b = whole.read_text(), streamed.read_text()
+    # Units and provenance first ("#" lines): the same but for the moment each was created.
+    a_head, b_head = ([x for x in t.splitlines() if x.startswith("#")] for t in (a, b))
+    assert a_head[0] == b_head[0] and a_head[0].startswith("# units: sensor, target, time [s]")
+    provenance = [json.loads(h[1].removeprefix("# provenance: ")) for h in (a_head, b_head)]
+    assert _without_created(provenance[0]) == _without_created(provenance[1])
+    a, b = ("\n".join(x for x in t.splitlines() if not x.startswith("#")) for t in (a, b))
     if not chunks:
         assert b == a  # byte for byte
         return
     header, *rows = b.splitlines()
     assert header == a.splitlines()[0]
     assert sorted(rows) == sorted(a.splitlines()[1:])
-    got = pd.read_csv(streamed)
+    got = pd.read_csv(streamed, comment="#")
     assert list(got[KEY].itertuples(index=False, name=None)) == _chunk_order(chain, **chunks)
 
 

@@ -227,7 +227,9 @@ def test_evaluate_csv_is_a_download(client):
     response = client.post("/evaluate", json=body)
     assert response.status_code == 200, response.text
     assert response.headers["content-disposition"] == "attachment; filename=results.csv"
-    rows = list(csv.DictReader(io.StringIO(response.text)))
+    assert response.text.startswith("# units: ")  # units and provenance before the table
+    table = "".join(line for line in response.text.splitlines(True) if not line.startswith("#"))
+    rows = list(csv.DictReader(io.StringIO(table)))
     frame = ModelChain(load_scenario(FUSED)).evaluate().to_dataframe()
     assert len(rows) == len(frame)
     assert float(rows[-1]["fused_detection"]) == pytest.approx(frame["fused_detection"].iloc[-1])

@@ -370,6 +370,31 @@ def json_head(output: Output, columns: Any) -> str:
     return '{"meta": ' + json_text(meta, 1) + ',\n"rows": '
 
 
+def csv_head(output: Output, columns: Any) -> str:
+    """The comment lines that open a .csv result: the units of every column and the provenance,
+    each line starting with ``#`` (read the table with ``pandas.read_csv(path, comment="#")``).
+
+    A CSV file has no place for attributes; these lines carry what the other formats keep in
+    theirs, so that a file sent to a colleague says what its numbers are and where they came
+    from.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> ds = annotate(xr.Dataset({"snr": ("time", [3.0])}, coords={"time": [0.0]}))
+    >>> print(csv_head(Output(ds, {"version": "0"}), ["time", "snr"]), end="")
+    # units: time [s], snr [dB]
+    # provenance: {"version": "0"}
+    """
+    described = output.variables(columns)
+    units = ", ".join(
+        f"{name} [{described[name]['units']}]" if "units" in described.get(name, {}) else name
+        for name in columns
+    )
+    meta = json.dumps(output.meta, ensure_ascii=False, separators=(", ", ": "), default=str)
+    return f"# units: {units}\n# provenance: {meta}\n"
+
+
 _LOW_SPACE = 1 << 20  # bytes free on the file system below which a failed write is "disk full"
 
 
@@ -430,7 +455,10 @@ def _write_zarr(output: Output, path: Path) -> None:
 
 
 def _write_csv(output: Output, path: Path) -> None:
-    output.frame().to_csv(path, index=False)
+    frame = output.frame()
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        handle.write(csv_head(output, frame.columns))
+        frame.to_csv(handle, index=False)
 
 
 def _write_parquet(output: Output, path: Path) -> None:

@@ -88,7 +88,8 @@ class Results:
         nothing half-written, with the user's umask.
 
         Units, long names and provenance (the dataset's ``attrs``, updated with ``meta``) go in
-        every format but CSV, which is the plain table. JSON is strict: NaN is ``null``, ±inf
+        every format; in CSV as ``#`` lines before the table
+        (:func:`targetacq.datasets.csv_head`). JSON is strict: NaN is ``null``, ±inf
         the strings ``"inf"`` and ``"-inf"`` (:func:`targetacq.outputs.json_records`).
 
         Raises

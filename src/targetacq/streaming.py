@@ -52,6 +52,7 @@ import numpy as np
 
 from targetacq.datasets import (
     Output,
+    csv_head,
     json_head,
     netcdf_errors,
     output_file,
@@ -325,15 +326,15 @@ def _write_parquet(run: _Run, path: Path) -> None:
 
 
 def _write_csv(run: _Run, path: Path) -> None:
-    first = True
-    for targets, _, times, arrays in run.each():
-        # Appended by path, one chunk at a time (as the whole table is written by path).
-        run.frame(targets, times, arrays).to_csv(
-            path, mode="w" if first else "a", header=first, index=False
-        )
-        first = False
-    if first:  # no rows: the header alone
-        run.sample.iloc[:0].to_csv(path, index=False)
+    with open(path, "w", encoding="utf-8", newline="") as handle:
+        handle.write(csv_head(run.output, run.sample.columns))
+        first = True
+        for targets, _, times, arrays in run.each():
+            # One chunk at a time, the column names before the first.
+            run.frame(targets, times, arrays).to_csv(handle, header=first, index=False)
+            first = False
+        if first:  # no rows: the header alone
+            run.sample.iloc[:0].to_csv(handle, index=False)
 
 
 def _write_json(run: _Run, path: Path) -> None:

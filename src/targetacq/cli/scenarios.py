@@ -105,7 +105,8 @@ def evaluate(
         str | None,
         typer.Option(
             help="Write every sensor-target-time row: .csv, .json, .parquet, .nc (netCDF) or "
-            ".zarr (units and provenance in all but CSV), chunk by chunk as it is evaluated."
+            ".zarr (units and provenance in each; in CSV as # lines first), chunk by chunk as "
+            "it is evaluated."
         ),
     ] = None,
     output_format: FormatOption = "table",
@@ -239,7 +240,8 @@ def simulate(
             help="Write every run's false detections (the scenario's [false_targets] table: "
             "clutter declared a target), one row each, ordered by run and time: run, sensor, "
             "time [s], x, y, z [m] (east, north, up: on the ground, z = 0), ready to feed a "
-            "tracker: .csv, .json, .parquet, .nc or .zarr (units and provenance in all but CSV).",
+            "tracker: .csv, .json, .parquet, .nc or .zarr (units and provenance in each; in CSV as "
+            "# lines first).",
         ),
     ] = None,
 ) -> None:

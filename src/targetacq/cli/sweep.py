@@ -26,7 +26,7 @@ def sweep(
         str | None,
         typer.Option(
             help="Write the sweep: .nc (netCDF), .zarr, .csv, .parquet or .json (units and "
-            "provenance in all but CSV)."
+            "provenance in each; in CSV as # lines first)."
         ),
     ] = None,
     figure: Annotated[

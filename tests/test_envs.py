@@ -50,7 +50,7 @@ def test_rewards_count_each_acquisition_once():
 
 
 def test_bad_arguments():
-    with pytest.raises(ValueError, match="cameras must be an integer >= 1"):
+    with pytest.raises(ValueError, match="cameras must be an integer in \\[1, 64\\]"):
         SensorPointingEnv(cameras=0)
     with pytest.raises(ValueError, match="dt must be finite and > 0"):
         SensorPointingEnv(dt=-1.0)
@@ -141,3 +141,21 @@ def test_a_short_visit_is_kept_in_info_not_emitted():
         assert all("less than one step of 2 s" in message for message in found)
         counts.append(len(found))
     assert max(counts) == 1  # some episode had one (the look-away policy makes them), never more
+
+
+def test_a_complex_or_misshapen_action_and_a_huge_environment_are_clear_errors():
+    import numpy as np
+    import pytest
+
+    from targetacq.envs.pointing import MAX_TARGETS, SensorPointingEnv
+
+    env = SensorPointingEnv()
+    env.reset(seed=1)
+    with pytest.raises(ValueError, match=r"action must be 2 real numbers .* got complex128"):
+        env.step(np.array([[0.1 + 0.2j, 0.0]]))
+    with pytest.raises(ValueError, match=r"action must be 2 real numbers .* shape \(3,\)"):
+        env.step(np.zeros(3))
+    with pytest.raises(ValueError, match=r"targets must be an integer in \[1, 10000\]"):
+        SensorPointingEnv(targets=10**9)
+    assert MAX_TARGETS == 10_000
+    SensorPointingEnv(targets=12).reset(seed=0)  # within the limit: fine

@@ -48,7 +48,13 @@ from gymnasium.error import ResetNeeded
 from targetacq.scenario import Atmosphere, Background, Scenario, Sensor, Target
 from targetacq.search import ShortVisitWarning
 
-__all__ = ["SensorPointingEnv"]
+__all__ = ["MAX_CAMERAS", "MAX_TARGETS", "SensorPointingEnv"]
+
+MAX_CAMERAS = 64
+"""Most cameras an environment takes (each adds its pointing to the observation)."""
+MAX_TARGETS = 10_000
+"""Most targets an environment takes (each adds six numbers to the observation and a record
+to the model; 10⁹ ran out of memory)."""
 
 _TASKS = ("detected", "recognised", "identified")
 """The cumulative fused flags of :class:`targetacq.simulation.StepResult` (``fused_<flag>``), in
@@ -94,10 +100,15 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         focal_length: float = 0.1,
         render_mode: str | None = None,
     ) -> None:
-        if not (isinstance(cameras, int) and cameras >= 1):
-            raise ValueError(f"cameras must be an integer >= 1, got {cameras!r}")
-        if not (isinstance(targets, int) and targets >= 1):
-            raise ValueError(f"targets must be an integer >= 1, got {targets!r}")
+        for name, value, most in (
+            ("cameras", cameras, MAX_CAMERAS),
+            ("targets", targets, MAX_TARGETS),
+        ):
+            if not (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= most):
+                raise ValueError(
+                    f"{name} must be an integer in [1, {most}] (an environment's observation "
+                    f"holds every one; larger scenes are for targetacq.Simulation), got {value!r}"
+                )
         for name, value in (
             ("duration", duration),
             ("dt", dt),
@@ -242,7 +253,14 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         """Point the cameras, advance ``dt`` and count the new acquisitions."""
         self._require_reset("step")
-        a = np.asarray(action, dtype=float).reshape(self.n_cameras, 2)
+        given = np.asarray(action)
+        if given.dtype.kind not in "fiu" or given.size != 2 * self.n_cameras:
+            raise ValueError(
+                f"action must be {2 * self.n_cameras} real numbers in [-1, 1] (shape "
+                f"({self.n_cameras}, 2): azimuth, depression per camera), got {given.dtype} of "
+                f"shape {given.shape}"
+            )
+        a = given.astype(float).reshape(self.n_cameras, 2)
         if not np.all(np.isfinite(a)):
             raise ValueError("action must be finite")
         a = np.clip(a, -1.0, 1.0)

@@ -100,14 +100,14 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         focal_length: float = 0.1,
         render_mode: str | None = None,
     ) -> None:
-        for name, value, most in (
+        for label, count, most in (
             ("cameras", cameras, MAX_CAMERAS),
             ("targets", targets, MAX_TARGETS),
         ):
-            if not (isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= most):
+            if not (isinstance(count, int) and not isinstance(count, bool) and 1 <= count <= most):
                 raise ValueError(
-                    f"{name} must be an integer in [1, {most}] (an environment's observation "
-                    f"holds every one; larger scenes are for targetacq.Simulation), got {value!r}"
+                    f"{label} must be an integer in [1, {most}] (an environment's observation "
+                    f"holds every one; larger scenes are for targetacq.Simulation), got {count!r}"
                 )
         for name, value in (
             ("duration", duration),

@@ -266,7 +266,7 @@ def test_sweep_with_out_writes_the_rows_to_the_file_not_to_stdout(tmp_path, caps
     assert done.value.code == 0
     printed = capsys.readouterr().out.splitlines()
     # 3 focal lengths × the criterion's tasks × 1 probability, said in one line.
-    rows = out.read_text().splitlines()[1:]
+    rows = [line for line in out.read_text().splitlines() if not line.startswith("#")][1:]
     assert printed == [f"{len(rows)} points (focal_length × task × probability)", f"wrote {out}"]
 
 

@@ -96,3 +96,32 @@ def test_obscurant_completion_offers_the_levels_after_a_colon():
     name = OBSCURANTS[0]
     assert complete(name + ":") == [f"{name}:{level}" for level in EXTINCTION_LEVELS]
     assert complete("no-such-obscurant:") == []
+
+
+def test_obscurant_completion_offers_none_and_the_levels_of_each_name():
+    """The --obscurant option of the CLI itself: 'none' (a clear path) and each name with its
+    levels are offered, from the registries."""
+    import click
+
+    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
+
+    command = all_commands()["dri"]
+    option = next(p for p in command.params if "--obscurant" in p.opts)
+    ctx = click.Context(command)
+    offered = [item.value for item in option.shell_complete(ctx, "")]
+    assert "none" in offered
+    for name in OBSCURANTS:
+        assert name in offered
+        assert all(f"{name}:{level}" in offered for level in EXTINCTION_LEVELS)
+    assert [item.value for item in option.shell_complete(ctx, "haze,n")] == ["haze,none"]
+
+
+def test_help_written_to_a_pipe_cuts_no_option_name(capsys):
+    from targetacq.cli import main
+
+    for command in ("dri", "sweep", "report", "design"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        out = capsys.readouterr().out
+        assert "…" not in out, command
+        assert "--background-temperature " in out

@@ -362,3 +362,89 @@ def test_bad_moving_flags_name_moving(engine: str, moving: np.ndarray) -> None:
         bound.probabilities(found, moving=moving)
     with pytest.raises(ValueError, match="moving must"):
         core.evaluate(scene, sensors, targets, headings, moving=moving)
+
+
+# -- one time in one call: BoundEngine.step ----------------------------------------------------
+
+
+def _one_time_calls(scene: core.SceneArrays, headings: np.ndarray) -> list[dict[str, object]]:
+    """No per-call input, then every one of them (pointing NaN for half the sensors)."""
+    n_s, n_g = scene.shape
+    rng = np.random.default_rng(7)
+    pointing = np.column_stack([rng.uniform(0, 2 * np.pi, n_s), rng.uniform(0.0, 0.6, n_s)])
+    pointing[::2] = np.nan
+    visible = rng.uniform(0.2, 1.0, (n_s, n_g))
+    visible[0, 0] = np.nan  # NaN for that pair, whatever its field of view
+    scr = None if scene.signature.scr is None else rng.uniform(0.5, 20.0, (n_s, n_g))
+    return [
+        {},
+        {
+            "headings": headings + 0.3,
+            "pointing": pointing,
+            "visible_fraction": visible,
+            "moving": rng.uniform(size=n_g) < 0.5,
+            "scr": scr,
+        },
+    ]
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_step_is_factors_then_probabilities(path: Path) -> None:
+    """``bound.step`` of one time: ``in_view`` exactly and the probabilities and their fusion
+    to 1e-12 of ``factors`` then ``probabilities`` of the same engine, and of the NumPy
+    engine's."""
+    scene, sensors, targets, headings = _example(path)
+    n_t = targets.shape[1]
+    for engine in _engines_for(path):
+        bound = _bind(scene, engine)
+        if bound is None:
+            continue
+        numpy_bound = bind(scene, "numpy")
+        for k in sorted({0, n_t // 2, n_t - 1}):
+            s_pos, t_pos = sensors[:, k], targets[:, k]
+            for call in _one_time_calls(scene, headings[:, k]):
+                call = {**call, "headings": call.get("headings", headings[:, k])}
+                moving = call.pop("moving", None)
+                for reference in (bound, numpy_bound):
+                    found = reference.factors(s_pos, t_pos, **call)
+                    p = reference.probabilities(found, moving)
+                    in_view, tasks, fused = bound.step(s_pos, t_pos, moving=moving, **call)
+                    np.testing.assert_array_equal(in_view, found.in_view)
+                    for j, name in enumerate(PROBABILITIES):
+                        _close(tasks[j], getattr(p, name), f"{engine} {name}")
+                        _close(fused[j], getattr(p, FUSED[j]), f"{engine} {FUSED[j]}")
+                    assert in_view.shape == scene.shape and tasks.shape == (3, *scene.shape)
+                if call.get("visible_fraction") is not None:
+                    assert np.isnan(tasks[:, 0, 0]).all()
+
+
+@pytest.mark.parametrize("engine", ENGINE_NAMES)
+def test_step_refuses_what_is_not_one_time_and_infinite_positions(engine: str) -> None:
+    _needs(engine)
+    scene, sensors, targets, _ = _example(EXAMPLES[-1])
+    bound = bind(scene, engine)
+    with pytest.raises(ValueError, match=r"\(1, 3\)"):
+        bound.step(sensors, targets)  # a batch of times
+    s_pos, t_pos = sensors[:, 0].copy(), targets[:, 0].copy()
+    bad = s_pos.copy()
+    bad[0, 1] = np.inf
+    with pytest.raises(ValueError, match="sensor_positions must be finite"):
+        bound.step(bad, t_pos)
+    bad = t_pos.copy()
+    bad[-1, 2] = -np.inf
+    with pytest.raises(ValueError, match="target_positions must be finite"):
+        bound.step(s_pos, bad)
+    with pytest.raises(ValueError, match="target_positions must be finite"):
+        bound.factors(s_pos, bad)
+
+
+@pytest.mark.parametrize("engine", ENGINE_NAMES)
+def test_a_nan_position_gives_nan_for_its_pairs_in_a_step(engine: str) -> None:
+    _needs(engine)
+    scene, sensors, targets, _ = _example(EXAMPLES[-1])
+    s_pos, t_pos = sensors[:, 0].copy(), targets[:, 0].copy()
+    t_pos[1, 0] = np.nan
+    in_view, tasks, fused = bind(scene, engine).step(s_pos, t_pos)
+    assert not in_view[:, 1].any()
+    assert np.isnan(tasks[:, :, 1]).all() and np.isnan(fused[:, 1]).all()
+    assert not np.isnan(tasks[:, :, 0]).any()

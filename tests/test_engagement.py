@@ -425,3 +425,38 @@ def test_records_that_are_not_records_are_refused_with_a_located_message():
         Simulation("ir", [target])
     with pytest.raises(ScenarioError, match="targets must be a list"):
         Simulation([{"name": "ir", "band": "lwir", "ifov": 1e-3}], target)
+
+
+def test_per_step_moving_and_visible_fraction():
+    """A step's moving flag and visible fraction give the probabilities of targets declared so
+    (a simulation built with them), and the targets' own values change nothing."""
+    base = {"name": "tank", "dimensions": (7.0, 3.5, 2.5), "temperature": 296.0}
+    sensor = {"name": "ir", "band": "lwir", "pixels": (640, 512), "pitch": 17e-6,
+              "focal_length": 0.1}  # fmt: skip
+    background = {"temperature": 295.0, "clutter_std": 1.0}
+    plain = Simulation([sensor], [base], background=background)
+    declared = Simulation(
+        [sensor], [{**base, "moving": True, "visible_fraction": 0.4}], background=background
+    )
+    target = np.array([[2500.0, 0.0, 0.0]])
+    on = np.array([[EAST, 0.0]])
+    expected = declared.probabilities(0.0, SENSOR, target, sensor_pointing=on)
+    out = plain.step(
+        0.0, 0.0, SENSOR, target, None, on, moving=np.array([True]),
+        visible_fraction=np.array([0.4]),
+    )  # fmt: skip
+    assert out.detection[0, 0] == pytest.approx(expected.detection[0, 0], rel=1e-12)
+    assert out.identification[0, 0] == pytest.approx(expected.identification[0, 0], rel=1e-12)
+    own = plain.probabilities(0.0, SENSOR, target, sensor_pointing=on)
+    assert own.detection[0, 0] != pytest.approx(expected.detection[0, 0], rel=1e-3)
+    again = plain.step(
+        1.0, 1.0, SENSOR, target, None, on, moving=np.array([False]),
+        visible_fraction=np.array([[1.0]]),
+    )  # fmt: skip
+    assert again.detection[0, 0] == own.detection[0, 0]
+    with pytest.raises(ValueError, match=r"moving must be a bool array of shape \(1,\)"):
+        plain.step(2.0, 1.0, SENSOR, target, moving=np.array([1]))
+    with pytest.raises(ValueError, match=r"visible_fraction must be in \(0, 1\]"):
+        plain.step(2.0, 1.0, SENSOR, target, visible_fraction=np.array([1.5]))
+    nan = plain.step(2.0, 1.0, SENSOR, target, None, on, visible_fraction=np.array([np.nan]))
+    assert np.isnan(nan.detection[0, 0])

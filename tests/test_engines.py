@@ -440,7 +440,165 @@ def test_an_empty_target_subset_gives_empty_results() -> None:
         assert got[name].shape == expected[name].shape
 
 
-def test_auto_is_numba_for_chains_and_numpy_for_steps() -> None:
+def test_auto_is_numba_for_chains_and_steps_where_it_can() -> None:
     scenario = load_scenario(EXAMPLES[-1])
-    assert Simulation.from_scenario(scenario, engine="auto").engine == "numpy"
+    assert Simulation.from_scenario(scenario, engine="auto").engine == "numba"
     assert ModelChain(scenario, engine="auto").provenance()["model"]["engine"] == "numba"
+    radar = load_scenario(next(p for p in EXAMPLES if p.stem == "radar_surveillance"))
+    assert Simulation.from_scenario(radar, engine="auto").engine == "numpy"
+
+
+# -- one time (the step API's batches): the pair kernels ---------------------------------------
+
+
+def step_scene(n_sensors: int, n_targets: int) -> tuple[object, np.ndarray, np.ndarray]:
+    """The scene of ``benchmarks/bench_step.py``: thermal cameras pointed down at random
+    azimuths over targets near their boresights, haze, clutter from a temperature spread; a
+    sensor with its own noise and one pointed at a point, so that every path of the kernels
+    runs."""
+    from targetacq.scenario import Atmosphere, Background, Sensor, Target
+
+    rng = np.random.default_rng(1)
+    azimuths = rng.uniform(0.0, 2 * np.pi, n_sensors)
+    sensors = [
+        Sensor(
+            name=f"s{i}",
+            band="lwir",
+            pixels=(640, 512),
+            pitch=17e-6,
+            focal_length=35e-3,
+            position=(0.0, 0.0, 0.0),
+            azimuth=float(az),
+            depression=float(np.radians(30.0)),
+            netd=0.05 if i % 2 else None,
+        )
+        for i, az in enumerate(azimuths)
+    ]
+    targets = [
+        Target(
+            name=f"t{j}",
+            dimensions=(7.0, 2.5, 3.0),
+            temperature=float(temp),
+            heading=float(h),
+            position=(0.0, 0.0, 0.0),
+            hot_spot=j % 3 == 1,
+            moving=j % 4 == 2,
+        )
+        for j, (temp, h) in enumerate(
+            zip(rng.uniform(295, 315, n_targets), rng.uniform(0, 2 * np.pi, n_targets), strict=True)
+        )
+    ]
+    sim = Simulation(
+        sensors,
+        targets,
+        background=Background(temperature=293.0, clutter_std=2.0),
+        atmosphere=Atmosphere(obscurant="haze"),
+        seed=1,
+    )
+    sensor_pos = np.column_stack(
+        [
+            rng.uniform(-5e3, 5e3, n_sensors),
+            rng.uniform(-5e3, 5e3, n_sensors),
+            rng.uniform(1e3, 3e3, n_sensors),
+        ]
+    )
+    which = np.arange(n_targets) % n_sensors
+    reach = sensor_pos[which, 2] / np.tan(np.radians(30.0))
+    target_pos = np.column_stack(
+        [
+            sensor_pos[which, 0]
+            + reach * np.sin(azimuths[which])
+            + rng.uniform(-150, 150, n_targets),
+            sensor_pos[which, 1]
+            + reach * np.cos(azimuths[which])
+            + rng.uniform(-150, 150, n_targets),
+            np.zeros(n_targets),
+        ]
+    )
+    return sim.compiled.scene, sensor_pos, target_pos
+
+
+def _fields(found: object, p: object) -> dict[str, np.ndarray]:
+    out = {name: np.asarray(getattr(found, name)) for name in ("in_view", *PER_TRIPLE)}
+    out.update({name: np.asarray(getattr(p, name)) for name in PROBABILITIES})
+    return out
+
+
+@pytest.mark.parametrize("size", [(1, 1), (1, 6), (20, 500)], ids=["1x1", "1x6", "20x500"])
+@pytest.mark.parametrize("engine", ["numba", "jax"])
+def test_engines_agree_on_one_time(engine: str, size: tuple[int, int]) -> None:
+    """Positions of one time, (n_s, 3) and (n_g, 3), at the step benchmark's sizes: factors,
+    probabilities and the one-call step, with the targets' own inputs and with every per-call
+    input (headings, pointing, visible fraction, moving flags)."""
+    if not ENGINES[engine].available():
+        pytest.skip(f"{engine} is not installed")
+    scene, sensors, targets = step_scene(*size)
+    n_s, n_g = size
+    reference, ours = bind(scene, "numpy"), bind(scene, engine)
+    rng = np.random.default_rng(3)
+    pointing = np.column_stack([rng.uniform(0, 2 * np.pi, n_s), np.full(n_s, 0.5)])
+    pointing[::2] = np.nan  # those keep their own
+    calls = [
+        {},
+        {
+            "headings": rng.uniform(0, 2 * np.pi, n_g),
+            "pointing": pointing,
+            "visible_fraction": rng.uniform(0.2, 1.0, (n_s, n_g)),
+            "moving": rng.uniform(size=n_g) < 0.5,
+        },
+    ]
+    for call in calls:
+        found_args = {k: v for k, v in call.items() if k != "moving"}
+        expected_f = reference.factors(sensors, targets, **found_args)
+        expected = _fields(expected_f, reference.probabilities(expected_f, call.get("moving")))
+        found = ours.factors(sensors, targets, **found_args)
+        got = _fields(found, ours.probabilities(found, call.get("moving")))
+        np.testing.assert_array_equal(got["in_view"], expected["in_view"])
+        for name in (*PER_TRIPLE, *PROBABILITIES):
+            np.testing.assert_allclose(
+                got[name], expected[name], rtol=1e-12, atol=1e-15, err_msg=name
+            )
+        in_view, p, fused = ours.step(sensors, targets, **call)
+        np.testing.assert_array_equal(in_view, expected["in_view"])
+        for k in range(3):
+            np.testing.assert_allclose(
+                p[k], expected[PROBABILITIES[k]], rtol=1e-12, atol=1e-15, err_msg="step"
+            )
+            np.testing.assert_allclose(
+                fused[k], expected[PROBABILITIES[3 + k]], rtol=1e-12, atol=1e-15, err_msg="step"
+            )
+    assert expected["in_view"].any()  # the comparison sees pairs in view
+
+
+@settings(
+    max_examples=40,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(document=scenarios(), when=st.floats(0.0, 1.0))
+def test_numba_agrees_on_one_time_of_drawn_scenarios(document: dict, when: float) -> None:
+    """The pair kernels on every choice they compile (the drawn scenarios above), at one
+    time: factors, probabilities and the one-call step."""
+    from targetacq import core
+
+    scenario = parse_scenario(document)
+    times = np.asarray(scenario.time.times())
+    t = times[int(when * (times.size - 1))]
+    sensors, targets, headings = core.scenario_positions(scenario, [t])
+    sensors, targets, headings = sensors[:, 0], targets[:, 0], headings[:, 0]
+    scene = core.compile_scenario(scenario).scene
+    reference, ours = bind(scene, "numpy"), bind(scene, "numba")
+    expected_f = reference.factors(sensors, targets, headings)
+    expected_p = reference.probabilities(expected_f)
+    found = ours.factors(sensors, targets, headings)
+    assert_agree(_fields(found, ours.probabilities(found)), _fields(expected_f, expected_p))
+    in_view, p, fused = ours.step(sensors, targets, headings)
+    np.testing.assert_array_equal(in_view, expected_f.in_view)
+    for k in range(3):
+        np.testing.assert_allclose(
+            p[k], getattr(expected_p, PROBABILITIES[k]), rtol=1e-12, atol=1e-15
+        )
+        np.testing.assert_allclose(
+            fused[k], getattr(expected_p, PROBABILITIES[3 + k]), rtol=1e-12, atol=1e-15
+        )

@@ -177,12 +177,13 @@ def test_several_cases_in_one_report(multi_report):
             == 3
         )
     headings = _headings(page)
-    assert headings[1:3] == ["Cases", "Sensor"]
+    # What differs between the cases is a column each (no "Cases" section stringing them).
+    assert headings[1] == "Sensor" and "Cases" not in headings
     assert headings[-3:] == ["Range performance", "Transforms", "Atmosphere, lwir band"]
     assert "field of view" in page
-    # Each case's critical dimension is printed.
+    # Each case's critical dimension is printed, in its own column.
     for size in ("0.75 m", "2.3 m"):
-        assert f"critical dimension {size}" in page
+        assert f"<td>{size} (smallest side seen" in page
     images = _images(page)
     assert len(images) == 3
     for image in images:  # every figure drawn: dark text and coloured curves on white
@@ -208,22 +209,33 @@ def test_scenario_report_refuses_sensor_options(tmp_path, capsys):
     assert "--pitch" in err and "--probability, --max-range and --title" in err
 
 
-def test_curves_go_on_until_every_task_is_below_2_percent():
+def test_curves_cover_every_dri_range_and_stop_a_quarter_beyond_the_farthest():
+    """The default axis shows every answer of the table (the DRI ranges) without squeezing
+    them into its first few per cent: it ends 25 % beyond the farthest one."""
     cases = {
         "clear": RangeCase(2.3, 2e-4),
         "haze": RangeCase(2.3, 2e-4, extinction=0.4e-3, scr=3.0),
         "person": RangeCase(0.75, 2.4e-4, extinction=1e-3),
     }
     performance, note = _performance(cases, None, [0.5, 0.9])
+    dri = performance.dri
+    farthest = float(dri["range_m"][dri["reached"] & np.isfinite(dri["range_m"])].max())
+    end = float(performance.curves["range"][-1])
+    assert end == pytest.approx(1.25 * farthest, rel=1e-9)
+    assert "a quarter beyond the farthest DRI range" in note
+    _, note = _performance(cases, "2km", [0.5])
+    assert "stop at 2 km (--max-range 2km)" in note and "P(detection)" in note
+
+
+def test_curves_of_a_case_that_reaches_no_probability_go_on_until_every_task_is_below_2_percent():
+    # In high clutter (SCR 0.2) detection never reaches 0.99 (Table 3.5): no finite answer.
+    cases = {"clutter": RangeCase(2.3, 2e-4, scr=0.2)}
+    performance, note = _performance(cases, None, [0.99])
+    assert not performance.dri["reached"].any()
     last = performance.curves.isel(range=-1)
     for task in ("detection", "recognition", "identification"):
         assert float(last[task].max()) < 0.02, task
-    # ... and not absurdly far: somewhere in the last tenth a task is still above 2 %.
-    tail = performance.curves.isel(range=slice(-60, None))
-    assert float(tail["detection"].max()) > 0.005
     assert "below 2%" in note
-    _, note = _performance(cases, "2km", [0.5])
-    assert "stop at 2 km (--max-range 2km)" in note and "P(detection)" in note
 
 
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium installed (.ci/run installs Debian's)")

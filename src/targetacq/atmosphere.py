@@ -27,6 +27,7 @@ from targetacq.tables import load_table
 __all__ = [
     "DB_PER_NEPER",
     "EXTINCTION_LEVELS",
+    "EXTINCTION_LEVEL_WORDS",
     "OBSCURANTS",
     "VISIBILITY_CONVENTIONS",
     "band_transmittance",
@@ -64,6 +65,12 @@ VISIBILITY_CONVENTIONS: Mapping[str, float] = MappingProxyType(
 
 EXTINCTION_LEVELS: tuple[str, ...] = ("low", "nominal", "high")
 """Where in a Table 7.1 cell: low end, geometric mean (nominal), high end."""
+
+EXTINCTION_LEVEL_WORDS: Mapping[str, str] = MappingProxyType(
+    {"low": "light", "nominal": "moderate", "high": "dense"}
+)
+"""How each level of :data:`EXTINCTION_LEVELS` reads in words: the low end of the fog cell of
+a band is light fog in that band (whatever visual range Table 7.2 gives the same Np/km)."""
 
 
 def transmittance(extinction: Any, range: Any) -> Any:

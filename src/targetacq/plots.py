@@ -82,6 +82,7 @@ def plot_range_performance(
     title: str | None = None,
     probabilities: Sequence[float] | None = None,
     labels: Mapping[str, str] | None = None,
+    requirement: tuple[float, float | None] | None = None,
 ) -> Figure:
     """P(detection), P(recognition), P(identification) against range, with DRI ranges marked.
 
@@ -97,6 +98,9 @@ def plot_range_performance(
         Which DRI probabilities to mark (default: all in ``performance.dri``).
     labels : mapping, optional
         Case → text for the legend (default: the case names).
+    requirement : (float, float or None), optional
+        A range [m] and the probability a task must reach there (or None): a dashed vertical
+        line at the range and a star at the probability.
 
     Returns
     -------
@@ -165,6 +169,15 @@ def plot_range_performance(
     handles.append(
         Line2D([], [], ls="none", marker="o", color="0.5", mec="black", label="DRI range")
     )
+    if requirement is not None:
+        at, needed = requirement
+        ax.axvline(at / 1e3, color="black", lw=1.2, ls="--")
+        text = f"requirement: {at / 1e3:g} km" + ("" if needed is None else f", P ≥ {needed:g}")
+        if needed is not None:
+            ax.plot(at / 1e3, needed, "*", color="black", ms=14, zorder=5)
+        handles.append(
+            Line2D([], [], color="black", lw=1.2, ls="--", marker="*", ms=10, label=text)
+        )
     if len(cases) > 1:
         handles += [
             Line2D([], [], color="black", lw=1.5, ls=_linestyle(k), label=names[case])

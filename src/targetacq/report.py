@@ -80,6 +80,25 @@ def _table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], numeric: s
     return f"<table><tr>{head}</tr>{''.join(body)}</table>"
 
 
+def _section_table(items: Mapping[str, str | Mapping[str, str]]) -> str:
+    """A section as a table: item and value, or, where some item differs from case to case (a
+    mapping case → text), item and one column per case (the shared items span them)."""
+    cases = list(dict.fromkeys(c for v in items.values() if isinstance(v, Mapping) for c in v))
+    if not cases:
+        rows = [{"item": k, "value": v} for k, v in items.items()]
+        return _table(rows, ["item", "value"], set())
+    head = "<th>item</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in cases)
+    body = []
+    for item, value in items.items():
+        cell = f"<td>{html.escape(item)}</td>"
+        if isinstance(value, Mapping):
+            cell += "".join(f"<td>{html.escape(str(value.get(c, '—')))}</td>" for c in cases)
+        else:
+            cell += f"<td colspan='{len(cases)}'>{html.escape(str(value))}</td>"
+        body.append(f"<tr>{cell}</tr>")
+    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+
+
 def _dri_rows(performance: Any) -> list[dict[str, str]]:
     dri = performance.dri
     rows = []
@@ -105,7 +124,7 @@ def _probability_column(p: float) -> str:
 
 def render_report(
     performance: Any,
-    sections: Mapping[str, Mapping[str, str]],
+    sections: Mapping[str, Mapping[str, str | Mapping[str, str]]],
     figures: Mapping[str, Figure],
     title: str = "Range performance",
     version: str = "",
@@ -119,7 +138,9 @@ def render_report(
         Curves and DRI ranges.
     sections : mapping
         Section title → (item → text), e.g. ``{"Sensor": {"IFOV": "0.227 mrad"}, "Model
-        choices and sources": {...}}``; rendered as two-column tables in order.
+        choices and sources": {...}}``; rendered as two-column tables in order. An item whose
+        text differs from case to case is a mapping case → text: its section gets a column per
+        case.
     figures : mapping
         Heading → figure, embedded as PNG, each under its heading.
     title : str
@@ -146,8 +167,7 @@ def render_report(
     ]
     for heading, items in sections.items():
         parts.append(f"<h2>{html.escape(heading)}</h2>")
-        rows = [{"item": k, "value": v} for k, v in items.items()]
-        parts.append(_table(rows, ["item", "value"], set()))
+        parts.append(_section_table(items))
     dri_rows = _dri_rows(performance)
     probability_columns = [
         _probability_column(p) for p in sorted(set(performance.dri["probability"]))

@@ -735,6 +735,30 @@ class Simulation:
 
     # -- the step ------------------------------------------------------------------------------
 
+    def _step_arrays(
+        self, inputs: tuple[Any, Any, Any, Any], per_step: Mapping[str, Any] | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """In view (n_s, n_g), the probabilities (3, n_s, n_g) and their fusion (3, n_g) of a
+        step, as fresh NumPy arrays: the bound engine's one-call step for NumPy positions
+        without a terrain map (whose clutter needs every pair's range), else the core's factors
+        and probabilities."""
+        s_pos, t_pos, head, point = inputs
+        per_step = per_step or {}
+        if (
+            self._terrain is None
+            and isinstance(s_pos, np.ndarray)
+            and isinstance(t_pos, np.ndarray)
+        ):
+            in_view, p3, fused = self._bound.step(s_pos, t_pos, head, point, **per_step)
+            return np.asarray(in_view, dtype=bool), np.asarray(p3), np.asarray(fused)
+        found, probs = self._evaluate(inputs, per_step)
+        p3 = np.stack([np.asarray(getattr(probs, task), dtype=float) for task in TASKS])
+        fused = np.stack(
+            [np.asarray(getattr(probs, f"fused_{task}"), dtype=float) for task in TASKS]
+        )
+        in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), self._shape).copy()
+        return in_view, p3, fused
+
     def step(
         self,
         time: float,
@@ -824,7 +848,7 @@ class Simulation:
             if moving is not None or (visible_fraction is not None)
             else None
         )
-        found, probs = self._evaluate(inputs, per_step)
+        in_view, p3, fused = self._step_arrays(inputs, per_step)
         started = state.p is not None and t > state.time
         current = (
             np.asarray(inputs[0], dtype=float),
@@ -836,9 +860,7 @@ class Simulation:
             false = self._false.sample(
                 state.index, state.time, t, state.runs[:, 0], current[0], current[2]
             )
-        per_pair = [np.asarray(getattr(probs, task), dtype=float) for task in TASKS]
-        in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), self._shape)
-        p = np.stack(per_pair).reshape(3, -1)
+        p = p3.reshape(3, -1)
         view = in_view.reshape(-1)
         crossings = None
         if started and self._previous is not None:
@@ -861,13 +883,13 @@ class Simulation:
         done = np.isfinite(state.first[:, 0]).reshape(3, *self._shape)
         return StepResult(
             time=t,
-            detection=per_pair[0],
-            recognition=per_pair[1],
-            identification=per_pair[2],
-            fused_detection=np.asarray(probs.fused_detection),
-            fused_recognition=np.asarray(probs.fused_recognition),
-            fused_identification=np.asarray(probs.fused_identification),
-            in_view=in_view.copy(),
+            detection=p3[0],
+            recognition=p3[1],
+            identification=p3[2],
+            fused_detection=fused[0],
+            fused_recognition=fused[1],
+            fused_identification=fused[2],
+            in_view=in_view,
             detected=done[0],
             recognised=done[1],
             identified=done[2],

@@ -381,8 +381,23 @@ def main(argv: list[str] | None = None) -> None:
     sys.exit(code)
 
 
+# Help written anywhere but a terminal (a pipe, a file, the docs) is laid out this wide:
+# rich's default of 80 columns cut the longest option names ("--background-temperat…").
+HELP_WIDTH = 120
+
+
+def _help_width() -> None:
+    """Lay the help out :data:`HELP_WIDTH` wide where stdout is not a terminal (a terminal's
+    own width otherwise; ``TERMINAL_WIDTH`` in the environment wins, as typer reads it)."""
+    from typer import rich_utils
+
+    if os.environ.get("TERMINAL_WIDTH") is None and not sys.stdout.isatty():
+        rich_utils.MAX_WIDTH = HELP_WIDTH
+
+
 def _run(argv: list[str] | None) -> int:
     """Run the app; the exit status, after printing a failure's one line."""
+    _help_width()
     try:
         code = _click_command().main(args=argv, prog_name="targetacq", standalone_mode=False)
     except typer.Abort:

@@ -147,8 +147,8 @@ def atmosphere_command(
         return
     lines = [
         f"extinction {path['extinction_np_per_km']:.4g} Np/km "
-        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): {path['term']}, "
-        f"visual range {path['visual_range']} (Table 7.2); {path['source']}",
+        f"({np_per_km_to_db_per_km(path['extinction_np_per_km']):.4g} dB/km): "
+        f"{path['description']}; {path['source']}",
         "",
         f"{'range [m]':>12}  {'τ':>10}  {'SNR [dB]':>10}",
     ]
@@ -170,7 +170,11 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         _model_line(report),
         _fov_line(sensor) + f"IFOV {sensor['ifov_rad'] * 1e3:.4g} mrad, resolvable cycle "
         f"{sensor['cycle_rad'] * 1e3:.4g} mrad ({limit}-limited)",
-        f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+        (
+            f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
+            if report["target"]["critical_dimension_m"] is not None
+            else "target: any size (the criterion counts pixels per metre of the scene)"
+        )
         + _scene_line(report["target"]),
     ]
     target = report["target"]
@@ -188,8 +192,8 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     if report["path"]:
         path = report["path"]
         lines.append(
-            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['term']}, visual "
-            f"range {path['visual_range']}; {path['source']}), noise model {report['noise_model']}"
+            f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['description']}; "
+            f"{path['source']}), noise model {report['noise_model']}"
         )
     lines.append("")
     unit = rows[0]["threshold_unit"]

@@ -167,16 +167,37 @@ def _case_label(swept: Mapping[str, Any]) -> str:
 
 
 def _performance(
-    cases: Mapping[str, RangeCase], max_range: str | None, probabilities: Sequence[float]
+    cases: Mapping[str, RangeCase],
+    max_range: str | float | None,
+    probabilities: Sequence[float],
+    requirement: tuple[float, float | None] | None = None,
 ) -> tuple[Any, str]:
     """Range performance of the cases on 600 ranges, and a caption saying where they stop.
 
-    The range axis goes out to --max-range, or by default to where every task of every case is
-    below :data:`_FLOOR` (bounded by :data:`_MAX_AUTO_RANGE`).
+    The range axis goes out to --max-range (text, or a number of metres); by default to a
+    quarter beyond the farthest DRI range of the table (and the requirement's range), so that
+    every answer is on the chart and none is squeezed into its first few per cent; where no
+    DRI range is finite, to where every task of every case is below :data:`_FLOOR` (bounded by
+    :data:`_MAX_AUTO_RANGE` either way).
     """
-    if max_range is not None:
+    answers = [
+        float(r)
+        for case in cases.values()
+        for p in probabilities
+        for r in ranges.case_ranges(case, p).values()
+    ]
+    answers = [r for r in answers if math.isfinite(r) and r > 0]
+    if requirement is not None:
+        answers.append(requirement[0])
+    if isinstance(max_range, float):
+        r_max = max_range
+        limit = "twice the requirement's range"
+    elif max_range is not None:
         r_max = option_quantity(max_range, "length", "--max-range")
         limit = f"--max-range {max_range}"
+    elif answers:
+        r_max = min(1.25 * max(answers), _MAX_AUTO_RANGE)
+        limit = "a quarter beyond the farthest DRI range of the table"
     else:
         reach = [
             float(r)
@@ -209,7 +230,34 @@ def _performance(
             f"The curves are drawn out to {r_max / 1e3:.4g} km, where every task's probability "
             f"is below {_FLOOR:.0%}."
         )
+    if requirement is not None:
+        p_text = "" if requirement[1] is None else f"P ≥ {requirement[1]:g} "
+        note += f" Star and dashed line: the requirement, {p_text}at {requirement[0]:,.0f} m."
     return performance, note + " Dots: the DRI ranges of the table."
+
+
+def option_requirement(text: str | None) -> tuple[float, float | None] | None:
+    """``--requirement RANGE[,P]``: the range [m] and, optionally, the probability a task must
+    reach there."""
+    if text is None:
+        return None
+    parts = [part.strip() for part in text.split(",")]
+    if len(parts) > 2 or not parts[0]:
+        raise ValueError(
+            f"--requirement takes a range and optionally a probability, e.g. 1km,0.8; got {text!r}"
+        )
+    r = option_quantity(parts[0], "length", "--requirement")
+    if not (r > 0 and math.isfinite(r)):
+        raise ValueError(f"--requirement range must be > 0 and finite; got {parts[0]!r}")
+    if len(parts) == 1:
+        return r, None
+    try:
+        p = float(parts[1])
+    except ValueError:
+        raise ValueError(f"--requirement probability must be a number; got {parts[1]!r}") from None
+    if not 0 < p < 1:
+        raise ValueError(f"--requirement probability must be in (0, 1); got {parts[1]!r}")
+    return r, p
 
 
 def _atmosphere_figures(
@@ -327,10 +375,18 @@ def report(
     max_range: Annotated[
         str | None,
         typer.Option(
-            help="Largest range of the curves, e.g. 8km (default: until every task's P < 0.02)."
+            help="Largest range of the curves, e.g. 8km (default: a quarter beyond the farthest "
+            "DRI range)."
         ),
     ] = None,
     title: Annotated[str | None, typer.Option(help="Report title.")] = None,
+    requirement: Annotated[
+        str | None,
+        typer.Option(
+            help="A range and optionally the probability a task must reach there, e.g. "
+            "1km,0.8: marked on the range chart, with a second chart zoomed on it."
+        ),
+    ] = None,
     case_options: dict[str, Any],
 ) -> None:
     """Write a self-contained report (HTML, or PDF printed by headless Chromium): inputs, model
@@ -346,6 +402,7 @@ def report(
     from targetacq.report import REPORT_FORMATS, render_report, require_browser, write_report
 
     _, kind = output_path(out, REPORT_FORMATS, "the report file")  # before any work
+    wanted = option_requirement(requirement)
     if kind == "pdf":
         require_browser()
     if scenario is not None:
@@ -355,7 +412,7 @@ def report(
         probability = case_options.get("probability") or _REPORT_PROBABILITIES
         parts = _scenario_report(scenario, max_range, title, option_probabilities(probability))
     else:
-        parts = _range_case_report(case_options, max_range, title)
+        parts = _range_case_report(case_options, max_range, title, wanted)
     heading, performance, sections, figures, captions = parts
     page = render_report(
         performance, sections, figures, title=heading, version=__version__, captions=captions
@@ -364,7 +421,10 @@ def report(
 
 
 def _range_case_report(
-    case_options: dict[str, Any], max_range: str | None, title: str | None
+    case_options: dict[str, Any],
+    max_range: str | None,
+    title: str | None,
+    requirement: tuple[float, float | None] | None = None,
 ) -> tuple[Any, ...]:
     """Heading, range performance, sections, figures and captions of a report of range cases:
     one case per combination of the options given as lists."""
@@ -385,9 +445,8 @@ def _range_case_report(
             bands.append(option_band(options["band"]))
     first = next(iter(setups.values()))
     probabilities = first.probabilities
-    performance, note = _performance(
-        {label: s.case for label, s in setups.items()}, max_range, probabilities
-    )
+    cases = {label: s.case for label, s in setups.items()}
+    performance, note = _performance(cases, max_range, probabilities, requirement)
     conditions = _shared_conditions([_conditions(s) for s in setups.values()])
     if title:
         heading = title
@@ -401,8 +460,16 @@ def _range_case_report(
         )
     captions = {"Range performance": note}
     figures = {
-        "Range performance": plot_range_performance(performance, title=_titled(heading, conditions))
+        "Range performance": plot_range_performance(
+            performance, title=_titled(heading, conditions), requirement=requirement
+        )
     }
+    if requirement is not None:
+        near, near_note = _performance(cases, 2.0 * requirement[0], probabilities, requirement)
+        figures["Range performance near the requirement"] = plot_range_performance(
+            near, title=_titled(heading, conditions), requirement=requirement
+        )
+        captions["Range performance near the requirement"] = near_note
     criteria = {s.criterion.name: s.criterion for s in setups.values()}
     for name, crit in criteria.items():
         key = "Transforms" if len(criteria) == 1 else f"Transforms, criterion {name}"
@@ -418,23 +485,18 @@ def _range_case_report(
     }
     level = levels.pop() if len(levels) == 1 else "nominal"
     figures.update(_atmosphere_figures(bands, r_max, level, conditions))
+    # What differs from case to case gets a column per case in each section (one table, no
+    # cell that strings several cases' values together).
     sections = _merged_sections({label: _report_sections(s) for label, s in setups.items()})
-    if len(setups) > 1:
-        cases = {
-            label: f"critical dimension {s.case.critical_dimension:.4g} m; "
-            f"{_field_of_view(s)}; " + "; ".join(f"{k} {v}" for k, v in _conditions(s).items())
-            for label, s in setups.items()
-        }
-        sections = {"Cases": cases, **sections}
     return heading, performance, sections, figures, captions
 
 
 def _merged_sections(
     per_case: Mapping[str, Mapping[str, Mapping[str, str]]],
-) -> dict[str, dict[str, str]]:
-    """The sections of several cases as one: an item's value where the cases agree, else each
-    case's value after its label."""
-    merged: dict[str, dict[str, str]] = {}
+) -> dict[str, dict[str, Any]]:
+    """The sections of several cases as one: an item's value where the cases agree, else a
+    mapping case → value (a column per case in the report)."""
+    merged: dict[str, dict[str, Any]] = {}
     for sections in per_case.values():
         for heading, items in sections.items():
             for item in items:
@@ -446,11 +508,7 @@ def _merged_sections(
                 for label, sections in per_case.items()
             }
             distinct = set(values.values())
-            items[item] = (
-                distinct.pop()
-                if len(distinct) == 1
-                else "; ".join(f"{label}: {value}" for label, value in values.items())
-            )
+            items[item] = distinct.pop() if len(distinct) == 1 else values
     return merged
 
 
@@ -708,8 +766,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         {
             "extinction": f"{setup.path['extinction_np_per_km']:.4g} Np/km "
             f"({setup.path['source']})",
-            "description": f"{setup.path['term']}, visual range {setup.path['visual_range']} "
-            "(Table 7.2)",
+            "description": setup.path["description"],
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
             "noise model": f"{setup.case.noise_model}: "
             f"{NOISE_MODELS[setup.case.noise_model].source}",

@@ -43,8 +43,12 @@ def _parameter(spec: OptionSpec) -> inspect.Parameter:
         quantity = Quantity(spec.quantity, spec.flag, lists=lists)
         extra.update(parser=quantity, metavar=quantity.metavar)
     if spec.choices is not None:
-        levels = _obscurant_levels() if spec.name == "obscurant" else ()
-        extra["autocompletion"] = complete_names(spec.choices, levels=levels)
+        obscurant = spec.name == "obscurant"
+        extra["autocompletion"] = complete_names(
+            spec.choices,
+            levels=_obscurant_levels() if obscurant else (),
+            also=("none",) if obscurant else (),  # a clear path, e.g. in --obscurant none,fog
+        )
     return inspect.Parameter(
         spec.name,
         inspect.Parameter.KEYWORD_ONLY,

@@ -91,7 +91,11 @@ class Quantity:
 
 
 def complete_names(
-    names: Iterable[str], *, separator: str | None = ",", levels: Iterable[str] = ()
+    names: Iterable[str],
+    *,
+    separator: str | None = ",",
+    levels: Iterable[str] = (),
+    also: Iterable[str] = (),
 ) -> Callable[[str], list[str]]:
     """A shell-completion callback offering ``names`` (a registry: its keys).
 
@@ -102,7 +106,10 @@ def complete_names(
     separator : str or None
         The list separator: the item after the last one is completed, the items before kept.
     levels : iterable of str
-        Suffixes a name may take after ``:`` (``fog:low``), offered once ``name:`` is typed.
+        Suffixes a name may take after ``:`` (``fog:low``): offered with each name that
+        matches, and alone once ``name:`` is typed.
+    also : iterable of str
+        Values the option takes besides the names, e.g. ``none`` (a clear path); no levels.
 
     Returns
     -------
@@ -111,9 +118,9 @@ def complete_names(
 
     Examples
     --------
-    >>> complete = complete_names(("fog", "rain"), levels=("low", "high"))
-    >>> complete("f"), complete("rain,fog:h")
-    (['fog'], ['rain,fog:high'])
+    >>> complete = complete_names(("fog", "rain"), levels=("low", "high"), also=("none",))
+    >>> complete("f"), complete("rain,fog:h"), complete("n")
+    (['fog', 'fog:low', 'fog:high'], ['rain,fog:high'], ['none'])
     """
 
     def complete(incomplete: str) -> list[str]:
@@ -124,6 +131,12 @@ def complete_names(
             if name not in names:
                 return []
             return [f"{prefix}{name}:{lv}" for lv in levels if lv.startswith(level)]
-        return [prefix + str(n) for n in names if str(n).startswith(last)]
+        found = []
+        for n in [*names, *also]:
+            if str(n).startswith(last):
+                found.append(prefix + str(n))
+                if n not in also:
+                    found += [f"{prefix}{n}:{lv}" for lv in levels]
+        return found
 
     return complete

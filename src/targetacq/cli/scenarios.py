@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 from importlib import resources
+from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
@@ -40,6 +42,13 @@ def _scenario_path(scenario: str | None) -> tuple[Scenario, str]:
     default = resources.files("targetacq").joinpath("examples").joinpath(DEFAULT_EXAMPLE)
     with resources.as_file(default) as path:
         return load_scenario(path), str(path)
+
+
+def _file_name(source: str) -> str:
+    """The scenario file as provenance records it: its name, not where it lies on this machine
+    (an output sent to a colleague must not carry the local folders); its SHA-256 beside it
+    identifies the content."""
+    return Path(source).name
 
 
 def _chain(scenario: Scenario, source: str, engine: str = "numpy") -> ModelChain:
@@ -134,7 +143,10 @@ def evaluate(
             bar.advance(task, n_sensors * (targets.stop - targets.start) * at.size)
 
         if out is not None:
-            meta = {"scenario_file": source, "scenario_file_sha256": sha256_file(source)}
+            meta = {
+                "scenario_file": _file_name(source),
+                "scenario_file_sha256": sha256_file(source),
+            }
             write_chunks(chain, out, times, meta=meta, on_chunk=done)
         else:
             per_target, per_time = chunk_sizes(n_sensors, n_targets, times.size)
@@ -296,11 +308,12 @@ def simulate(
             "",
             f"{'target':<16}{'task':<16}{'fraction':>9}{'t10 [s]':>9}{'t50 [s]':>9}{'t90 [s]':>9}",
         ]
+        # One format per column: times to a tenth of the step's resolution (a step of 0.1 s,
+        # two decimals), so that a column's numbers line up and compare by eye.
+        decimals = min(4, max(0, math.ceil(-math.log10(dt)) + 1))
         for _, row in summary.iterrows():
-            lines.append(
-                f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}"
-                f"{row['t10_s']:>9.3g}{row['t50_s']:>9.3g}{row['t90_s']:>9.3g}"
-            )
+            times = "".join(f"{row[k]:>9.{decimals}f}" for k in ("t10_s", "t50_s", "t90_s"))
+            lines.append(f"{row['target']:<16}{row['task']:<16}{row['fraction']:>9.3f}{times}")
         if loaded.false_targets is not None:
             count = len(result.false_detections)
             lines += [
@@ -339,7 +352,7 @@ def _write_simulation(
         runs=int(first.shape[0]),
         duration_s=float(result.duration),
         step_s=float(step),
-        scenario_file=source,
+        scenario_file=_file_name(source),
         scenario_file_sha256=sha256_file(source),
     )
     write_output(Output(ds, meta, table=lambda: summary), out)
@@ -376,7 +389,7 @@ def _write_false_detections(
         duration_s=float(result.duration),
         step_s=float(step),
         false_targets=None if table is None else table.model_dump(),
-        scenario_file=source,
+        scenario_file=_file_name(source),
         scenario_file_sha256=sha256_file(source),
     )
     write_output(Output(ds, meta, table=lambda: frame), path)

@@ -12,7 +12,14 @@ from targetacq.core.compile import (
     scenario_positions,
     sensor_rows,
 )
-from targetacq.core.evaluate import Factors, Probabilities, evaluate, factors, probabilities
+from targetacq.core.evaluate import (
+    Factors,
+    Probabilities,
+    evaluate,
+    evaluate_step,
+    factors,
+    probabilities,
+)
 from targetacq.core.records import (
     LaserArrays,
     ModelChoices,
@@ -40,6 +47,7 @@ __all__ = [
     "TargetArrays",
     "compile_scenario",
     "evaluate",
+    "evaluate_step",
     "factors",
     "has_active",
     "probabilities",

@@ -101,6 +101,7 @@ __all__ = [
     "check_moving",
     "check_visible_fraction",
     "evaluate",
+    "evaluate_step",
     "factors",
     "footprint_scr",
     "probabilities",
@@ -605,7 +606,6 @@ def _factors_numpy(
     frame, fixed = _sensor_frames(s3, sensors, pointing)
     moving_frame = frame[0].shape[1] > 1
     tan_h, tan_v = fixed.half_tangents
-    clouds = path.cloud_center.reshape(-1, 3).shape[0]
     noisy = sensors.has_noise
     shape3 = (n_s, n_g, n_b)
     floats, in_view, spare = _outputs(7 if noisy else 6, shape3)
@@ -621,23 +621,31 @@ def _factors_numpy(
             y = t_north[None, gb, bb] - s_north[sb, None, bb]
             z = t_up[None, gb, bb] - s_up[sb, None, bb]
             h_b = bb if per_batch else slice(None)
-            r, horizontal, vertical = geometry._outline_numpy(
-                x,
-                y,
-                z,
+            chain = _Chain(
                 sin_h[gb, h_b],
                 cos_h[gb, h_b],
                 parts.length[gb],
                 parts.width[gb],
                 parts.height[gb],
+                seen_part,
+                parts.cycle[sb],
+                parts.extinction[sb],
+                tuple(g[sb] for g in parts.segments),
+                parts.ifov[sb],
+                parts.noise_equivalent[sb],
+                parts.contrast[sb, gb],
+            )
+
+            def ends(
+                sb: slice = sb, gb: slice = gb, bb: slice = bb
+            ) -> tuple[np.ndarray, np.ndarray]:
+                return s3[sb, None, bb], t3[None, gb, bb]
+
+            r, seen, _, depth, tau, snr, pair_ratio = _chain_numpy(
+                x, y, z, chain, parts.lengths, path, ends, noisy, cycles[block]
             )
             rng[block] = r
-            seen = vertical * seen_part
-            np.minimum(horizontal, seen, out=seen)
             critical[block] = seen
-            footprint = np.maximum(r, 1e-9)
-            footprint *= parts.cycle[sb]
-            np.divide(seen, footprint, out=cycles[block])
             # The field of view, for the pointed sensors with one; NaN lines of sight are out.
             known = r == r
             viewing = fixed.viewing[sb]
@@ -651,35 +659,10 @@ def _factors_numpy(
                 np.logical_and(inside, known, out=in_view[block])
             else:
                 in_view[block] = known
-            # The path: optical depth, transmittance, SNR of Eq. (7.7).
-            depth = atmosphere._segmented_depth(
-                r, parts.extinction[sb], parts.lengths, [g[sb] for g in parts.segments], np
-            )
-            for c in range(clouds):
-                chord = atmosphere.sphere_chord_length(
-                    s3[sb, None, bb], t3[None, gb, bb], path.cloud_center[c], path.cloud_radius[c]
-                )
-                depth = depth + path.cloud_extinction[c] * chord
             depth_out[block] = depth
-            tau = np.negative(depth)
-            np.exp(tau, out=tau)
             tau_out[block] = tau
-            snr = atmosphere._snr_db(depth, np)
             if noisy:
-                # The area seen: the outline's horizontal side times the visible part of its
-                # height.
-                area = horizontal * vertical * seen_part
-                pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), parts.ifov[sb])
-                own, inverse, unknown = sensor_noise._sensor_db(
-                    parts.contrast[sb, gb], parts.noise_equivalent[sb], tau, pixels, np
-                )
-                snr = sensor_noise._combined_db([snr, own], np)
-                # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
-                path_inverse = np.expm1(depth)
-                total = path_inverse * path_inverse
-                total += inverse * inverse
-                np.sqrt(total, out=total)
-                ratio_out[block] = np.where(unknown | np.isnan(depth), np.nan, total)  # type: ignore[index]
+                ratio_out[block] = pair_ratio  # type: ignore[index]
             snr_out[block] = snr
     full = (n_s, n_g, *batch)
     if scr is None and scene.signature.scr is not None:
@@ -699,6 +682,85 @@ def _factors_numpy(
     if spare is not None:
         object.__setattr__(found, _SPARE, spare.reshape((len(TASKS), *full)))
     return found
+
+
+@dataclass(frozen=True)
+class _Chain:
+    """What the chain of :func:`_chain_numpy` takes of the targets and sensors of its pairs,
+    each array broadcasting against the pairs' line-of-sight components."""
+
+    sin_h: Any
+    cos_h: Any
+    length: Any
+    width: Any
+    height: Any
+    visible: Any
+    cycle: Any
+    extinction: Any
+    segments: tuple[Any, ...]
+    ifov: Any
+    noise_equivalent: Any
+    contrast: Any
+
+
+def _chain_numpy(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    chain: _Chain,
+    lengths: tuple[float, ...],
+    path: Any,
+    ends: Callable[[], tuple[np.ndarray, np.ndarray]],
+    noisy: bool,
+    cycles: np.ndarray,
+) -> tuple[Any, ...]:
+    """Range, critical dimension, cycles (into ``cycles``), optical depth, transmittance, SNR
+    [dB] and the noise-to-signal amplitude ratio (None without a sensor's own noise) of pairs
+    seen along ``(x, y, z)`` (NumPy, called under an ``errstate`` that ignores divisions by
+    zero, invalid values and overflows). ``ends()``: the sensors' and targets' positions
+    ``(…, 3)`` of the pairs, for the local clouds.
+
+    The chain of the NumPy core, the same for a block of :func:`_factors_numpy` and for the
+    pairs in view of :func:`step`: geometry (:func:`targetacq.geometry.box_outline`), N, the
+    path (segments, clouds; Eq. (7.7)) and the sensor's own noise.
+    """
+    r, horizontal, vertical = geometry._outline_numpy(
+        x, y, z, chain.sin_h, chain.cos_h, chain.length, chain.width, chain.height
+    )
+    seen = vertical * chain.visible
+    np.minimum(horizontal, seen, out=seen)
+    footprint = np.maximum(r, 1e-9)
+    footprint *= chain.cycle
+    np.divide(seen, footprint, out=cycles)
+    # The path: optical depth, transmittance, SNR of Eq. (7.7).
+    depth = atmosphere._segmented_depth(r, chain.extinction, lengths, list(chain.segments), np)
+    clouds = path.cloud_center.reshape(-1, 3).shape[0]
+    if clouds:
+        start, end = ends()
+        for c in range(clouds):
+            chord = atmosphere.sphere_chord_length(
+                start, end, path.cloud_center[c], path.cloud_radius[c]
+            )
+            depth = depth + path.cloud_extinction[c] * chord
+    tau = np.negative(depth)
+    np.exp(tau, out=tau)
+    snr = atmosphere._snr_db(depth, np)
+    ratio = None
+    if noisy:
+        # The area seen: the outline's horizontal side times the visible part of its height.
+        area = horizontal * vertical * chain.visible
+        pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), chain.ifov)
+        own, inverse, unknown = sensor_noise._sensor_db(
+            chain.contrast, chain.noise_equivalent, tau, pixels, np
+        )
+        snr = sensor_noise._combined_db([snr, own], np)
+        # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
+        path_inverse = np.expm1(depth)
+        total = path_inverse * path_inverse
+        total += inverse * inverse
+        np.sqrt(total, out=total)
+        ratio = np.where(unknown | np.isnan(depth), np.nan, total)
+    return r, seen, cycles, depth, tau, snr, ratio
 
 
 def _visible_blocks(
@@ -1282,6 +1344,229 @@ def evaluate(
         scene, sensor_positions, target_positions, headings, pointing, scr, visible_fraction
     )
     return found, probabilities(scene, found, moving)
+
+
+def evaluate_step(
+    scene: SceneArrays,
+    sensor_positions: Any,
+    target_positions: Any,
+    headings: Any = None,
+    pointing: Any = None,
+    visible_fraction: Any = None,
+    moving: Any = None,
+    scr: Any = None,
+) -> tuple[Any, Any, Any]:
+    """One time of the core: which pairs are in view, their probabilities and their fusion.
+
+    :func:`evaluate` of positions of one time, with only what a step of the step API uses.
+    With NumPy the geometry and the field of view are computed for every pair, and the rest of
+    the chain (critical dimension, path, noise, the transforms) for the pairs in view (and
+    those of unknown geometry) only: the numbers of :func:`evaluate`, elementwise.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    sensor_positions : array (n_s, 3)
+        [m].
+    target_positions : array (n_g, 3)
+        [m].
+    headings : array (n_g,), optional
+        [rad]; default the targets' own.
+    pointing : array (n_s, 2), optional
+        Azimuth and depression [rad] (:func:`boresight`).
+    visible_fraction : array, optional
+        ``(n_g,)`` or ``(n_s, n_g)``, in (0, 1] (:func:`check_visible_fraction`).
+    moving : array of bool (n_g,), optional
+        (:func:`check_moving`).
+    scr : array (n_s, n_g), optional
+        SCR per pair, replacing the scene's.
+
+    Returns
+    -------
+    in_view : array of bool (n_s, n_g)
+    probabilities : array (3, n_s, n_g)
+        Detection, recognition, identification: zero outside the field of view, NaN where the
+        geometry (range or cycles) is NaN.
+    fused : array (3, n_g)
+        Their sensor-level fusion (8.4) (colour cameras: each camera's best band first).
+
+    Raises
+    ------
+    ValueError
+        Positions not of one time (``(n_s, 3)``, ``(n_g, 3)``), infinite positions or
+        headings, a visible fraction or moving flags that do not fit (:func:`factors`,
+        :func:`probabilities`).
+    """
+    n_s, n_g = scene.shape
+    xp, (s_pos, t_pos) = _arrays.arrays(
+        sensor_positions, target_positions, names=_POSITIONS, broadcast=False
+    )
+    for name, value, count in zip(_POSITIONS, (s_pos, t_pos), (n_s, n_g), strict=True):
+        if tuple(value.shape) != (count, 3):
+            raise ValueError(
+                f"{name} must have shape ({count}, 3) for one time (east, north, up [m]); got "
+                f"{tuple(value.shape)}"
+            )
+    if (
+        not active.has_active(scene)
+        and _numpy_path(scene, s_pos, t_pos, headings, pointing, scr)
+        and (visible_fraction is None or isinstance(visible_fraction, np.ndarray))
+        and (moving is None or isinstance(moving, (np.ndarray, list, tuple)))
+    ):
+        return _step_numpy(scene, s_pos, t_pos, headings, pointing, visible_fraction, moving, scr)
+    found, p = evaluate(scene, s_pos, t_pos, headings, pointing, scr, visible_fraction, moving)
+    in_view = xp.broadcast_to(xp.asarray(found.in_view), (n_s, n_g))
+    tasks = xp.stack([p.detection, p.recognition, p.identification])
+    fused = xp.stack([p.fused_detection, p.fused_recognition, p.fused_identification])
+    return in_view, tasks, fused
+
+
+# Pairs from which the NumPy step computes the chain on the pairs in view only (fewer pairs
+# than this: on all of them, saving the gathers).
+_COMPACT_FROM = 64
+
+
+def _step_numpy(
+    scene: SceneArrays,
+    s_pos: np.ndarray,
+    t_pos: np.ndarray,
+    headings: Any,
+    pointing: Any,
+    visible_fraction: Any,
+    moving: Any,
+    scr: Any,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`evaluate_step` with NumPy: the field of view of every pair, the chain
+    (:func:`_chain_numpy`) and the transforms (:func:`_in_view_tasks`) of the pairs in view."""
+    sensors, path = scene.sensors, scene.path
+    n_s, n_g = scene.shape
+    for name, value in zip(_POSITIONS, (s_pos, t_pos), strict=True):
+        if np.isinf(value).any():
+            _arrays.require_finite(name, value, np, "m")
+    flags = None if moving is None else np.asarray(check_moving(moving, n_g), dtype=bool)
+    parts: _Parts = derived(scene, "parts", _scene_parts)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if headings is None:
+            sin_h, cos_h, odd = parts.sin_h[:, 0], parts.cos_h[:, 0], None
+        else:
+            heading = np.broadcast_to(np.asarray(headings, dtype=float), (n_g,))
+            _arrays.require_finite("heading", heading, np, "rad")
+            sin_h, cos_h = np.sin(heading), np.cos(heading)
+            odd = np.isnan(heading)  # known geometry, unknown outline
+        visible: np.ndarray = parts.visible[:, 0]
+        if visible_fraction is not None:
+            given = check_visible_fraction(visible_fraction, (n_s, n_g), np)
+            visible = np.broadcast_to(given, (given.shape[0], n_g))
+            nan_visible = np.isnan(visible)
+            if nan_visible.any():
+                odd = nan_visible if odd is None else odd | nan_visible
+        # The field of view of every pair (exactly as factors() has it).
+        x = t_pos[:, 0] - s_pos[:, 0, None]  # (n_s, n_g)
+        y = t_pos[:, 1] - s_pos[:, 1, None]
+        z = t_pos[:, 2] - s_pos[:, 2, None]
+        frame, fixed = _sensor_frames(s_pos.reshape(n_s, 1, 3), sensors, pointing)
+        unknown = np.isnan(s_pos).any(axis=1)[:, None] | np.isnan(t_pos).any(axis=1)
+        viewing = fixed.viewing
+        if viewing.any():
+            tan_h, tan_v = fixed.half_tangents
+            in_view = geometry._within_numpy(
+                x, y, z, tuple(c[:, :1] for c in frame), tan_h[:, :, 0], tan_v[:, :, 0]
+            )
+            if not viewing.all():
+                in_view |= ~viewing[:, None]
+            in_view &= ~unknown
+        else:
+            in_view = ~unknown
+        needed = in_view | unknown
+        if odd is not None:
+            needed |= odd
+        size = n_s * n_g
+        picked = None
+        if size >= _COMPACT_FROM and not needed.all():
+            picked = np.flatnonzero(needed)
+        # The chain of the pairs needed: every pair (broadcast), or the picked ones (gathered).
+        if picked is None:
+            s_of: Any = slice(None)
+            g_of: Any = slice(None)
+            xs, ys, zs = x, y, z
+            shape: tuple[int, ...] = (n_s, n_g)
+            seen_visible = visible
+            contrast = parts.contrast[:, :, 0]
+        else:
+            s_of, g_of = np.divmod(picked, n_g)
+            xs, ys, zs = x.reshape(-1)[picked], y.reshape(-1)[picked], z.reshape(-1)[picked]
+            shape = (picked.size,)
+            seen_visible = (
+                visible[g_of] if visible.ndim == 1 else visible[s_of % visible.shape[0], g_of]
+            )
+            contrast = parts.contrast[s_of, g_of, 0]
+
+        def per_sensor(value: np.ndarray) -> np.ndarray:  # (n_s, 1, 1) of the parts
+            return value[:, :, 0] if picked is None else value[s_of, 0, 0]
+
+        chain = _Chain(
+            sin_h[g_of],
+            cos_h[g_of],
+            parts.length[g_of, 0],
+            parts.width[g_of, 0],
+            parts.height[g_of, 0],
+            seen_visible,
+            per_sensor(parts.cycle),
+            per_sensor(parts.extinction),
+            tuple(per_sensor(g) for g in parts.segments),
+            per_sensor(parts.ifov),
+            per_sensor(parts.noise_equivalent),
+            contrast,
+        )
+        cycles = np.empty(shape)
+        r, _, cycles, depth, _, snr, ratio = _chain_numpy(
+            xs,
+            ys,
+            zs,
+            chain,
+            parts.lengths,
+            path,
+            lambda: (s_pos[s_of] if picked is not None else s_pos[:, None], t_pos[g_of]),
+            sensors.has_noise,
+            cycles,
+        )
+        noisy = path.attenuates or sensors.has_noise
+        if noisy and ratio is None:  # the path's alone: Eq. (7.7) in amplitude, e^d − 1
+            ratio = np.expm1(depth)
+        if scr is None:
+            scr = scene.signature.scr
+        scr_of = None
+        if scr is not None:
+            full = np.broadcast_to(np.asarray(scr, dtype=float).reshape(n_s, n_g), (n_s, n_g))
+            scr_of = full.reshape(-1) if picked is None else full.reshape(-1)[picked]
+        flat = cycles.reshape(-1)
+
+        def target() -> np.ndarray:
+            return np.tile(np.arange(n_g), n_s) if picked is None else g_of
+
+        tasks = _in_view_tasks(
+            flat,
+            snr.reshape(-1) if noisy else None,
+            None if ratio is None or not noisy else ratio.reshape(-1),
+            scr_of,
+            target,
+            scene,
+            flags,
+        )
+        lost = np.isnan(r.reshape(-1)) | np.isnan(flat)  # NaN geometry: NaN probabilities
+        out = np.zeros((len(TASKS), size))
+        where = slice(None) if picked is None else picked
+        keep = in_view.reshape(-1)[where]
+        for k, p in enumerate(tasks):
+            values = np.where(keep, p, 0.0)
+            values[lost] = np.nan
+            out[k, where] = values
+        probabilities_ = out.reshape(len(TASKS), n_s, n_g)
+        if sensors.groups:  # colour cameras: their bands are one look, not several
+            fused = np.stack([np.asarray(fuse_groups(p, sensors.groups)) for p in probabilities_])
+        else:
+            fused = 1.0 - np.multiply.reduce(1.0 - probabilities_, axis=1)
+    return in_view, probabilities_, fused
 
 
 def footprint_scr(

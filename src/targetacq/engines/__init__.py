@@ -19,9 +19,9 @@ that evaluate (``--engine``):
     NumPy arrays in and out; equal to the NumPy engine to about 1e-12. ``pip install
     'targetacq[jax]'``.
 ``auto``
-    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``; for the
-    step API (:class:`targetacq.Simulation`) ``numpy``, which runs its short batches (one time
-    per step) faster (``benchmarks/bench_step.py``; :func:`for_steps`).
+    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``; the step
+    API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a time's pairs go through the
+    numba engine's pair kernels in one call each (``benchmarks/bench_step.py``).
 
 Every engine takes NumPy positions and gives the records of the core
 (:class:`targetacq.core.Factors`, :class:`targetacq.core.Probabilities`) in NumPy arrays, so
@@ -46,7 +46,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Protocol
 
-from targetacq.core.evaluate import factors, probabilities
+from targetacq.core.evaluate import evaluate_step, factors, probabilities
 from targetacq.registry import lookup
 
 __all__ = ["ENGINES", "BoundEngine", "Engine", "bind", "engine_names", "for_steps", "get_engine"]
@@ -73,6 +73,49 @@ class BoundEngine(Protocol):
     def probabilities(self, found: Any, moving: Any = None) -> Any:
         """:func:`targetacq.core.probabilities` of the scene (``moving``: the targets' moving
         flags for this call, replacing the scene's)."""
+
+    def step(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        visible_fraction: Any = None,
+        moving: Any = None,
+        scr: Any = None,
+    ) -> tuple[Any, Any, Any]:
+        """One time, lean: :func:`targetacq.core.evaluate_step` of the scene.
+
+        Parameters
+        ----------
+        sensor_positions : numpy.ndarray (n_s, 3)
+            [m] (east, north, up).
+        target_positions : numpy.ndarray (n_g, 3)
+            [m].
+        headings : numpy.ndarray (n_g,), optional
+            [rad]; default the targets' own.
+        pointing : numpy.ndarray (n_s, 2), optional
+            Azimuth and depression [rad]; a NaN row keeps the sensor's own pointing.
+        visible_fraction : numpy.ndarray, optional
+            ``(n_g,)`` or ``(n_s, n_g)``, in (0, 1], replacing the targets' own.
+        moving : numpy.ndarray of bool (n_g,), optional
+            Replacing the targets' own flags.
+        scr : numpy.ndarray (n_s, n_g), optional
+            SCR per pair, replacing the scene's (e.g. a terrain map's).
+
+        Returns
+        -------
+        in_view : numpy.ndarray of bool (n_s, n_g)
+        probabilities : numpy.ndarray (3, n_s, n_g)
+            Detection, recognition, identification (zero outside the field of view, NaN for
+            unknown geometry).
+        fused : numpy.ndarray (3, n_g)
+            Their sensor-level fusion (8.4).
+
+        The numbers of :meth:`factors` then :meth:`probabilities` (``in_view`` exactly, the
+        probabilities to about 1e-15 relative), without the other factors: the NumPy engine
+        runs the chain on the pairs in view only, the numba engine in one kernel call.
+        """
 
 
 @dataclass(frozen=True)
@@ -140,6 +183,27 @@ class NumpyScene:
 
     def probabilities(self, found: Any, moving: Any = None) -> Any:
         return probabilities(self.scene, found, moving)
+
+    def step(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        visible_fraction: Any = None,
+        moving: Any = None,
+        scr: Any = None,
+    ) -> tuple[Any, Any, Any]:
+        return evaluate_step(
+            self.scene,
+            sensor_positions,
+            target_positions,
+            headings,
+            pointing,
+            visible_fraction,
+            moving,
+            scr,
+        )
 
 
 def _bind_numpy(scene: Any) -> BoundEngine:
@@ -222,18 +286,18 @@ def get_engine(engine: str | Engine) -> Engine:
 
 
 def for_steps(engine: str | Engine) -> Engine:
-    """The engine for the step API: ``auto`` is ``numpy`` there (a step is a batch of one
-    time, which the NumPy engine runs faster than the numba engine today); any other engine as
-    named (:func:`get_engine`).
+    """The engine for the step API: the engine named (:func:`get_engine`). ``auto`` binds the
+    numba engine where it is installed and compiles the scene (its pair kernels run one time's
+    pairs in one call, faster than NumPy at every size of ``benchmarks/bench_step.py``), else
+    the NumPy engine.
 
     Examples
     --------
     >>> from targetacq.engines import for_steps
-    >>> for_steps("auto").name
+    >>> for_steps("numpy").name
     'numpy'
     """
-    chosen = get_engine(engine)
-    return ENGINES["numpy"] if chosen.name == "auto" else chosen
+    return get_engine(engine)
 
 
 def bind(scene: Any, engine: str | Engine = "numpy") -> BoundEngine:

@@ -16,11 +16,13 @@ from typing import Any
 
 import numpy as np
 
+from targetacq import _arrays
 from targetacq.core.evaluate import (
     Factors,
     Probabilities,
     check_moving,
     check_visible_fraction,
+    evaluate_step,
     factors,
     probabilities,
 )
@@ -68,6 +70,19 @@ class JaxScene:
             self.scene = as_jax(scene)
         self._factors = jax.jit(factors)
         self._probabilities = jax.jit(probabilities)
+        self._step = jax.jit(evaluate_step)
+
+    @staticmethod
+    def _check_positions(sensor_positions: Any, target_positions: Any) -> None:
+        """Infinite positions raise on the host, as with NumPy (under jit the checks of the
+        core see tracers, which they let through)."""
+        for name, value in (
+            ("sensor_positions", sensor_positions),
+            ("target_positions", target_positions),
+        ):
+            given = np.asarray(value)
+            if given.dtype.kind == "f" and np.isinf(given).any():
+                _arrays.require_finite(name, given, np, "m")
 
     def _device(self, value: Any) -> Any:
         return None if value is None else self._jax.numpy.asarray(value)
@@ -82,6 +97,7 @@ class JaxScene:
         visible_fraction: Any = None,
     ) -> Factors:
         """As :func:`targetacq.core.factors` of the bound scene, in NumPy arrays."""
+        self._check_positions(sensor_positions, target_positions)
         if visible_fraction is not None:  # checked on the host: values are traced under jit
             s_shape, t_shape = np.shape(sensor_positions), np.shape(target_positions)
             batch = np.broadcast_shapes(tuple(s_shape[1:-1]), tuple(t_shape[1:-1]))
@@ -113,3 +129,37 @@ class JaxScene:
                 **{f.name: self._device(getattr(found, f.name)) for f in dataclasses.fields(found)},
             )
             return _host(self._probabilities(self.scene, on_device, self._device(moving)))
+
+    def step(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        visible_fraction: Any = None,
+        moving: Any = None,
+        scr: Any = None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """As :func:`targetacq.core.evaluate_step` of the bound scene, in NumPy arrays."""
+        self._check_positions(sensor_positions, target_positions)
+        if visible_fraction is not None:
+            visible_fraction = check_visible_fraction(
+                np.asarray(visible_fraction, dtype=float), self.scene.shape, np
+            )
+        if moving is not None:
+            moving = np.asarray(check_moving(moving, self.scene.shape[1]))
+        with self._jax.enable_x64(True):
+            arrays = [
+                self._device(v)
+                for v in (
+                    sensor_positions,
+                    target_positions,
+                    headings,
+                    pointing,
+                    visible_fraction,
+                    moving,
+                    scr,
+                )
+            ]
+            in_view, p, fused = self._step(self.scene, *arrays)
+            return np.asarray(in_view), np.asarray(p), np.asarray(fused)

@@ -34,6 +34,7 @@ from targetacq.core.evaluate import (
 )
 from targetacq.core.records import SceneArrays
 from targetacq.engines import numba_kernels as kernels
+from targetacq.engines import numba_pairs as pairs
 from targetacq.fusion import fuse_groups
 
 __all__ = ["NumbaScene", "supported"]
@@ -199,6 +200,262 @@ class NumbaScene:
         else:  # unused by the TTPF: a placeholder of the same types
             self.tables = self.sw
             self.table_reference = np.ones(3)
+        # One time (single batch): the pair kernels' inputs that the scene fixes.
+        self.shape = scene.shape
+        self._sensor_table = self._sensors_for(None)
+        self._sin_cos = np.ascontiguousarray(np.stack([np.sin(self.heading), np.cos(self.heading)]))
+        self._dimensions = np.ascontiguousarray(self.dimensions.T)
+        self._visible_row = self.visible_fraction.reshape(1, -1)
+        signature_scr = scene.signature.scr
+        self._scr = None if signature_scr is None else _float(signature_scr).reshape(self.shape)
+        self._zeros = np.zeros(self.shape)
+        self._zeros.flags.writeable = False
+        self._has_noise = bool(sensors.has_noise)
+        self._with_snr = bool(with_snr)
+
+    # -- one time: every pair in one call ------------------------------------------------------
+
+    def _sensors_for(self, pointing: Any) -> np.ndarray:
+        """The sensor table of :mod:`targetacq.engines.numba_pairs` (``SENSOR_COLUMNS``), the
+        sensors pointed as :func:`targetacq.core.evaluate.boresight` points them: at their
+        ``look_at`` point, else along their angles; ``pointing`` (n_s, 2), where finite,
+        replaces both."""
+        sensors = self.scene.sensors
+        n_s = len(sensors.names)
+        look_at = np.asarray(sensors.look_at, dtype=float).reshape(n_s, 3)
+        angles = np.asarray(sensors.pointing, dtype=float).reshape(n_s, 2)
+        pointed = np.asarray(sensors.pointed, dtype=bool).reshape(n_s)
+        if pointing is not None:
+            given = np.asarray(pointing, dtype=float)
+            if given.shape != (n_s, 2):
+                raise ValueError(
+                    f"pointing must have shape ({n_s}, 2): azimuth and depression [rad] of each "
+                    f"sensor; got {given.shape}"
+                )
+            chosen = np.isfinite(given[:, 0]) & np.isfinite(given[:, 1])
+            angles = np.where(chosen[:, None], given, angles)
+            look_at = np.where(chosen[:, None], np.nan, look_at)
+            pointed = pointed | chosen
+        by_point = np.isfinite(look_at[:, 0])
+        by_angles = np.isfinite(angles[:, 0])
+        direction = geometry.pointing_direction(
+            np.where(by_angles, angles[:, 0], 0.0), np.where(by_angles, angles[:, 1], 0.0)
+        )
+        table = np.empty((n_s, pairs.SENSOR_COLUMNS))
+        table[:, pairs.CYCLE] = self.sensor_arrays[0]
+        table[:, pairs.IFOV] = self.sensor_arrays[1]
+        table[:, pairs.TAN_H : pairs.TAN_V + 1] = self.half_tangents.reshape(n_s, 2)
+        table[:, pairs.EXTINCTION] = self.extinction
+        table[:, pairs.NOISE_EQUIVALENT] = self.noise_equivalent
+        table[:, pairs.VIEWING] = pointed & np.isfinite(self.half_tangents.reshape(n_s, 2)[:, 0])
+        table[:, pairs.BY_POINT] = by_point
+        for k in range(3):
+            table[:, pairs.AIM + k] = np.where(by_point, look_at[:, k], direction[k])
+        return table
+
+    def _pair_positions(self, sensor_positions: Any, target_positions: Any) -> tuple[Any, Any]:
+        """Positions ``(n_s, 3)`` and ``(n_g, 3)`` as contiguous float64 arrays, else None (not
+        one time: the batch kernels take them)."""
+        n_s, n_g = self.shape
+        out = []
+        for value, count in ((sensor_positions, n_s), (target_positions, n_g)):
+            if not (
+                type(value) is np.ndarray
+                and value.dtype == np.float64
+                and value.shape == (count, 3)
+            ):
+                if not isinstance(value, np.ndarray) or value.ndim != 2:
+                    return None, None
+                value = np.asarray(value, dtype=np.float64)
+                if value.shape != (count, 3):
+                    return None, None
+            out.append(value if value.flags.c_contiguous else np.ascontiguousarray(value))
+        return out[0], out[1]
+
+    def _pair_inputs(
+        self, headings: Any, pointing: Any, visible_fraction: Any
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The headings' sines and cosines (2, n_g), the visible fraction (1 or n_s, n_g) and
+        the sensor table of one call."""
+        n_g = self.shape[1]
+        sin_cos = self._sin_cos
+        if headings is not None:
+            heading = np.asarray(headings, dtype=float)
+            if heading.shape != (n_g,):
+                heading = np.broadcast_to(heading, (n_g,))
+            _arrays.require_finite("heading", heading, np, "rad")
+            sin_cos = np.stack([np.sin(heading), np.cos(heading)])
+        visible = self._visible_row
+        if visible_fraction is not None:
+            given = np.asarray(check_visible_fraction(visible_fraction, self.shape, np), float)
+            visible = np.ascontiguousarray(np.broadcast_to(given, (given.shape[0], n_g)))
+        sensors = self._sensor_table if pointing is None else self._sensors_for(pointing)
+        return sin_cos, visible, sensors
+
+    def _raise_infinite(self, status: int, s_pos: np.ndarray, t_pos: np.ndarray) -> None:
+        name, value = (
+            ("sensor_positions", s_pos)
+            if status == pairs.INFINITE_SENSOR
+            else ("target_positions", t_pos)
+        )
+        _arrays.require_finite(name, value, np, "m")
+        raise AssertionError(f"kernel status {status}")  # pragma: no cover - never reached
+
+    def _pair_scr(self, scr: Any) -> np.ndarray | None:
+        if scr is None:
+            return self._scr
+        return np.ascontiguousarray(np.broadcast_to(np.asarray(scr, dtype=float), self.shape))
+
+    def _pair_factors(
+        self,
+        s_pos: np.ndarray,
+        t_pos: np.ndarray,
+        headings: Any,
+        pointing: Any,
+        scr: Any,
+        visible_fraction: Any,
+    ) -> Factors:
+        """:meth:`factors` of one time: :func:`~targetacq.engines.numba_pairs.pair_factors`."""
+        sin_cos, visible, sensors = self._pair_inputs(headings, pointing, visible_fraction)
+        out = np.empty((6, *self.shape))
+        in_view = np.empty(self.shape, dtype=bool)
+        status = pairs.pair_factors(
+            s_pos,
+            t_pos,
+            sin_cos,
+            self._dimensions,
+            visible,
+            sensors,
+            self.segment_length,
+            self.segment_extinction,
+            self.clouds,
+            self.contrast,
+            self._has_noise,
+            out,
+            in_view,
+        )
+        if status:
+            self._raise_infinite(status, s_pos, t_pos)
+        if scr is None:
+            scr = self._scr
+        return Factors(
+            range=out[0],
+            critical_dimension=out[1],
+            cycles=out[2],
+            in_view=in_view,
+            optical_depth=out[3],
+            transmittance=out[4],
+            snr=out[5],
+            scr=scr,
+        )
+
+    def _pair_probabilities(self, found: Factors, moving: np.ndarray) -> Probabilities:
+        """:meth:`probabilities` of one time: the pair kernel on the pairs in view."""
+        shape = self.shape
+
+        def full(value: Any, dtype: Any = np.float64) -> np.ndarray:
+            if (
+                type(value) is np.ndarray
+                and value.dtype == dtype
+                and value.shape == shape
+                and value.flags.c_contiguous
+            ):
+                return value
+            given = np.asarray(value, dtype=dtype)
+            return np.ascontiguousarray(np.broadcast_to(given, shape))
+
+        has_scr = found.scr is not None
+        p = np.empty((3, *shape))
+        fused = np.empty((3, shape[1]))
+        pairs.pair_probabilities(
+            full(found.cycles),
+            full(found.snr) if self._with_snr else self._zeros,
+            full(found.scr) if has_scr else self._zeros,
+            full(found.in_view, np.bool_),
+            full(found.range),
+            self.n50,
+            self.log_n50,
+            self.hot_spot,
+            moving,
+            self.settings,
+            has_scr,
+            self.noise_anchors,
+            self.tables,
+            self.table_reference,
+            self.sw,
+            self.sw_constants,
+            p,
+            fused,
+        )
+        together = self._fused(p, fused)
+        return Probabilities(p[0], p[1], p[2], together[0], together[1], together[2])
+
+    def _fused(self, p: np.ndarray, fused: np.ndarray) -> np.ndarray:
+        """The kernel's fusion, or for colour cameras each camera's best band first
+        (:func:`targetacq.fusion.fuse_groups`)."""
+        groups = self.scene.sensors.groups
+        if not groups:
+            return fused
+        return np.stack([np.asarray(fuse_groups(p[k], groups), dtype=float) for k in range(3)])
+
+    def step(
+        self,
+        sensor_positions: Any,
+        target_positions: Any,
+        headings: Any = None,
+        pointing: Any = None,
+        visible_fraction: Any = None,
+        moving: Any = None,
+        scr: Any = None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """One time's field of view, probabilities and fusion in one kernel call
+        (:func:`~targetacq.engines.numba_pairs.pair_step`); see
+        :meth:`targetacq.engines.BoundEngine.step`."""
+        s_pos, t_pos = self._pair_positions(sensor_positions, target_positions)
+        if s_pos is None:
+            raise ValueError(
+                f"step takes sensor_positions of shape ({self.shape[0]}, 3) and "
+                f"target_positions of shape ({self.shape[1]}, 3) [m] (one time); got "
+                f"{np.shape(sensor_positions)} and {np.shape(target_positions)}"
+            )
+        sin_cos, visible, sensors = self._pair_inputs(headings, pointing, visible_fraction)
+        flags = self.moving if moving is None else np.asarray(check_moving(moving, self.shape[1]))
+        scr_given = self._pair_scr(scr)
+        in_view = np.empty(self.shape, dtype=bool)
+        p = np.empty((3, *self.shape))
+        fused = np.empty((3, self.shape[1]))
+        status = pairs.pair_step(
+            s_pos,
+            t_pos,
+            sin_cos,
+            self._dimensions,
+            visible,
+            sensors,
+            self.segment_length,
+            self.segment_extinction,
+            self.clouds,
+            self.contrast,
+            self._has_noise,
+            self._zeros if scr_given is None else scr_given,
+            scr_given is not None,
+            self.n50,
+            self.log_n50,
+            self.hot_spot,
+            flags,
+            self.settings,
+            self.noise_anchors,
+            self.tables,
+            self.table_reference,
+            self.sw,
+            self.sw_constants,
+            np.empty((6, *self.shape)),
+            in_view,
+            p,
+            fused,
+        )
+        if status:
+            self._raise_infinite(status, s_pos, t_pos)
+        return in_view, p, self._fused(p, fused)
 
     # -- evaluation --------------------------------------------------------------------------
 
@@ -211,7 +468,15 @@ class NumbaScene:
         scr: Any = None,
         visible_fraction: Any = None,
     ) -> Factors:
-        """As :func:`targetacq.core.factors` of the bound scene."""
+        """As :func:`targetacq.core.factors` of the bound scene.
+
+        Positions of one time, ``(n_s, 3)`` and ``(n_g, 3)``, go through the pair kernel
+        (:func:`~targetacq.engines.numba_pairs.pair_factors`, the targets as its inner loop);
+        batches through :func:`~targetacq.engines.numba_kernels.factors_kernel`.
+        """
+        one_s, one_t = self._pair_positions(sensor_positions, target_positions)
+        if one_s is not None and (headings is None or np.ndim(headings) <= 1):
+            return self._pair_factors(one_s, one_t, headings, pointing, scr, visible_fraction)
         xp, (s_pos, t_pos) = _arrays.arrays(
             sensor_positions,
             target_positions,
@@ -370,6 +635,8 @@ class NumbaScene:
         flags = self.moving
         if moving is not None:
             flags = np.ascontiguousarray(check_moving(moving, n_g), dtype=bool)
+        if shape == self.shape:  # one time: the pair kernel
+            return self._pair_probabilities(found, flags)
 
         def full(value: Any, dtype: Any = float) -> np.ndarray:
             # Contiguous at the full shape, even where a field is per pair or a scalar: a loop

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from targetacq.acquisition import ACQUISITION_SEMANTICS
-from targetacq.atmosphere import OBSCURANTS, VISIBILITY_CONVENTIONS
+from targetacq.atmosphere import EXTINCTION_LEVEL_WORDS, OBSCURANTS, VISIBILITY_CONVENTIONS
 from targetacq.bands import BANDS
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
@@ -194,7 +194,10 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec(
         "obscurant",
         str,
-        f"Table 7.1 obscurant[:low|nominal|high]: {_names(OBSCURANTS)}.",
+        f"Table 7.1 obscurant[:low|nominal|high]: {_names(OBSCURANTS)}; the level is where in "
+        "the band's cell: "
+        + ", ".join(f"{k} = {v}" for k, v in EXTINCTION_LEVEL_WORDS.items())
+        + " (fog:low is light fog).",
         PATH,
         choices=OBSCURANTS,
     ),

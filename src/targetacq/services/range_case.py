@@ -10,6 +10,7 @@ domain, no option silently ignored. The physics is in the kernels this calls.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -335,11 +336,26 @@ def option_path(
         return {}
     gamma = atmosphere.extinction_for_band(band, **weather)
     term, visual_range = atmosphere.extinction_term(gamma)
+    # Table 7.2's visual ranges describe the visible band's extinction: for another band the
+    # same number of Np/km is other weather (fog:low is 0.4 Np/km in the LWIR, a visual range of
+    # well under 1 km, not "6 - 30 km, clear to hazy"), so only its term is kept there.
+    visible = band is not None and band_name_or_none(band) == "visible"
+    name, _, level = weather.get("obscurant", "").partition(":")
+    words = atmosphere.EXTINCTION_LEVEL_WORDS
+    parts = [f"{words[level]} {name}, the {level} value of its Table 7.1 cell"] if name else []
+    if visible:
+        parts.append(f"{term} extinction, visual range {visual_range} (Table 7.2)")
+    else:
+        parts.append(
+            f"{term} extinction on Table 7.2's scale (its visual ranges are the visible band's)"
+        )
+    description = "; ".join(parts)
     return {
         "extinction_np_per_m": gamma,
         "extinction_np_per_km": gamma * 1e3,
         "term": term,
-        "visual_range": visual_range,
+        "visual_range": visual_range if visible else None,
+        "description": description,
         "source": source,
     }
 
@@ -428,6 +444,8 @@ class RangeSetup:
     path: dict[str, Any]
     scene: dict[str, Any]
     probabilities: list[float]
+    sized: bool = True
+    """Whether the target's critical dimension enters (not for a pixel-density criterion)."""
 
     @property
     def criterion(self) -> Criterion:
@@ -508,10 +526,15 @@ def range_setup(
             aperture = aperture or camera["aperture"]
             wavelength = wavelength or camera["wavelength"]
         critical_dimension = critical_dimension or camera["critical_dimension"]
+    sized = not _pixel_density(criterion, n50)
     if critical_dimension is None:
-        raise ValueError(
-            "--critical-dimension is required (e.g. 2.3m), or --target NAME, or use --example"
-        )
+        if sized:
+            raise ValueError(
+                "--critical-dimension is required (e.g. 2.3m), or --target NAME, or use --example"
+            )
+        # A pixel-density criterion counts pixels per metre of the scene, whatever the
+        # target's size: a placeholder the case needs and no output reports.
+        critical_dimension = "1m"
     d = option_quantity(critical_dimension, "length", "--critical-dimension")
     ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
     optics_kw: dict[str, Any] = {}
@@ -594,6 +617,20 @@ def range_setup(
     noise_kw = _sensor_noise(
         netd, netd_temperature, delta_t, nec, contrast, mrtd, scene, band_limits_m
     )
+    if (
+        scene.get("contrast_w_per_m2") == 0.0
+        and "noise_equivalent_contrast" not in noise_kw
+        and "scr" not in scene
+        and "region" not in scene
+    ):
+        warnings.warn(
+            "the target has no contrast against its background, but without the sensor's noise "
+            "(--netd or --nec) or clutter the contrast does not enter the model: the ranges are "
+            "the geometric ones (cycles on target only); give --netd or --nec for the contrast "
+            "to count",
+            UserWarning,
+            stacklevel=2,
+        )
     if target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
@@ -626,7 +663,15 @@ def range_setup(
         probabilities=option_probabilities(
             default_probability if probability is None else probability
         ),
+        sized=sized,
     )
+
+
+def _pixel_density(criterion: str | None, n50: str | None) -> bool:
+    """Whether the options name a pixel-density criterion (EN 62676-4's levels), which needs no
+    critical dimension."""
+    named = CRITERIA.get(criterion) if n50 is None and criterion is not None else None
+    return named is not None and not named.gives_probabilities
 
 
 def dri_report(setup: RangeSetup) -> dict[str, Any]:
@@ -658,7 +703,8 @@ def dri_report(setup: RangeSetup) -> dict[str, Any]:
             **{f"{k}_{_SI_SUFFIX[k]}": v for k, v in setup.optics.items()},
         },
         "target": {
-            "critical_dimension_m": case.critical_dimension,
+            # A pixel-density criterion does not use it (pixels per metre of the scene).
+            "critical_dimension_m": case.critical_dimension if setup.sized else None,
             **setup.scene,
             **_noise_report(case),
         },

@@ -463,6 +463,60 @@ def test_a_small_file_asking_for_a_large_run_is_refused() -> None:
         assert problem["loc"] == ["scenario", "time.step"] and "limit" in problem["msg"]
 
 
+def _with_targets(count):
+    """The fused example with ``count`` more standing people (one pair per sensor row each)."""
+    head, sep, tail = _fused_toml().partition("[background]")
+    extra = "".join(
+        f'[[targets]]\nname = "p{k}"\ndimensions = ["0.5 m", "0.5 m", "1.8 m"]\n'
+        f'temperature = "304 K"\nreflectance = 0.1\n'
+        f'position = ["{1000 + 10 * k} m", "0 m", "0 m"]\n\n'
+        for k in range(count)
+    )
+    return head + extra + sep + tail
+
+
+def test_report_work_is_estimated_and_refused_before_any_work(monkeypatch) -> None:
+    """pairs × (curve ranges + times + simulated runs × steps) over max_report_work: a 422
+    naming the limit, and the report never started."""
+    import targetacq.cli.figures as figures
+
+    def never(*args, **kwargs):
+        raise AssertionError("the report was started")
+
+    monkeypatch.setattr(figures, "_scenario_report", never)
+    client = _local(create_app(max_report_work=1_000_000))
+    answer = client.post("/report", json={"scenario": _with_targets(10)})  # 24 pairs
+    assert answer.status_code == 422
+    (problem,) = answer.json()["detail"]
+    assert problem["loc"] == ["scenario", "targets"]
+    assert "limit is 1,000,000" in problem["msg"] and "simulated runs" in problem["msg"]
+    long_run = _fused_toml().replace('step = "5 s"', 'step = "0.1 s"')
+    (problem,) = client.post("/report", json={"scenario": long_run}).json()["detail"]
+    assert problem["loc"] == ["scenario", "time.step"] and "limit" in problem["msg"]
+
+
+def test_an_evaluate_file_counts_its_rows_against_the_limit() -> None:
+    """A 1 ms step: 240,004 evaluations, within a 500,000 limit as JSON; as a CSV file (each
+    row four evaluations' work) refused before any work."""
+    text = _fused_toml().replace('step = "5 s"', 'step = "1 ms"')
+    client = _local(create_app(max_evaluations=500_000))
+    for fmt in ("csv", "parquet"):
+        answer = client.post("/evaluate", json={"scenario": text, "format": fmt})
+        assert answer.status_code == 422, fmt
+        (problem,) = answer.json()["detail"]
+        assert problem["loc"] == ["scenario", "time.step"]
+        assert "limit is 500,000" in problem["msg"] and "240,004 rows" in problem["msg"]
+    small = _fused_toml().replace('step = "5 s"', 'step = "1 s"')
+    assert client.post("/evaluate", json={"scenario": small, "format": "csv"}).status_code == 200
+
+
+def test_the_default_limits_refuse_the_runs_that_took_minutes() -> None:
+    client = _local(create_app())
+    text = _fused_toml().replace('step = "5 s"', 'step = "1 ms"')
+    assert client.post("/evaluate", json={"scenario": text, "format": "csv"}).status_code == 422
+    assert client.post("/report", json={"scenario": _with_targets(3_000)}).status_code == 422
+
+
 @pytest.mark.parametrize(
     ("change", "field"),
     [

@@ -30,11 +30,17 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FUSED = EXAMPLES / "two_sensors_fused.toml"
 
 
+def _local(app, **options):
+    """A test client whose requests are addressed to 127.0.0.1 (the app answers loopback names
+    only, by default)."""
+    return TestClient(app, base_url="http://127.0.0.1", **options)
+
+
 @pytest.fixture(scope="module")
 def client():
     # raise_server_exceptions: a handler that fails with a bug raises here, so any test below
     # that reached the 500 handler would fail rather than see a 500.
-    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as c:
+    with _local(create_app(max_body_bytes=200_000, max_elements=1_000)) as c:
         yield c
 
 
@@ -140,7 +146,7 @@ def test_a_body_streamed_past_the_limit_is_413():
         for _ in range(10):
             yield b" " * 50
 
-    with TestClient(app) as c:
+    with _local(app) as c:
         response = c.post("/dri", content=chunks(), headers={"content-type": "application/json"})
     assert response.status_code == 413
 
@@ -272,14 +278,34 @@ def test_step_is_the_simulation_for_two_steps(client):
         assert got["warnings"] == []
 
 
-def test_sessions_are_bounded_oldest_dropped():
-    with TestClient(create_app()) as c:
+def test_a_full_table_of_sessions_in_use_refuses_a_new_one_and_drops_none():
+    """A client opening many sessions cannot evict the others': while every kept session has
+    stepped within the idle time, a new one is 429 and the old ones go on."""
+    with _local(create_app(max_sessions=2, session_idle_s=3600)) as c:
         text = FUSED.read_text()
         first = c.post("/step", json=_step_body(scenario=text)).json()["session"]
-        for _ in range(MAX_SESSIONS):
-            assert c.post("/step", json=_step_body(scenario=text)).status_code == 200
+        assert c.post("/step", json=_step_body(scenario=text)).status_code == 200
+        for _ in range(3):
+            refused = c.post("/step", json=_step_body(scenario=text))
+            assert refused.status_code == 429
+            (problem,) = refused.json()["detail"]
+            assert "at most 2 sessions" in problem["msg"] and "3600 s" in problem["msg"]
+            assert 1 <= int(refused.headers["Retry-After"]) <= 3600
         body = _step_body(session=first, time=1.0, dt=1.0)
-        assert c.post("/step", json=body).status_code == 404
+        assert c.post("/step", json=body).status_code == 200
+
+
+def test_a_new_session_takes_the_place_of_the_least_recently_used_idle_one():
+    with _local(create_app(max_sessions=2, session_idle_s=0)) as c:
+        text = FUSED.read_text()
+        a = c.post("/step", json=_step_body(scenario=text)).json()["session"]
+        b = c.post("/step", json=_step_body(scenario=text)).json()["session"]
+        assert c.post("/step", json=_step_body(session=a, time=1.0, dt=1.0)).status_code == 200
+        assert c.post("/step", json=_step_body(scenario=text)).status_code == 200  # drops b
+        assert c.post("/step", json=_step_body(session=a, time=2.0, dt=1.0)).status_code == 200
+        gone = c.post("/step", json=_step_body(session=b, time=1.0, dt=1.0))
+        assert gone.status_code == 404 and "idle" in gone.json()["detail"][0]["msg"]
+    assert MAX_SESSIONS == 64
 
 
 def test_registries_list_the_registries(client):
@@ -392,7 +418,7 @@ def test_a_bug_is_answered_500_in_json(monkeypatch):
         raise RuntimeError("a bug")
 
     monkeypatch.setattr(api, "_registries", broken)
-    with TestClient(create_app(), raise_server_exceptions=False) as c:
+    with _local(create_app(), raise_server_exceptions=False) as c:
         response = c.get("/registries")
     assert response.status_code == 500
     assert response.json()["detail"][0]["msg"] == "internal error (RuntimeError)"
@@ -430,13 +456,67 @@ def test_unit_text_that_would_take_pint_minutes_is_refused_at_once(client, pitch
 def test_a_small_file_asking_for_a_large_run_is_refused() -> None:
     text = _fused_toml().replace('stop = "60 s"', 'stop = "1000000 s"')
     assert 'stop = "1000000 s"' in text
-    client = TestClient(create_app(max_evaluations=100_000))
+    client = _local(create_app(max_evaluations=100_000))
     assert client.post("/evaluate", json={"scenario": _fused_toml()}).status_code == 200
     for path in ("/evaluate", "/report"):
         answer = client.post(path, json={"scenario": text})
         assert answer.status_code == 422, path
         (problem,) = answer.json()["detail"]
         assert problem["loc"] == ["scenario", "time.step"] and "limit" in problem["msg"]
+
+
+def _with_targets(count):
+    """The fused example with ``count`` more standing people (one pair per sensor row each)."""
+    head, sep, tail = _fused_toml().partition("[background]")
+    extra = "".join(
+        f'[[targets]]\nname = "p{k}"\ndimensions = ["0.5 m", "0.5 m", "1.8 m"]\n'
+        f'temperature = "304 K"\nreflectance = 0.1\n'
+        f'position = ["{1000 + 10 * k} m", "0 m", "0 m"]\n\n'
+        for k in range(count)
+    )
+    return head + extra + sep + tail
+
+
+def test_report_work_is_estimated_and_refused_before_any_work(monkeypatch) -> None:
+    """pairs × (curve ranges + times + simulated runs × steps) over max_report_work: a 422
+    naming the limit, and the report never started."""
+    import targetacq.cli.figures as figures
+
+    def never(*args, **kwargs):
+        raise AssertionError("the report was started")
+
+    monkeypatch.setattr(figures, "_scenario_report", never)
+    client = _local(create_app(max_report_work=1_000_000))
+    answer = client.post("/report", json={"scenario": _with_targets(10)})  # 24 pairs
+    assert answer.status_code == 422
+    (problem,) = answer.json()["detail"]
+    assert problem["loc"] == ["scenario", "targets"]
+    assert "limit is 1,000,000" in problem["msg"] and "simulated runs" in problem["msg"]
+    long_run = _fused_toml().replace('step = "5 s"', 'step = "0.1 s"')
+    (problem,) = client.post("/report", json={"scenario": long_run}).json()["detail"]
+    assert problem["loc"] == ["scenario", "time.step"] and "limit" in problem["msg"]
+
+
+def test_an_evaluate_file_counts_its_rows_against_the_limit() -> None:
+    """A 1 ms step: 240,004 evaluations, within a 500,000 limit as JSON; as a CSV file (each
+    row four evaluations' work) refused before any work."""
+    text = _fused_toml().replace('step = "5 s"', 'step = "1 ms"')
+    client = _local(create_app(max_evaluations=500_000))
+    for fmt in ("csv", "parquet"):
+        answer = client.post("/evaluate", json={"scenario": text, "format": fmt})
+        assert answer.status_code == 422, fmt
+        (problem,) = answer.json()["detail"]
+        assert problem["loc"] == ["scenario", "time.step"]
+        assert "limit is 500,000" in problem["msg"] and "240,004 rows" in problem["msg"]
+    small = _fused_toml().replace('step = "5 s"', 'step = "1 s"')
+    assert client.post("/evaluate", json={"scenario": small, "format": "csv"}).status_code == 200
+
+
+def test_the_default_limits_refuse_the_runs_that_took_minutes() -> None:
+    client = _local(create_app())
+    text = _fused_toml().replace('step = "5 s"', 'step = "1 ms"')
+    assert client.post("/evaluate", json={"scenario": text, "format": "csv"}).status_code == 422
+    assert client.post("/report", json={"scenario": _with_targets(3_000)}).status_code == 422
 
 
 @pytest.mark.parametrize(
@@ -499,6 +579,46 @@ def test_too_many_probabilities_are_refused(client) -> None:
     body = {"example": True, "probability": ",".join(["0.5"] * 50)}
     answer = client.post("/dri", json=body)
     assert answer.status_code == 422 and answer.json()["detail"][0]["loc"][-1] == "probability"
+
+
+def test_every_app_answers_loopback_names_only_unless_widened() -> None:
+    """create_app on its own (no targetacq serve) checks the Host header too."""
+    app = create_app()
+    for base in ("http://127.0.0.1", "http://localhost:8050", "http://[::1]:8050"):
+        assert TestClient(app, base_url=base).get("/registries").status_code == 200, base
+    for base in ("http://rebound.example", "http://testserver", "http://127.0.0.1.evil.example"):
+        answer = TestClient(app, base_url=base).get("/registries")
+        assert answer.status_code == 400, base
+        (problem,) = answer.json()["detail"]
+        assert problem["loc"] == ["header", "host"] and "127.0.0.1" in problem["msg"]
+    wide = create_app(trusted_hosts=["explorer.lan"])
+    assert TestClient(wide, base_url="http://explorer.lan:80").get("/").status_code == 200
+    assert TestClient(wide, base_url="http://127.0.0.1").get("/").status_code == 400
+    anyone = create_app(trusted_hosts=None)
+    assert TestClient(anyone, base_url="http://rebound.example").get("/").status_code == 200
+
+
+@pytest.mark.parametrize(
+    ("path", "body"),
+    [
+        ("/step", {"session": "s" * 500_000, "time": 1.0, "dt": 1.0}),
+        ("/dri", {"pitch": "17um", "x" * 300_000: "1"}),
+        ("/dri", {"pitch": "17um", "focal_length": "50mm", "target": "t" * 300_000}),
+        ("/dri", {"pitch": "1" * 300_000 + " um", "focal_length": "50mm"}),
+        ("/evaluate", {"scenario": 'name = "' + "n" * 300_000 + '"\n[time]\nstop = 5'}),
+        ("/evaluate", {"scenario": "[time]\nstop = '" + "9" * 300_000 + " s'"}),
+    ],
+    ids=["session", "field", "target", "unit", "name", "time"],
+)
+def test_errors_quote_at_most_80_characters_of_a_value(path, body) -> None:
+    with _local(create_app(max_body_bytes=2_000_000)) as c:
+        if path == "/step":
+            body = _step_body(**body)
+        answer = c.post(path, json=body)
+    assert 400 <= answer.status_code < 500, answer.text[:300]
+    assert len(answer.content) < 3_000, answer.text[:300]
+    for problem in answer.json()["detail"]:
+        assert all(len(str(part)) < 120 for part in problem["loc"])
 
 
 def test_a_loopback_server_answers_loopback_names_only() -> None:
@@ -682,3 +802,29 @@ def test_a_short_visit_in_a_step_is_answered_not_printed(client):
         session = response.json()["session"]
         found += response.json()["warnings"]
     assert len(found) == 1 and "less than one step of 1 s" in found[0]
+
+
+_FIRST_CURVES = """
+import sys, time, warnings
+warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+from fastapi.testclient import TestClient
+from targetacq.web.api import create_app
+body = {"pitch": "17um", "focal_length": "50mm", "critical_dimension": "2.3m"}
+with TestClient(create_app(), base_url="http://127.0.0.1") as client:  # started: lifespan ran
+    before = set(sys.modules)
+    began = time.perf_counter()
+    assert client.post("/curves", json=body).status_code == 200
+    print(time.perf_counter() - began)
+    print(sorted({name.split(".")[0] for name in set(sys.modules) - before}))
+"""
+
+
+def test_the_first_chart_after_start_imports_nothing() -> None:
+    """The first /curves imported xarray, pandas and the solver (1.3 s idle, 4.5 s on a busy
+    machine): the app now does it at start-up, before it answers."""
+    done = subprocess.run(
+        [sys.executable, "-c", _FIRST_CURVES], capture_output=True, text=True, check=True
+    )
+    seconds, imported = done.stdout.splitlines()
+    assert imported == "[]", imported
+    assert float(seconds) < 1.0

@@ -3,6 +3,8 @@
 Runs Debian's Chromium headless (installed by .ci/run); skipped where no Chromium is found.
 """
 
+import csv
+import io
 import json
 import shutil
 import subprocess
@@ -238,13 +240,18 @@ def test_visibility_with_its_convention(page):
     assert field_errors(page) == []
 
 
+def registries(page):
+    return page.evaluate("fetch('/registries').then(r => r.json())")
+
+
 def test_named_target_disables_the_critical_dimension(page):
     page.wait_for_selector("#target option:nth-child(2)", state="attached", timeout=WAIT_MS)
     name = page.eval_on_selector("#target option:nth-child(2)", "o => o.value")
     assert page.input_value("#critical_dimension") == "2.3m"
     page.select_option("#target", name)
     assert page.is_disabled("#critical_dimension")
-    assert page.input_value("#critical_dimension") == ""
+    (listed,) = [t for t in registries(page)["targets"] if t["name"] == name]
+    assert page.input_value("#critical_dimension") == f"{listed['critical_dimension_m']:g}m"
     wait_for_case(page, target=name, critical_dimension=None)
     assert field_errors(page) == []
     assert page.text_content("#status").strip() == ""
@@ -276,3 +283,106 @@ def test_a_unit_slip_in_a_scenario_is_shown_as_a_warning(page, tmp_path):
     page.wait_for_function(
         "() => document.querySelectorAll('#scenario-warnings li').length === 0", timeout=WAIT_MS
     )
+
+
+def test_the_disabled_box_shows_the_persons_critical_dimension(page):
+    """The box shows the 0.75 m used for `person` (from /registries), not the 2.3 m typed."""
+    wait_for_registries(page)
+    (person,) = [t for t in registries(page)["targets"] if t["name"] == "person"]
+    assert person["critical_dimension_m"] == 0.75
+    page.select_option("#target", "person")
+    assert page.is_disabled("#critical_dimension")
+    assert page.input_value("#critical_dimension") == "0.75m"
+    wait_for_case(page, target="person", critical_dimension=None)
+    page.select_option("#target", "vehicle")
+    assert page.input_value("#critical_dimension") == "2.3m"
+    page.select_option("#target", "")
+    assert page.is_enabled("#critical_dimension")
+    wait_for_case(page, target=None, critical_dimension="2.3m")
+
+
+def table_cells(page):
+    """Every cell of the DRI table: (task, probability, range [m] as the page holds it)."""
+    return page.eval_on_selector_all(
+        "#dri-table td",
+        "tds => tds.map(td => [td.parentElement.dataset.task, td.dataset.probability,"
+        " td.dataset.rangeM])",
+    )
+
+
+def fill_a_case(page):
+    wait_for_registries(page)
+    page.fill("#pitch", "17um")
+    page.fill("#focal_length", "75mm")
+    page.fill("#probability", "0.5,0.9")
+    page.select_option("#band", "lwir")
+    page.select_option("#obscurant", "haze")
+    wait_for_case(page, focal_length="75mm", probability="0.5,0.9", obscurant="haze", band="lwir")
+
+
+def test_a_shared_url_restores_the_form_and_its_table(page):
+    fill_a_case(page)
+    shared = page.url
+    assert "focal_length=75mm" in shared and "obscurant=haze" in shared and "band=lwir" in shared
+    shown = json.loads(page.get_attribute("#results", "data-shown"))
+    cells = table_cells(page)
+    assert len(cells) >= 6 and all(range_m for _, _, range_m in cells)
+
+    other = page.context.browser.new_page()
+    other.goto(shared)
+    wait_for_case(other, **shown)
+    assert json.loads(other.get_attribute("#results", "data-shown")) == shown
+    for name, value in [("#focal_length", "75mm"), ("#obscurant", "haze"), ("#band", "lwir")]:
+        assert other.input_value(name) == value
+    assert table_cells(other) == cells
+    assert other.url == shared
+
+    # A shared named target: the box shows its dimension, and the case is the same.
+    page.select_option("#target", "person")
+    wait_for_case(page, target="person", critical_dimension=None)
+    third = page.context.browser.new_page()
+    third.goto(page.url)
+    wait_for_case(third, target="person", critical_dimension=None, focal_length="75mm")
+    assert third.is_disabled("#critical_dimension")
+    assert third.input_value("#critical_dimension") == "0.75m"
+    assert table_cells(third) == table_cells(page)
+
+
+def downloaded(page, button):
+    with page.expect_download(timeout=WAIT_MS) as info:
+        page.click(button)
+    return info.value.suggested_filename, Path(info.value.path()).read_text(encoding="utf-8")
+
+
+def test_the_forms_case_downloads_as_the_table_and_the_curves(page):
+    fill_a_case(page)
+    cells = {(task, p): float(r) for task, p, r in table_cells(page)}
+
+    name, text = downloaded(page, "#download-dri-csv")
+    assert name == "dri.csv"
+    rows = list(csv.DictReader(io.StringIO(text)))
+    assert {(r["task"], str(float(r["probability"]))): float(r["range_m"]) for r in rows} == {
+        (task, str(float(p))): r for (task, p), r in cells.items()
+    }
+
+    name, text = downloaded(page, "#download-dri-json")
+    assert name == "dri.json"
+    report = json.loads(text)
+    got = {(r["task"], r["probability"]): r["range_m"] for r in report["ranges"]}
+    assert got == {(task, float(p)): r for (task, p), r in cells.items()}
+
+    name, text = downloaded(page, "#download-curves-csv")
+    assert name == "curves.csv"
+    rows = list(csv.DictReader(io.StringIO(text)))
+    assert len(rows) == 200 and list(rows[0]) == [
+        "range_m",
+        "p_detection",
+        "p_recognition",
+        "p_identification",
+    ]
+    ranges = [float(r["range_m"]) for r in rows]
+    assert ranges == sorted(ranges) and all(0 <= float(r["p_detection"]) <= 1 for r in rows)
+
+    name, text = downloaded(page, "#download-curves-svg")
+    assert name == "curves.svg" and text.startswith("<svg")
+    assert 'class="curve"' in text and "slant range [km]" in text

@@ -22,6 +22,7 @@ __all__ = [
     "DIMENSIONS",
     "is_quantity",
     "parse_quantity",
+    "shown_text",
     "si_magnitude",
     "to_si",
 ]
@@ -85,7 +86,7 @@ _PLAIN_UNIT_TEXT = re.compile(
 )
 
 
-def _shown(text: str, limit: int = 80) -> str:
+def shown_text(text: str, limit: int = 80) -> str:
     """``text`` as it goes into a message: quoted, cut after ``limit`` characters."""
     return repr(text) if len(text) <= limit else repr(text[:limit]) + f"… ({len(text)} characters)"
 
@@ -153,7 +154,7 @@ def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> fl
             # 10 ** (value / 10) overflows double precision above about 3,083 dB.
             raise ValueError(
                 f"{name} must be within ±{MAX_DECIBELS:g} dB (a linear ratio of 10^±"
-                f"{MAX_DECIBELS / 10:g}); got {_shown(text)}"
+                f"{MAX_DECIBELS / 10:g}); got {shown_text(text)}"
             )
         return 10.0 ** (value / 10.0)
     plain = _PLAIN_UNITS[kind].get(unit.replace(" ", ""))
@@ -166,12 +167,12 @@ def _parse_match(value: float, unit: str, text: str, kind: str, name: str) -> fl
     if not _PLAIN_UNIT_TEXT.match(unit):
         # pint evaluates what it is given: a tower of powers ("um**2**2**2…") or a long text
         # takes minutes and gigabytes. A unit is a few names with at most small powers.
-        raise ValueError(f"{name}: unknown unit in {_shown(text)} (e.g. {example})")
+        raise ValueError(f"{name}: unknown unit in {shown_text(text)} (e.g. {example})")
     ureg = _registry()
     try:
         quantity = ureg.Quantity(value, unit)
     except Exception as error:  # pint raises several unrelated types for bad text
-        raise ValueError(f"{name}: unknown unit in {_shown(text)} (e.g. {example})") from error
+        raise ValueError(f"{name}: unknown unit in {shown_text(text)} (e.g. {example})") from error
     try:
         return float(quantity.to(si_unit).magnitude)
     except OverflowError:

@@ -41,7 +41,10 @@ Errors
 Every error is JSON, ``{"detail": [{"loc": [...], "msg": "..."}]}``: 422 for input the library
 or the request's schema refuses (malformed JSON, an unknown field with a close match, a value
 without its unit, a scenario problem located in the scenario), 413 for a body over
-``max_body_bytes``, 404 for an unknown session. Only a bug gives 500.
+``max_body_bytes``, 404 for an unknown session, 429 for a new session while every kept one is
+in use (:data:`SESSION_IDLE_S`), 400 for a request addressed to a host name the application does
+not answer (by default only the loopback names, :data:`LOOPBACK_HOSTS`). A message quotes at most
+:data:`SHOWN_CHARACTERS` characters of an offending value. Only a bug gives 500.
 
 Files are never read over HTTP: a scenario that names an image or a terrain map, and an MRTD
 curve file, are refused.
@@ -55,11 +58,12 @@ import re
 import secrets
 import tempfile
 import threading
+import time
 import tomllib
 import warnings
 from collections import OrderedDict
-from collections.abc import Awaitable, Callable, Iterator, MutableMapping, Sequence
-from contextlib import contextmanager
+from collections.abc import AsyncIterator, Awaitable, Callable, Iterator, MutableMapping, Sequence
+from contextlib import asynccontextmanager, contextmanager
 from dataclasses import dataclass
 from difflib import get_close_matches
 from pathlib import Path
@@ -86,8 +90,16 @@ from targetacq.outputs import json_text
 from targetacq.plausibility import collected
 from targetacq.scenario import Scenario, ScenarioError, parse_scenario
 from targetacq.services.options import RANGE_CASE_OPTIONS
+from targetacq.units import shown_text
 
-__all__ = ["CURVE_POINTS", "MAX_SESSIONS", "STATIC", "create_app"]
+__all__ = [
+    "CURVE_POINTS",
+    "LOOPBACK_HOSTS",
+    "MAX_SESSIONS",
+    "SESSION_IDLE_S",
+    "STATIC",
+    "create_app",
+]
 
 STATIC = Path(__file__).with_name("static")
 """The page's files: ``index.html``, ``app.js``, ``style.css``."""
@@ -96,7 +108,23 @@ CURVE_POINTS = 200
 """Ranges on the grid of ``POST /curves``."""
 
 MAX_SESSIONS = 64
-"""Simulations kept for ``POST /step``; the oldest is dropped when a new one would exceed it."""
+"""Simulations kept for ``POST /step`` (see :data:`SESSION_IDLE_S` for which one makes room)."""
+
+SESSION_IDLE_S = 300.0
+"""A ``/step`` session idle for longer than this [s] may be dropped to make room for a new one.
+
+When the table holds :data:`MAX_SESSIONS` sessions, a new one takes the place of the least
+recently used session if that one has not stepped for this long; otherwise the new session is
+refused (429, with ``Retry-After``), and no session that is in use is ever dropped: a client
+cannot evict the others' sessions by opening many of its own."""
+
+LOOPBACK_HOSTS = ("127.0.0.1", "localhost", "::1", "[::1]")
+"""The host names every application answers by default (the ``Host`` header, port aside)."""
+
+SHOWN_CHARACTERS = 80
+"""Most characters of an offending value quoted in an error message (the rest counted)."""
+
+_MESSAGE_CHARACTERS = 2_000  # an error message is cut beyond this, whatever it holds
 
 MAX_PROBABILITIES = 20
 """Probabilities of one ``/dri`` or ``/curves`` request."""
@@ -134,17 +162,55 @@ class ApiError(Exception):
         Each problem's location (``["body", "pitch"]``) and message.
     """
 
-    def __init__(self, status: int, problems: list[tuple[list[Any], str]]) -> None:
+    def __init__(
+        self,
+        status: int,
+        problems: list[tuple[list[Any], str]],
+        headers: dict[str, str] | None = None,
+    ) -> None:
         super().__init__(problems[0][1] if problems else "")
         self.status = status
         self.problems = problems
+        self.headers = headers
 
     def response(self) -> JSONResponse:
-        """The JSON response of this error."""
-        return JSONResponse(
-            {"detail": [{"loc": loc, "msg": msg} for loc, msg in self.problems]},
-            status_code=self.status,
-        )
+        """The JSON response of this error (every offending value in it shortened)."""
+        detail = [
+            {"loc": [_bounded_loc(part) for part in loc], "msg": _bounded(msg)}
+            for loc, msg in self.problems
+        ]
+        return JSONResponse({"detail": detail}, status_code=self.status, headers=self.headers)
+
+
+# A quoted value (not an apostrophe in a word), or a run of text without spaces or quotes, longer
+# than SHOWN_CHARACTERS.
+_MORE = SHOWN_CHARACTERS + 1
+_LONG_VALUE = re.compile(
+    rf"(?<!\w)'((?:[^'\\\n]|\\.){{{_MORE},}})'(?!\w)"
+    rf"|(?<!\w)\"((?:[^\"\\\n]|\\.){{{_MORE},}})\"(?!\w)"
+    rf"|([^\s'\"]{{{_MORE},}})"
+)
+
+
+def _bounded(message: str) -> str:
+    """``message`` with every long value in it shortened (:func:`targetacq.units.shown_text`:
+    its first :data:`SHOWN_CHARACTERS` characters, quoted, and its length), so that an error
+    never echoes a whole offending value (a 500 kB session id, field name or unit text)."""
+    message = str(message)
+    shortened = _LONG_VALUE.sub(
+        lambda m: shown_text(next(g for g in m.groups() if g is not None), SHOWN_CHARACTERS),
+        message,
+    )
+    if len(shortened) > _MESSAGE_CHARACTERS:
+        shortened = shortened[:_MESSAGE_CHARACTERS] + f"… ({len(shortened):,} characters)"
+    return shortened
+
+
+def _bounded_loc(part: Any) -> Any:
+    """A location's part: a key longer than :data:`SHOWN_CHARACTERS` shortened."""
+    if isinstance(part, str) and len(part) > SHOWN_CHARACTERS:
+        return shown_text(part, SHOWN_CHARACTERS)
+    return part
 
 
 def _scenario_problems(error: ScenarioError) -> list[tuple[list[Any], str]]:
@@ -321,7 +387,7 @@ def _unknown_field(name: str, path: str) -> str:
     valid = list(model.model_fields) if model is not None else []
     close = get_close_matches(name, valid, 1)
     hint = f" (did you mean {close[0]!r}?)" if close else ""
-    return f"unknown field {name!r}{hint}; valid: {', '.join(valid)}"
+    return f"unknown field {shown_text(name)}{hint}; valid: {', '.join(valid)}"
 
 
 def _validation_problems(error: RequestValidationError, path: str) -> list[tuple[list, str]]:
@@ -421,6 +487,47 @@ class _BodyLimit:
             return await receive()
 
         await self.app(scope, replay, send)
+
+
+class _HostCheck:
+    """ASGI middleware: a request addressed (``Host`` header, port aside) to a name not in
+    ``hosts`` is answered 400, so that a web page elsewhere cannot reach a loopback server
+    through a name it re-points at 127.0.0.1 (DNS rebinding). ``"*"`` allows any name."""
+
+    def __init__(self, app: ASGIApp, hosts: Sequence[str]) -> None:
+        self.app = app
+        self.hosts = {host.lower() for host in hosts}
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] not in ("http", "websocket") or "*" in self.hosts:
+            await self.app(scope, receive, send)
+            return
+        host = ""
+        for key, value in scope.get("headers", ()):
+            if key.lower() == b"host":
+                host = value.decode("latin-1")
+                break
+        name = host.lower()
+        if name.startswith("["):
+            name = name.partition("]")[0] + "]"
+        elif name.count(":") == 1:
+            name = name.partition(":")[0]
+        if name in self.hosts:
+            await self.app(scope, receive, send)
+            return
+        allowed = ", ".join(sorted(self.hosts))
+        error = ApiError(
+            400,
+            [
+                (
+                    ["header", "host"],
+                    f"this server answers requests addressed to {allowed} only, not "
+                    f"{shown_text(host, SHOWN_CHARACTERS)} (create_app(trusted_hosts=...) "
+                    "widens it)",
+                )
+            ],
+        )
+        await error.response()(scope, receive, send)
 
 
 # --- the handlers' work ------------------------------------------------------------------------
@@ -603,11 +710,71 @@ def _check_work(scenario: Scenario, limit: int, *, times: bool = True) -> None:
         )
 
 
+FILE_ROW_COST = 4
+"""What one row of an ``/evaluate`` file (CSV, Parquet) costs, in evaluations: writing the table
+takes about four times as long as evaluating it (measured: 10 µs per evaluation as JSON, 40 µs
+as CSV)."""
+
+REPORT_CURVE_POINTS = 600
+"""Ranges of a report's range-performance curves (``targetacq report``)."""
+
+
+def _check_file_work(scenario: Scenario, limit: int) -> None:
+    """An ``/evaluate`` file whose rows (sensor rows × targets × times), each weighted by
+    :data:`FILE_ROW_COST`, exceed ``limit`` evaluations is refused before any work."""
+    from targetacq.core import sensor_rows
+
+    rows = len(sensor_rows(scenario)) * len(scenario.targets) * int(scenario.time.count)
+    if rows * FILE_ROW_COST > limit:
+        raise ApiError(
+            422,
+            [
+                (
+                    ["scenario", "time.step"],
+                    f"the scenario's file would have {rows:,} rows (sensor rows × targets × "
+                    f"times), each costing {FILE_ROW_COST} evaluations to write: "
+                    f"{rows * FILE_ROW_COST:,}; the server's limit is {limit:,} evaluations: "
+                    "ask for JSON, or run it with targetacq evaluate --out instead",
+                )
+            ],
+        )
+
+
+def _check_report_work(scenario: Scenario, limit: int) -> None:
+    """A report whose work exceeds ``limit`` is refused before any work: sensor rows × targets ×
+    (:data:`REPORT_CURVE_POINTS` curve ranges + the scenario's times + the simulated runs × their
+    steps), each a pair's evaluation or draw at one range or time."""
+    from targetacq.cli.figures import _SIMULATION_RUNS, _SIMULATION_STEPS
+    from targetacq.core import sensor_rows
+
+    pairs = len(sensor_rows(scenario)) * len(scenario.targets)
+    times = int(scenario.time.count)
+    duration = float(scenario.time.stop - scenario.time.start)
+    steps = max(times - 1, _SIMULATION_STEPS) if duration > 0 else 0
+    work = pairs * (REPORT_CURVE_POINTS + times + _SIMULATION_RUNS * steps)
+    if work > limit:
+        where = "time.step" if times - 1 > _SIMULATION_STEPS else "targets"
+        raise ApiError(
+            422,
+            [
+                (
+                    ["scenario", where],
+                    f"the report asks for {work:,} pair evaluations ({pairs:,} sensor rows × "
+                    f"targets × ({REPORT_CURVE_POINTS} curve ranges + {times:,} times + "
+                    f"{_SIMULATION_RUNS} simulated runs × {steps:,} steps)); the server's "
+                    f"limit is {limit:,}: run it with targetacq report instead",
+                )
+            ],
+        )
+
+
 def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
     from targetacq.model import ModelChain
 
     scenario, found = _scenario(body.scenario)
     _check_work(scenario, max_evaluations)
+    if body.format != "json":
+        _check_file_work(scenario, max_evaluations)
     with _library_errors():
         results = ModelChain(scenario).evaluate()
         if body.format != "json":
@@ -639,7 +806,7 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
     return _json(document)
 
 
-def _report(body: ReportRequest, max_evaluations: int) -> Response:
+def _report(body: ReportRequest, max_evaluations: int, max_report_work: int) -> Response:
     from targetacq import __version__
     from targetacq.cli.figures import _REPORT_PROBABILITIES, _scenario_report
     from targetacq.report import render_report
@@ -647,6 +814,7 @@ def _report(body: ReportRequest, max_evaluations: int) -> Response:
 
     scenario, found = _scenario(body.scenario)  # refuses files and locates problems first
     _check_work(scenario, max_evaluations)
+    _check_report_work(scenario, max_report_work)
     with _library_errors(["probability", "max_range"]):
         probabilities = option_probabilities(body.probability or _REPORT_PROBABILITIES)
         with tempfile.TemporaryDirectory(prefix="targetacq-web-") as folder:
@@ -674,40 +842,84 @@ def _report(body: ReportRequest, max_evaluations: int) -> Response:
 class _Session:
     simulation: Any
     lock: threading.Lock
+    used: float  # when it was last asked for [s, monotonic clock]
 
 
 class _Sessions:
-    """The simulations of ``POST /step``, by id; at most ``limit``, the oldest dropped."""
+    """The simulations of ``POST /step``, by id: at most ``limit``; when full, a new one takes
+    the place of the least recently used session only if that one has been idle for more than
+    ``idle`` seconds, and is refused (429) otherwise (:data:`SESSION_IDLE_S`)."""
 
-    def __init__(self, limit: int = MAX_SESSIONS) -> None:
+    def __init__(
+        self,
+        limit: int = MAX_SESSIONS,
+        idle: float = SESSION_IDLE_S,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
         self.limit = limit
-        self._items: OrderedDict[str, _Session] = OrderedDict()
+        self.idle = idle
+        self.clock = clock
+        self._items: OrderedDict[str, _Session] = OrderedDict()  # least recently used first
         self._lock = threading.Lock()
+
+    def _make_room(self, now: float) -> None:
+        """Drop idle sessions until one more fits; a 429 when every session is in use."""
+        while len(self._items) >= self.limit:
+            oldest = next(iter(self._items.values()))
+            idle_for = now - oldest.used
+            if idle_for <= self.idle:
+                wait = max(1, math.ceil(self.idle - idle_for))
+                raise ApiError(
+                    429,
+                    [
+                        (
+                            ["body", "session"],
+                            f"no room for a new session: the server keeps at most {self.limit} "
+                            f"sessions and each has stepped within the last {self.idle:g} s (only "
+                            f"a session idle for longer is dropped to make room); retry in "
+                            f"{wait} s, or go on with a session you have (reset: true starts it "
+                            "again)",
+                        )
+                    ],
+                    headers={"Retry-After": str(wait)},
+                )
+            self._items.popitem(last=False)
+
+    def check_room(self) -> None:
+        """Refuse (429) before any work when a new session could not be kept."""
+        with self._lock:
+            self._make_room(self.clock())
 
     def add(self, simulation: Any) -> str:
         key = secrets.token_urlsafe(16)
         with self._lock:
-            self._items[key] = _Session(simulation, threading.Lock())
-            while len(self._items) > self.limit:
-                self._items.popitem(last=False)
+            now = self.clock()
+            self._make_room(now)
+            self._items[key] = _Session(simulation, threading.Lock(), now)
         return key
 
     def peek(self, key: str) -> _Session | None:
-        """The session ``key``, or None."""
+        """The session ``key``, or None (not counted as a use)."""
         with self._lock:
             return self._items.get(key)
 
     def get(self, key: str) -> _Session:
-        session = self.peek(key)
+        """The session ``key``, marked as used now; a 404 when there is none."""
+        with self._lock:
+            session = self._items.get(key)
+            if session is not None:
+                session.used = self.clock()
+                self._items.move_to_end(key)
         if session is None:
             raise ApiError(
                 404,
                 [
                     (
                         ["body", "session"],
-                        f"unknown session {key!r}: it never existed or was dropped (the "
-                        f"server keeps the {self.limit} newest); start a new one by sending "
-                        "the scenario without a session",
+                        f"unknown session {shown_text(key, SHOWN_CHARACTERS)}: it never existed "
+                        f"or was dropped (a session idle for more than {self.idle:g} s is "
+                        "dropped when room is needed); start a new one by sending the scenario "
+                        "without a session",
                     )
                 ],
             )
@@ -769,6 +981,7 @@ def _session(body: StepRequest, sessions: _Sessions, max_elements: int) -> tuple
         )
     if body.scenario is None:
         raise ApiError(422, [(["body", "scenario"], "give the scenario (TOML text) or a session")])
+    sessions.check_room()  # a full table of sessions in use: refused before any work
     scenario, found = _scenario(body.scenario)
     _check_work(scenario, max_elements, times=False)  # a session keeps its pairs' state
     with _library_errors(["seed", "run"]):
@@ -879,6 +1092,21 @@ def _registries() -> dict[str, Any]:
     }
 
 
+_WARM_CASE = {"pitch": "17um", "focal_length": "50mm", "critical_dimension": "2.3m"}
+
+
+def _warm() -> None:
+    """Import and build what the first answers need (the first ``/curves`` imports xarray,
+    pandas and the range solver's modules: about 1.3 s of one core, 4.5 s on a busy machine),
+    so that the page's first chart does not wait for it. Run at start-up, before the server
+    answers; a failure here is left to the request that meets it."""
+    try:
+        _registries()
+        _curves(CurvesRequest(**_WARM_CASE))
+    except Exception:  # the real request reports any problem
+        pass
+
+
 # --- the application ---------------------------------------------------------------------------
 
 
@@ -886,8 +1114,12 @@ def create_app(
     *,
     max_body_bytes: int = 1_000_000,
     max_elements: int = 100_000,
-    max_evaluations: int = 2_000_000,
-    trusted_hosts: Sequence[str] | None = None,
+    max_evaluations: int = 500_000,
+    max_report_work: int = 2_000_000,
+    trusted_hosts: Sequence[str] | None = LOOPBACK_HOSTS,
+    max_sessions: int = MAX_SESSIONS,
+    session_idle_s: float = SESSION_IDLE_S,
+    warm: bool = True,
 ) -> FastAPI:
     """The explorer's application: the JSON API and the page.
 
@@ -899,12 +1131,28 @@ def create_app(
         Most numbers in one array of a request, and most sensor rows × targets of a ``/step``
         session; more is answered 422.
     max_evaluations : int
-        Most sensor rows × targets × times of one ``/evaluate`` or ``/report``; more is
-        answered 422 (a small file can ask for a large run).
+        Most sensor rows × targets × times of one ``/evaluate`` or ``/report``, a file's rows
+        each counted :data:`FILE_ROW_COST` times (the default takes about 5 s on one core
+        either way); more is answered 422 before any work (a small file can ask for a large
+        run).
+    max_report_work : int
+        Most pair evaluations of one ``/report``: sensor rows × targets × (curve ranges +
+        times + simulated runs × steps), about 120,000 per pair for a short scenario (the
+        default takes about 15 pairs, 10–15 s); more is answered 422 before any work.
     trusted_hosts : sequence of str, optional
-        The host names a request may be addressed to (its ``Host`` header), e.g. the loopback
-        names for a server bound to loopback, so that a web page elsewhere cannot reach it by
-        DNS rebinding; None: any.
+        The host names a request may be addressed to (its ``Host`` header, port aside); any
+        other is answered 400, so that a web page elsewhere cannot reach the server by DNS
+        rebinding. Default: the loopback names (:data:`LOOPBACK_HOSTS`); widen it for a server
+        reachable by other names; None or ``["*"]``: any name.
+    max_sessions : int
+        Most ``/step`` sessions kept (:data:`MAX_SESSIONS`).
+    session_idle_s : float
+        A session idle for longer than this [s] may be dropped to make room for a new one;
+        while every session is in use, a new one is refused with 429 (:data:`SESSION_IDLE_S`).
+    warm : bool
+        At start-up (the server's lifespan, before it answers), import what the answers need
+        and compute one small case, so that the first chart is answered at once rather than
+        after the imports.
 
     Returns
     -------
@@ -913,15 +1161,30 @@ def create_app(
 
     Examples
     --------
-    >>> app = create_app(max_body_bytes=100_000)
+    >>> app = create_app(max_body_bytes=100_000)  # answers loopback names only
     >>> sorted(path for path in app.openapi()["paths"])
     ['/curves', '/dri', '/evaluate', '/registries', '/report', '/step']
     """
     from targetacq import __version__
 
-    if min(max_body_bytes, max_elements, max_evaluations) < 1:
-        raise ValueError("max_body_bytes, max_elements and max_evaluations must be >= 1")
+    if min(max_body_bytes, max_elements, max_evaluations, max_report_work, max_sessions) < 1:
+        raise ValueError(
+            "max_body_bytes, max_elements, max_evaluations, max_report_work and max_sessions "
+            "must be >= 1"
+        )
+    if not session_idle_s >= 0:
+        raise ValueError(f"session_idle_s must be >= 0 [s]; got {session_idle_s!r}")
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        # Before the server answers anything: warming up beside the first requests would race
+        # their imports of the same modules.
+        if warm:
+            await run_in_threadpool(_warm)
+        yield
+
     app = FastAPI(
+        lifespan=lifespan,
         title="targetacq explorer",
         version=__version__,
         description="Probabilities of detection, recognition and identification of targets "
@@ -930,10 +1193,10 @@ def create_app(
     )
     app.add_middleware(_BodyLimit, max_bytes=max_body_bytes)
     if trusted_hosts is not None:
-        from starlette.middleware.trustedhost import TrustedHostMiddleware
-
-        app.add_middleware(TrustedHostMiddleware, allowed_hosts=list(trusted_hosts))
-    sessions = _Sessions()
+        if isinstance(trusted_hosts, str):
+            raise TypeError("trusted_hosts takes a sequence of host names, not one string")
+        app.add_middleware(_HostCheck, hosts=list(trusted_hosts))
+    sessions = _Sessions(max_sessions, session_idle_s)
     app.state.sessions = sessions
 
     @app.exception_handler(ApiError)
@@ -993,7 +1256,7 @@ def create_app(
 
     @app.post("/report", summary="The HTML report of a scenario (targetacq report)")
     def report(body: ReportRequest) -> Response:
-        return _report(body, max_evaluations)
+        return _report(body, max_evaluations, max_report_work)
 
     @app.post(
         "/step",

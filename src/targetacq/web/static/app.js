@@ -20,6 +20,8 @@ let latestScenario = 0; // the last scenario sent: an earlier upload's late answ
 let timer = null;
 let scenarioText = null;
 let scenarioName = "scenario";
+let liveReport = null; // the /dri answer for the form as it is (the table)
+let targetDimensions = {}; // a named target's critical dimension [m], from /registries
 
 // ---------- small helpers ----------
 
@@ -34,12 +36,32 @@ function setStatus(text) {
   statusBox.classList.toggle("shown", Boolean(text));
 }
 
+// The options the form sends: a disabled field (the critical dimension of a named target) is shown, not sent.
 function formOptions() {
   const options = {};
   for (const el of form.elements) {
-    if (el.name && el.value.trim() !== "") options[el.name] = el.value.trim();
+    if (el.name && !el.disabled && el.value.trim() !== "") options[el.name] = el.value.trim();
   }
   return options;
+}
+
+// ---------- the form's state in the URL ----------
+
+// The page's address carries the form's options (?pitch=17um&focal_length=50mm...): copy it to share the case.
+function writeURL(options) {
+  const query = new URLSearchParams(options).toString();
+  const address = query ? `${location.pathname}?${query}` : location.pathname;
+  if (address !== `${location.pathname}${location.search}`) history.replaceState(null, "", address);
+}
+
+// The form as an address gives it: every field from the query (a field it leaves out is empty);
+// false, with the form untouched, when the address names no field.
+function readURL() {
+  const params = new URLSearchParams(location.search);
+  const fields = [...form.elements].filter((el) => el.name);
+  if (!fields.some((el) => params.has(el.name))) return false;
+  for (const el of fields) el.value = params.get(el.name) ?? "";
+  return true;
 }
 
 function describe(options) {
@@ -98,6 +120,9 @@ async function loadRegistries() {
   } catch (err) {
     setStatus(`Could not load the registries: ${err}`);
     return;
+  }
+  for (const target of registries.targets || []) {
+    if (Number.isFinite(target.critical_dimension_m)) targetDimensions[target.name] = target.critical_dimension_m;
   }
   for (const select of form.querySelectorAll("select[data-registry]")) {
     // Choices written into the page (the visibility conventions) stand until the registry lists its own.
@@ -168,6 +193,7 @@ function unanswered(err) {
 async function update() {
   const request = ++latestRequest;
   const options = formOptions();
+  writeURL(options);
   // The table needs only /dri: a failed /curves (a transform for detection only, say) costs the curves alone.
   const [dri, curves] = await Promise.all([
     postJSON("/dri", options).catch(unanswered),
@@ -188,6 +214,7 @@ async function update() {
   }
   showFieldErrors([]);
   liveOptions = options;
+  liveReport = dri.data;
   renderTable(dri.data);
   if (curves.ok && curves.data && Array.isArray(curves.data.range_m)) {
     liveCurves = curves.data;
@@ -199,7 +226,68 @@ async function update() {
     setStatus(curves.ok ? "No curves: the server gave none." : `No curves: ${errorText(curves)}`);
   }
   drawCurves();
+  setCaseDownloads();
   results.dataset.shown = JSON.stringify(options); // the case the table and curves show
+}
+
+// ---------- downloads of the form's case ----------
+
+function setCaseDownloads() {
+  document.getElementById("download-dri-csv").disabled = !liveReport;
+  document.getElementById("download-dri-json").disabled = !liveReport;
+  const drawn = Boolean(liveCurves && TASKS.some((task) => Array.isArray(liveCurves[task])));
+  document.getElementById("download-curves-csv").disabled = !drawn;
+  document.getElementById("download-curves-svg").disabled = !drawn;
+}
+
+function save(text, type, name) {
+  const link = document.createElement("a");
+  link.href = URL.createObjectURL(new Blob([text], { type }));
+  link.download = name;
+  document.body.appendChild(link);
+  link.click();
+  link.remove();
+  setTimeout(() => URL.revokeObjectURL(link.href), 1000);
+}
+
+function csvCell(value) {
+  if (value === null || value === undefined) return "";
+  const text = String(value);
+  return /[",\n]/.test(text) ? `"${text.replace(/"/g, '""')}"` : text;
+}
+
+function csvText(columns, rows) {
+  return [columns, ...rows].map((row) => row.map(csvCell).join(",")).join("\n") + "\n";
+}
+
+// The table as targetacq dri --format csv lays it out: a row per task and probability, the case's options first.
+function driCSV(report) {
+  const rows = report.ranges || [];
+  const columns = [];
+  for (const row of rows) for (const key of Object.keys(row)) if (!columns.includes(key)) columns.push(key);
+  return csvText(columns, rows.map((row) => columns.map((key) => row[key])));
+}
+
+function curvesCSV(curves) {
+  const tasks = TASKS.filter((task) => Array.isArray(curves[task]));
+  const rows = curves.range_m.map((r, i) => [r, ...tasks.map((task) => curves[task][i])]);
+  return csvText(["range_m", ...tasks.map((task) => `p_${task}`)], rows);
+}
+
+// The chart as a standalone SVG file: the page's drawing with the page's styles for it.
+function curvesSVG() {
+  const svg = document.getElementById("curves").cloneNode(true);
+  svg.setAttribute("xmlns", SVG_NS);
+  svg.setAttribute("width", "640");
+  svg.setAttribute("height", "360");
+  const rules = [];
+  for (const sheet of document.styleSheets) {
+    for (const rule of sheet.cssRules) if (/^svg\b/.test(rule.selectorText || "")) rules.push(rule.cssText);
+  }
+  const style = document.createElementNS(SVG_NS, "style");
+  style.textContent = rules.join("\n");
+  svg.insertBefore(style, svg.firstChild);
+  return new XMLSerializer().serializeToString(svg);
 }
 
 function formatRange(row) {
@@ -487,18 +575,19 @@ async function download(url, body, fallbackName) {
 
 // ---------- wiring ----------
 
-// A named target brings its own critical dimension: the field is cleared and disabled while one is chosen,
-// and given back its value when the choice returns to none.
+// A named target brings its own critical dimension: the field is disabled and shows the target's (from
+// /registries; it is not sent) while one is chosen, and is given back its value when the choice returns to none.
 function syncTarget() {
-  const named = document.getElementById("target").value !== "";
+  const name = document.getElementById("target").value;
   const dimension = document.getElementById("critical_dimension");
-  if (named && !dimension.disabled) {
-    dimension.dataset.kept = dimension.value;
-    dimension.value = "";
-  } else if (!named && dimension.disabled && dimension.value === "") {
-    dimension.value = dimension.dataset.kept || "";
+  if (name !== "") {
+    if (!dimension.disabled) dimension.dataset.kept = dimension.value;
+    const metres = targetDimensions[name];
+    dimension.value = Number.isFinite(metres) ? `${Number(metres.toPrecision(6))}m` : "";
+  } else if (dimension.disabled) {
+    dimension.value = dimension.dataset.kept ?? dimension.defaultValue;
   }
-  dimension.disabled = named;
+  dimension.disabled = name !== "";
 }
 
 form.addEventListener("input", schedule);
@@ -525,8 +614,18 @@ document.getElementById("download-parquet").addEventListener("click", () =>
   download("/evaluate", { scenario: scenarioText, format: "parquet" }, `${scenarioName}.parquet`));
 document.getElementById("download-report").addEventListener("click", () =>
   download("/report", { scenario: scenarioText }, `${scenarioName}-report.html`));
+document.getElementById("download-dri-csv").addEventListener("click", () =>
+  save(driCSV(liveReport), "text/csv", "dri.csv"));
+document.getElementById("download-dri-json").addEventListener("click", () =>
+  save(JSON.stringify(liveReport, null, 2) + "\n", "application/json", "dri.json"));
+document.getElementById("download-curves-csv").addEventListener("click", () =>
+  save(curvesCSV(liveCurves), "text/csv", "curves.csv"));
+document.getElementById("download-curves-svg").addEventListener("click", () =>
+  save(curvesSVG(), "image/svg+xml", "curves.svg"));
 
 loadRegistries().then(() => {
+  readURL(); // a shared address: its case
+  for (const select of form.querySelectorAll("select[data-registry]")) showSource(select);
   syncTarget();
   return update();
 });

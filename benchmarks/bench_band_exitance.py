@@ -46,10 +46,10 @@ from targetacq.constants import BOLTZMANN, PLANCK, SECOND_RADIATION_CONSTANT, SP
 # its arithmetic: two series on whole arrays in chunks of 16384, see its module docstring then.
 # ---------------------------------------------------------------------------------------------
 
-_BAND_CONSTANT = 2.0 * math.pi * BOLTZMANN**4 / (PLANCK**3 * SPEED_OF_LIGHT**2)
-_Q0 = math.pi**4 / 15.0
-_SMALL_X = 2.0
-_X_CAP = 1.0e4
+BAND_CONSTANT = 2.0 * math.pi * BOLTZMANN**4 / (PLANCK**3 * SPEED_OF_LIGHT**2)
+Q0 = math.pi**4 / 15.0
+SMALL_X = 2.0
+X_CAP = 1.0e4
 
 
 @functools.cache
@@ -72,8 +72,8 @@ def _partial_small(x: Any) -> Any:
 
 
 def _tail_large(x: Any) -> Any:
-    finite = np.where(x >= _SMALL_X, x, _SMALL_X)
-    x_min = float(np.min(finite)) if finite.size else _SMALL_X
+    finite = np.where(x >= SMALL_X, x, SMALL_X)
+    x_min = float(np.min(finite)) if finite.size else SMALL_X
     terms = max(1, math.ceil(37.5 / x_min))
     decay = np.exp(-finite)
     power = decay
@@ -89,46 +89,46 @@ def _tail_large(x: Any) -> Any:
 
 def _x_from(lam_t: Any) -> Any:
     safe = np.where(lam_t > 0, lam_t, 1.0)
-    capped = np.where(np.isnan(lam_t), lam_t, _X_CAP)
-    return np.where(lam_t > 0, np.minimum(SECOND_RADIATION_CONSTANT / safe, _X_CAP), capped)
+    capped = np.where(np.isnan(lam_t), lam_t, X_CAP)
+    return np.where(lam_t > 0, np.minimum(SECOND_RADIATION_CONSTANT / safe, X_CAP), capped)
 
 
 def _x_of(wavelength: float, t: Any) -> Any:
     if math.isinf(wavelength):
         return np.zeros_like(t)
     if wavelength == 0:
-        return np.where(np.isnan(t), t, np.full_like(t, _X_CAP))
+        return np.where(np.isnan(t), t, np.full_like(t, X_CAP))
     return _x_from(wavelength * t)
 
 
 def _band_integral_planck(x_short: Any, x_long: Any) -> Any:
-    small_long_any = bool(np.any(x_long < _SMALL_X))
-    large_short_any = bool(np.any(x_short >= _SMALL_X))
+    small_long_any = bool(np.any(x_long < SMALL_X))
+    large_short_any = bool(np.any(x_short >= SMALL_X))
     if not small_long_any:
         return _tail_large(x_long) - _tail_large(x_short)
-    small_long = _partial_small(np.minimum(x_long, _SMALL_X))
-    tail_long = np.where(x_long < _SMALL_X, _Q0 - small_long, _tail_large(x_long))
+    small_long = _partial_small(np.minimum(x_long, SMALL_X))
+    tail_long = np.where(x_long < SMALL_X, Q0 - small_long, _tail_large(x_long))
     if not large_short_any:
-        return _partial_small(np.minimum(x_short, _SMALL_X)) - small_long
-    both_small = x_short < _SMALL_X
-    small_short = _partial_small(np.minimum(x_short, _SMALL_X))
+        return _partial_small(np.minimum(x_short, SMALL_X)) - small_long
+    both_small = x_short < SMALL_X
+    small_short = _partial_small(np.minimum(x_short, SMALL_X))
     tail_short = np.where(both_small, 0.0, _tail_large(x_short))
     return np.where(both_small, small_short - small_long, tail_long - tail_short)
 
 
 def _planck_hot_or_cool(t: Any, x_short: Any, x_long: Any, low: float, high: float) -> Any:
-    hot = x_short < _SMALL_X
+    hot = x_short < SMALL_X
     u_short = SECOND_RADIATION_CONSTANT / low
     u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
-    small_short = np.minimum(x_short, _SMALL_X)
-    small_long = np.minimum(x_long, _SMALL_X)
+    small_short = np.minimum(x_short, SMALL_X)
+    small_long = np.minimum(x_long, SMALL_X)
     scaled = u_short**3 * _small_series(small_short) - u_long**3 * _small_series(small_long)
     cool_t = np.where(hot, 0.0, t)
-    cool = _band_integral_planck(np.where(hot, _X_CAP, x_short), np.where(hot, _X_CAP, x_long))
+    cool = _band_integral_planck(np.where(hot, X_CAP, x_short), np.where(hot, X_CAP, x_long))
     with np.errstate(over="ignore"):
         t2 = cool_t * cool_t
-        cooled = _BAND_CONSTANT * t2 * t2 * cool
-    return np.where(hot, _BAND_CONSTANT * t * scaled, cooled)
+        cooled = BAND_CONSTANT * t2 * t2 * cool
+    return np.where(hot, BAND_CONSTANT * t * scaled, cooled)
 
 
 def previous_band_exitance(temperature: np.ndarray, band: Any) -> np.ndarray:
@@ -137,12 +137,12 @@ def previous_band_exitance(temperature: np.ndarray, band: Any) -> np.ndarray:
 
     def kernel(part: np.ndarray) -> np.ndarray:
         x_short, x_long = _x_of(low, part), _x_of(high, part)
-        if bool(np.any(x_short < _SMALL_X)):
+        if bool(np.any(x_short < SMALL_X)):
             return _planck_hot_or_cool(part, x_short, x_long, low, high)
         integral = _band_integral_planck(x_short, x_long)
         with np.errstate(over="ignore", invalid="ignore"):
             t2 = part * part
-            return _BAND_CONSTANT * t2 * t2 * integral
+            return BAND_CONSTANT * t2 * t2 * integral
 
     chunk = 1 << 14
     if temperature.size <= chunk:

@@ -16,7 +16,7 @@ from scipy import stats
 from targetacq import Simulation, core
 from targetacq.engagement import REDRAW_RULES, get_redraw_rule, view_crossings
 from targetacq.scenario import Background, ScenarioError, load_scenario
-from targetacq.search import ShortVisitWarning, _SearchState, pair_crossings
+from targetacq.search import SearchState, ShortVisitWarning, pair_crossings
 from targetacq.simulation import EVENT_KINDS
 
 ROOT = Path(__file__).parents[1]
@@ -50,7 +50,7 @@ def _batched_first_times(sim, runs, times, pointing, target_positions):
     """Step ``runs`` runs at once through the machinery of Simulation.step (evaluation, view
     crossings, state); returns the first times (3, runs) of the one pair, the largest P seen
     in view per task and the state."""
-    state = _SearchState(
+    state = SearchState(
         sim._streams,
         np.arange(runs),
         sim.scenario.model.search_time,
@@ -334,14 +334,14 @@ def test_the_small_path_of_a_step_equals_the_array_path():
     """The element-by-element path (a step of a few runs × pairs) gives the numbers of the
     array path to the last bit, over random probabilities, views, crossings and states."""
     from targetacq import search
-    from targetacq.search import _Streams
+    from targetacq.search import Streams
 
     rng = np.random.default_rng(0)
     happened = 0
     for trial in range(300):
         m, runs = int(rng.integers(1, 4)), int(rng.integers(1, 3))
         states = [
-            _SearchState(_Streams(trial, ["s"], [f"g{j}" for j in range(m)]), np.arange(runs), 3.4)
+            SearchState(Streams(trial, ["s"], [f"g{j}" for j in range(m)]), np.arange(runs), 3.4)
             for _ in range(2)
         ]
         time = 0.0

@@ -895,11 +895,11 @@ def test_band_exitance_is_finite_for_any_finite_temperature():
     c2 = constants.SECOND_RADIATION_CONSTANT
     t = np.array([1e80, 1e300])
     lam1, lam2 = 8e-6, 12e-6
-    leading = radiometry._BAND_CONSTANT * t * c2**3 * (lam1**-3 - lam2**-3) / 3.0
+    leading = radiometry.BAND_CONSTANT * t * c2**3 * (lam1**-3 - lam2**-3) / 3.0
     np.testing.assert_allclose(ta.band_exitance(t, (lam1, lam2)), leading, rtol=1e-12)
     assert ta.band_exitance(math.inf, "lwir") == math.inf
     derivative = radiometry.band_exitance_derivative(np.array([1e80, 1e300, math.inf]), "lwir")
-    limit = radiometry._BAND_CONSTANT * c2**3 * (lam1**-3 - lam2**-3) / 3.0
+    limit = radiometry.BAND_CONSTANT * c2**3 * (lam1**-3 - lam2**-3) / 3.0
     np.testing.assert_allclose(derivative, limit, rtol=1e-12)
 
 

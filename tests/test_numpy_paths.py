@@ -196,7 +196,7 @@ def _check_core(scene, sensors, targets, **given):
     tasks = None
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
         generic = active.active_factors(scene, generic, sensors, targets)
-        tasks = active.active_probabilities(scene, generic)
+        tasks = active.active_probabilities(scene, generic, EVALUATE.task_probabilities)
     _same_factors(found, generic)
     # The probabilities of every pair computed generically, then masked by the field of view.
     expected = EVALUATE._probabilities_generic(scene, generic, tasks)
@@ -376,7 +376,7 @@ def test_outline_numpy_is_the_formula_exactly(special):
     heading = rng.uniform(0.0, 6.0, (1, 4, 5))
     dims = [rng.uniform(1.0, 8.0, (4, 1)) for _ in range(3)]
     want = _outline_reference(x, y, z, heading, *dims)
-    got = geometry._outline_numpy(x, y, z, np.sin(heading), np.cos(heading), *dims)
+    got = geometry.outline_numpy(x, y, z, np.sin(heading), np.cos(heading), *dims)
     for g, w in zip(got, want, strict=True):
         np.testing.assert_array_equal(g, w)
     public = geometry.box_outline(x, y, z, heading, *dims)
@@ -388,14 +388,14 @@ def test_field_of_view_numpy_is_the_formula_exactly():
     rng = np.random.default_rng(5)
     x, y, z = (rng.normal(0.0, 1e3, (3, 40, 2)) for _ in range(3))
     forward = [rng.normal(0.0, 1.0, (3, 1, 2)) for _ in range(3)]
-    frame = geometry._frame(*forward, np)
+    frame = geometry.sensor_frame(*forward, np)
     tan_h, tan_v = (
         np.array([0.3, 0.1, 1.0])[:, None, None],
         np.array([0.2, 0.1, 0.5])[:, None, None],
     )
     ahead, right, up = geometry.view_offsets(x, y, z, forward)
     want = (ahead > 0) & (np.abs(right) <= tan_h * ahead) & (np.abs(up) <= tan_v * ahead)
-    got = geometry._within_numpy(x, y, z, frame, tan_h, tan_v)
+    got = geometry.within_numpy(x, y, z, frame, tan_h, tan_v)
     assert want.any() and not want.all()
     np.testing.assert_array_equal(got, want)
 
@@ -428,7 +428,7 @@ def test_clutter_transform_numpy_equals_the_generic_blend():
         rng.uniform(1.0, 30.0, 1000),  # above 1 only: two curves
         rng.uniform(0.0, 1.0, 1000),  # below 1 only
     ):
-        got = transforms._sw_probability(n, 1.3, scr, None, np)
+        got = transforms.sw_probability(n, 1.3, scr, None, np)
         want = ta.schmieder_weathersby(xps.asarray(n), 1.3, scr=xps.asarray(scr))
         np.testing.assert_allclose(got, np.asarray(want), rtol=1e-14, atol=0, equal_nan=True)
         np.testing.assert_array_equal(ta.schmieder_weathersby(n, 1.3, scr=scr), got)
@@ -445,7 +445,7 @@ def test_noise_factors_and_effective_scr_from_the_amplitude_ratio():
             want = ta.noise_n50_factor(snr, name)
         np.testing.assert_allclose(got, want, rtol=1e-14, equal_nan=True, err_msg=name)
     scr = np.full(snr.shape, 3.0)
-    got = noise._effective_scr_of_ratio(scr, ratio, np)
+    got = noise.effective_scr_of_ratio(scr, ratio, np)
     with np.errstate(over="ignore"):
         want = ta.effective_scr(scr, snr)
     np.testing.assert_allclose(got, want, rtol=1e-14, equal_nan=True)

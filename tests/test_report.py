@@ -12,8 +12,8 @@ from PIL import Image
 
 from browser import BROWSER, screenshot, shows_figures
 from targetacq.cli import main
-from targetacq.cli.figures import _performance
 from targetacq.core.cases import RangeCase
+from targetacq.report_content import performance_and_note
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 
@@ -217,20 +217,20 @@ def test_curves_cover_every_dri_range_and_stop_a_quarter_beyond_the_farthest():
         "haze": RangeCase(2.3, 2e-4, extinction=0.4e-3, scr=3.0),
         "person": RangeCase(0.75, 2.4e-4, extinction=1e-3),
     }
-    performance, note = _performance(cases, None, [0.5, 0.9])
+    performance, note = performance_and_note(cases, None, [0.5, 0.9])
     dri = performance.dri
     farthest = float(dri["range_m"][dri["reached"] & np.isfinite(dri["range_m"])].max())
     end = float(performance.curves["range"][-1])
     assert end == pytest.approx(1.25 * farthest, rel=1e-9)
     assert "a quarter beyond the farthest DRI range" in note
-    _, note = _performance(cases, "2km", [0.5])
+    _, note = performance_and_note(cases, "2km", [0.5])
     assert "stop at 2 km (--max-range 2km)" in note and "P(detection)" in note
 
 
 def test_curves_of_a_case_that_reaches_no_probability_go_on_until_every_task_is_below_2_percent():
     # In high clutter (SCR 0.2) detection never reaches 0.99 (Table 3.5): no finite answer.
     cases = {"clutter": RangeCase(2.3, 2e-4, scr=0.2)}
-    performance, note = _performance(cases, None, [0.99])
+    performance, note = performance_and_note(cases, None, [0.99])
     assert not performance.dri["reached"].any()
     last = performance.curves.isel(range=-1)
     for task in ("detection", "recognition", "identification"):

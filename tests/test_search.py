@@ -205,10 +205,10 @@ def test_summary_quantiles_over_all_runs():
 def test_within_step_law_matches_quadrature(start, end):
     # One step of 3 s with each probability linear from `start` to `end`: the sampled detection
     # times and recognition frequency against quadrature of the model (not the closed forms).
-    from targetacq.search import _SearchState, _Streams
+    from targetacq.search import SearchState, Streams
 
     n, dt, t_s = 20_000, 3.0, 3.4
-    state = _SearchState(_Streams(4, ["s"], ["g"]), np.arange(n), t_s)
+    state = SearchState(Streams(4, ["s"], ["g"]), np.arange(n), t_s)
     state.advance(10.0, np.array(start, dtype=float).reshape(3, 1), np.array([True]))
     state.advance(10.0 + dt, np.array(end, dtype=float).reshape(3, 1), np.array([True]))
     detected = state.first[0, :, 0] - 10.0

@@ -480,12 +480,12 @@ def _with_targets(count):
 def test_report_work_is_estimated_and_refused_before_any_work(monkeypatch) -> None:
     """pairs × (curve ranges + times + simulated runs × steps) over max_report_work: a 422
     naming the limit, and the report never started."""
-    import targetacq.cli.figures as figures
+    import targetacq.report_content as report_content
 
     def never(*args, **kwargs):
         raise AssertionError("the report was started")
 
-    monkeypatch.setattr(figures, "_scenario_report", never)
+    monkeypatch.setattr(report_content, "scenario_report", never)
     client = _local(create_app(max_report_work=1_000_000))
     answer = client.post("/report", json={"scenario": _with_targets(10)})  # 24 pairs
     assert answer.status_code == 422

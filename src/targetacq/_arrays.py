@@ -66,7 +66,7 @@ from targetacq.units import is_quantity, si_magnitude
 Array = Any  # an array of any array-API namespace
 
 
-_NUMPY = array_api_compat.array_namespace(np.empty(0))
+NUMPY = array_api_compat.array_namespace(np.empty(0))
 # Types that are NumPy (or plain numbers NumPy takes): the common case, answered without asking
 # array_api_compat, whose look-ups cost microseconds a call on the step API's small arrays.
 _PLAIN = (np.ndarray, np.float64, float, int, type(None))
@@ -81,10 +81,10 @@ def _is_array(value: object) -> bool:
 def namespace(*values: object) -> Any:
     """The array namespace of the array inputs (NumPy when all are Python scalars or lists)."""
     if all(type(v) in _PLAIN for v in values):
-        return _NUMPY
+        return NUMPY
     arrays = [v for v in values if v is not None and _is_array(v)]
     if not arrays:
-        return _NUMPY
+        return NUMPY
     return array_api_compat.array_namespace(*arrays)
 
 
@@ -120,9 +120,9 @@ def as_float(value: object, xp: Any, name: str | None = None) -> Array:
         For a value that is not real numbers (complex, boolean, text, dates, objects) or a
         masked array (module docstring), naming ``name`` where given.
     """
-    if type(value) is np.ndarray and xp is _NUMPY and value.dtype == np.float64:
+    if type(value) is np.ndarray and xp is NUMPY and value.dtype == np.float64:
         return value
-    if type(value) in (float, int) and xp is _NUMPY:
+    if type(value) in (float, int) and xp is NUMPY:
         return np.asarray(value, dtype=np.float64)
     if is_quantity(value):
         value = si_magnitude(value)
@@ -150,7 +150,7 @@ def as_float(value: object, xp: Any, name: str | None = None) -> Array:
         raise _refuse(name, f"text ({value!r})")
     plain = np.asarray(value)
     _check_numpy_dtype(plain, name)
-    if xp is _NUMPY:
+    if xp is NUMPY:
         return plain.astype(np.float64, copy=False)
     return xp.asarray(plain, dtype=xp.float64)
 

@@ -40,8 +40,8 @@ from targetacq import transforms as _transforms
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import (
     NoiseModel,
-    _effective_scr_of_ratio,
     effective_scr,
+    effective_scr_of_ratio,
     get_noise_model,
     noise_n50_factor,
 )
@@ -122,20 +122,20 @@ class MotionRule:
     source: str
 
 
-def _low_clutter_scale() -> float:
+def low_clutter_scale() -> float:
     """Table 3.5's low-clutter 50 % point over its medium-clutter reference (0.5 / 1.0)."""
-    n50 = _transforms._sw_region_n50()  # computed once
+    n50 = _transforms.sw_region_n50()  # computed once
     return n50["low"] / n50["medium"]
 
 
 def _moving_low_clutter(n: Any, n50: Any, transform: Any, options: Any, xp: Any) -> Any:
     return _arrays.as_float(
-        transform.forward(n, n50 * _low_clutter_scale(), "detection", **options), xp
+        transform.forward(n, n50 * low_clutter_scale(), "detection", **options), xp
     )
 
 
 def _moving_low_clutter_needed(p: Any, n50: Any, transform: Any, options: Any) -> Any:
-    return transform.inverse(p, n50 * _low_clutter_scale(), "detection", **options)
+    return transform.inverse(p, n50 * low_clutter_scale(), "detection", **options)
 
 
 def _moving_always(n: Any, n50: Any, transform: Any, options: Any, xp: Any) -> Any:
@@ -273,19 +273,19 @@ def _detection_in_clutter(
     if scr is not None or region is not None:
         if noise is not None and noise.combines_with_clutter and scr is not None:
             if ratio is not None:  # NumPy, with the noise-to-signal ratio at hand
-                seen = _transforms._sw_probability(
-                    n, n50, _effective_scr_of_ratio(_arrays.as_float(scr, np), ratio, np), None, np
+                seen = _transforms.sw_probability(
+                    n, n50, effective_scr_of_ratio(_arrays.as_float(scr, np), ratio, np), None, np
                 )
             else:
                 seen = _transforms.schmieder_weathersby(n, n50, scr=effective_scr(scr, snr))
         elif isinstance(n_noisy, np.ndarray) and (scr is None or isinstance(scr, np.ndarray)):
-            seen = _transforms._sw_probability(n_noisy, n50, scr, region, np)
+            seen = _transforms.sw_probability(n_noisy, n50, scr, region, np)
         else:
             seen = _transforms.schmieder_weathersby(n_noisy, n50, scr=scr, region=region)
         out = xp.minimum(_arrays.as_float(seen, xp), uncluttered)
     special = None
     if hot_spot is not False:
-        hot = _arrays.as_float(_transforms._sw_probability(n_noisy, n50, None, "low", xp), xp)
+        hot = _arrays.as_float(_transforms.sw_probability(n_noisy, n50, None, "low", xp), xp)
         special = hot if hot_spot is True else xp.where(_flag(hot_spot, xp), hot, xp.nan)
     if moving is not False:
         go = motion.detection(n_noisy, n50, transform, options, xp)
@@ -567,7 +567,7 @@ def _ttpf_three_numpy(n: np.ndarray, n50s: tuple[float, ...]) -> list[np.ndarray
     each operation per chunk for all three). Since the N50s increase with the task, the TTPF
     already gives ``P_id <= P_rec <= P_det`` here.
     """
-    e0, limit = _transforms.TTPF_E0, _transforms._LOGIT_LIMIT
+    e0, limit = _transforms.TTPF_E0, _transforms.LOGIT_LIMIT
     flat = n.reshape(-1)
     size = flat.size
     scale, shift = _ttpf_constants(tuple(n50s))

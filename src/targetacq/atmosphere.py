@@ -493,10 +493,10 @@ def snr_from_optical_depth(depth: Any) -> Any:
     """
     xp, (d,) = _arrays.arrays(depth, names=("depth",))
     _arrays.require_nonnegative("depth", d, xp)
-    return _arrays.result(_snr_db(d, xp))
+    return _arrays.result(snr_db(d, xp))
 
 
-def _snr_db(d: Any, xp: Any) -> Any:
+def snr_db(d: Any, xp: Any) -> Any:
     """:func:`snr_from_optical_depth` of a checked float array (the arithmetic kernel).
 
     NumPy takes the formula alone where every depth is positive and finite (no guards needed);
@@ -588,10 +588,10 @@ def segmented_optical_depth(
     0.28
     """
     xp, (r, g) = _arrays.arrays(range, extinction, names=("range", "extinction"))
-    return _arrays.result(_segmented_depth(r, g, segment_lengths, segment_extinctions, xp))
+    return _arrays.result(segmented_depth(r, g, segment_lengths, segment_extinctions, xp))
 
 
-def _segmented_depth(r: Any, g: Any, lengths: Any, gammas: Any, xp: Any) -> Any:
+def segmented_depth(r: Any, g: Any, lengths: Any, gammas: Any, xp: Any) -> Any:
     """:func:`segmented_optical_depth` of float arrays (the arithmetic kernel)."""
     depth = g * r
     start = 0.0

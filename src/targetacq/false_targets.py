@@ -82,6 +82,7 @@ import numpy as np
 from targetacq import _arrays, geometry
 from targetacq.limits import check_seed
 from targetacq.sampling import philox4x32, stream_key
+from targetacq.scenario import NO_FALSE_TARGET_SENSORS, false_target_problems
 
 if TYPE_CHECKING:
     from targetacq.core.records import SensorArrays
@@ -348,7 +349,7 @@ def ground_footprint(
             raise ValueError(f"{name} must be > 0 and finite, got {value!r}")
     sx, sy, sz = (float(v) for v in sensor_position)
     fwd = [float(v) for v in forward]
-    frame = geometry._frame(np.float64(fwd[0]), np.float64(fwd[1]), np.float64(fwd[2]), np)
+    frame = geometry.sensor_frame(np.float64(fwd[0]), np.float64(fwd[1]), np.float64(fwd[2]), np)
     fx, fy, fz, rx, ry, ux, uy, uz = (float(v) for v in frame)
     axes = np.array([[rx, ry], [-ry, rx]])  # right, and ahead (horizontal)
     position, boresight = (sx, sy, sz), (fwd[0], fwd[1], fwd[2])
@@ -697,74 +698,6 @@ def sample_false_detections(
 # ------------------------------------------------------------------------------------------------
 
 
-def _pointed(sensor: Any) -> bool:
-    return sensor.look_at is not None or (
-        sensor.azimuth is not None and sensor.depression is not None
-    )
-
-
-# An empty list names no sensor: no false target would ever be drawn, without a word.
-_NO_SENSORS = (
-    "false_targets.sensors: an empty list names no sensor, so none would report false targets; "
-    "name at least one sensor, or leave sensors out for every sensor with a field of view (or "
-    "remove the [false_targets] table)"
-)
-
-
-def false_target_problems(scenario: Any) -> list[str]:
-    """What is wrong with a scenario's ``[false_targets]`` table, each problem located.
-
-    ``false_targets.sensors`` must name sensors of the scenario, at least one, each with a
-    field of view (``pixels``) and a pointing (``look_at``, or ``azimuth`` and ``depression``),
-    once; without ``sensors``, at least one sensor must have a field of view.
-
-    Parameters
-    ----------
-    scenario : targetacq.scenario.Scenario
-
-    Returns
-    -------
-    list of str
-        Empty where there is no table or nothing is wrong.
-    """
-    table = getattr(scenario, "false_targets", None)
-    if table is None:
-        return []
-    sensors = {s.name: s for s in scenario.sensors}
-    if table.sensors is None:
-        if not any(s.pixels is not None for s in scenario.sensors):
-            return [
-                "false_targets: no sensor has a field of view (pixels = [width, height]), so "
-                "none can report false targets; give one pixels and a pointing"
-            ]
-        return []
-    if not table.sensors:
-        return [_NO_SENSORS]
-    problems = []
-    seen: set[str] = set()
-    for k, name in enumerate(table.sensors):
-        where = f"false_targets.sensors[{k}]"
-        sensor = sensors.get(name)
-        if name in seen:
-            problems.append(f"{where}: {name!r} is listed twice")
-        elif sensor is None:
-            problems.append(
-                f"{where}: unknown sensor {name!r}; the sensors are: {', '.join(sensors)}"
-            )
-        elif sensor.pixels is None:
-            problems.append(
-                f"{where}: sensor {name!r} has no field of view (give pixels = [width, height] "
-                "and a pointing); false targets are drawn inside a field of view"
-            )
-        elif not _pointed(sensor):
-            problems.append(
-                f"{where}: sensor {name!r} is not pointed (give look_at, or azimuth and "
-                "depression); false targets are drawn inside its field of view on the ground"
-            )
-        seen.add(name)
-    return problems
-
-
 class FalseTargetSampler:
     """A scenario's ``[false_targets]`` for its compiled sensors: draws per step and run.
 
@@ -800,7 +733,7 @@ class FalseTargetSampler:
         if table.sensors is None:
             chosen = [g for g in first if np.isfinite(half[first[g]]).all()]
         else:
-            problems = [] if table.sensors else [_NO_SENSORS]
+            problems = [] if table.sensors else [NO_FALSE_TARGET_SENSORS]
             for k, name in enumerate(table.sensors):
                 if name not in first:
                     problems.append(f"false_targets.sensors[{k}]: unknown sensor {name!r}")

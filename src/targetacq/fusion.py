@@ -49,10 +49,10 @@ def fuse(probabilities: Any, axis: int = -1) -> Any:
     _arrays.require_unit_interval("probabilities", p, xp)
     if p.ndim == 0:
         raise ValueError("probabilities must have at least one axis (the sensors)")
-    return _arrays.result(_fused(p, axis, xp))
+    return _arrays.result(fused_along(p, axis, xp))
 
 
-def _fused(p: Any, axis: int, xp: Any) -> Any:
+def fused_along(p: Any, axis: int, xp: Any) -> Any:
     """:func:`fuse` of a checked float array (the arithmetic kernel)."""
     if isinstance(p, np.ndarray):  # the product's own reduction, without its wrapper
         return 1.0 - np.multiply.reduce(1.0 - p, axis=axis)
@@ -113,7 +113,7 @@ def fuse_groups(probabilities: Any, groups: Any, axis: int = 0) -> Any:
             # NaN in any band is NaN for the camera (xp.maximum keeps NaN).
             top = xp.maximum(top, row)
         best.append(top)
-    return _arrays.result(_fused(xp.stack(best, axis=0), 0, xp))
+    return _arrays.result(fused_along(xp.stack(best, axis=0), 0, xp))
 
 
 def central_level_bounds(probabilities: Any, axis: int = -1) -> tuple[Any, Any]:

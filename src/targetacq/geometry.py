@@ -345,7 +345,7 @@ def _outline(
     The arithmetic kernel, without checks, conversions or a change of NumPy's error state (the
     array core calls it block by block under its own, with the headings' sines and cosines
     taken once per call). NumPy arrays of the lines of sight's full shape take
-    :func:`_outline_numpy`: the same operations with fewer temporaries.
+    :func:`outline_numpy`: the same operations with fewer temporaries.
     """
     if (
         isinstance(x, np.ndarray)
@@ -354,7 +354,7 @@ def _outline(
         and np.broadcast_shapes(x.shape, *(np.shape(v) for v in (sin_h, length))) == x.shape
         and np.broadcast_shapes(x.shape, *(np.shape(v) for v in (cos_h, width, height))) == x.shape
     ):
-        return _outline_numpy(x, y, z, sin_h, cos_h, length, width, height)
+        return outline_numpy(x, y, z, sin_h, cos_h, length, width, height)
     rho = xp.sqrt(x * x + y * y)
     rng = xp.sqrt(rho * rho + z * z)
     along = xp.abs(x * sin_h + y * cos_h)  # ρ |cos a|
@@ -372,7 +372,7 @@ def _outline(
     return rng, xp.where(flat, top_h, horizontal), xp.where(flat, top_v, vertical)
 
 
-def _outline_numpy(
+def outline_numpy(
     x: np.ndarray,
     y: np.ndarray,
     z: np.ndarray,
@@ -553,11 +553,11 @@ def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple
     xp, (x, y, z, fx, fy, fz) = _arrays.arrays(
         x, y, z, *forward, names=("x", "y", "z", "forward east", "forward north", "forward up")
     )
-    ahead, right, up = _offsets(x, y, z, _frame(fx, fy, fz, xp))
+    ahead, right, up = _offsets(x, y, z, sensor_frame(fx, fy, fz, xp))
     return _arrays.result(ahead), _arrays.result(right), _arrays.result(up)
 
 
-def _frame(fx: Array, fy: Array, fz: Array, xp: Any) -> tuple[Array, ...]:
+def sensor_frame(fx: Array, fy: Array, fz: Array, xp: Any) -> tuple[Array, ...]:
     """The sensor frame of :func:`view_offsets` from the boresight components (any length).
 
     Returns
@@ -583,12 +583,13 @@ def _frame(fx: Array, fy: Array, fz: Array, xp: Any) -> tuple[Array, ...]:
 
 
 def _offsets(x: Array, y: Array, z: Array, frame: tuple[Array, ...]) -> tuple[Array, Array, Array]:
-    """Ahead, right and up of lines of sight ``(x, y, z)`` in a sensor frame (:func:`_frame`)."""
+    """Ahead, right and up of lines of sight ``(x, y, z)`` in a sensor frame
+    (:func:`sensor_frame`)."""
     fx, fy, fz, rx, ry, ux, uy, uz = frame
     return x * fx + y * fy + z * fz, x * rx + y * ry, x * ux + y * uy + z * uz
 
 
-def _within_numpy(
+def within_numpy(
     x: np.ndarray,
     y: np.ndarray,
     z: np.ndarray,

@@ -54,7 +54,7 @@ import numpy as np
 
 from targetacq import _arrays
 from targetacq.registry import lookup
-from targetacq.transforms import _sw_high_anchor, clutter_n50
+from targetacq.transforms import clutter_n50, sw_high_anchor
 
 __all__ = [
     "NOISE_MODELS",
@@ -148,7 +148,7 @@ def _combined_ratio(c: Any, lin: Any, xp: Any) -> Any:
     return xp.where(xp.isnan(lin), lin, exact)
 
 
-def _effective_scr_of_ratio(c: Any, inverse: Any, xp: Any) -> Any:
+def effective_scr_of_ratio(c: Any, inverse: Any, xp: Any) -> Any:
     """:func:`effective_scr` of a checked SCR and the noise-to-signal amplitude ratio
     ``ρ = 1/SNR_lin`` (:func:`noise_ratio`: 0 without noise, +inf without signal), as the array
     core has it (NumPy)."""
@@ -158,11 +158,11 @@ def _effective_scr_of_ratio(c: Any, inverse: Any, xp: Any) -> Any:
 
 
 @functools.cache
-def _ratio_anchors() -> tuple[float, float, float]:
+def ratio_anchors() -> tuple[float, float, float]:
     """Table 3.5's low- and medium-clutter 50 % points and the high-clutter exponent α (once)."""
     low = float(clutter_n50(float("inf")))  # 0.5, Table 3.5 low clutter
     medium = float(clutter_n50(1.0))  # 1.0, Table 3.5 medium clutter
-    return low, medium, _sw_high_anchor()[2]
+    return low, medium, sw_high_anchor()[2]
 
 
 def ratio_n50(ratio: Any) -> Any:
@@ -192,7 +192,7 @@ def ratio_n50(ratio: Any) -> Any:
 
 def _ratio_n50(r: Any, xp: Any) -> Any:
     """:func:`ratio_n50` of a checked float array."""
-    low, medium, alpha = _ratio_anchors()
+    low, medium, alpha = ratio_anchors()
     safe = xp.where(r > 0, r, 1.0)
     mid = low * (10.0 / xp.minimum(xp.maximum(safe, 1.0), 10.0)) ** (
         math.log(medium / low) / math.log(10.0)
@@ -252,7 +252,7 @@ def _variance_sum_of_ratio(inverse: Any, xp: Any = None) -> Any:
 def _clutter_analogue_factor(snr: Any) -> Any:
     xp, (s,) = _arrays.arrays(snr, names=("snr",))
     lin = _amplitude(s, xp)
-    uncluttered = _ratio_anchors()[0]  # ratio_n50(+inf), Table 3.5's low clutter
+    uncluttered = ratio_anchors()[0]  # ratio_n50(+inf), Table 3.5's low clutter
     return _arrays.result(ratio_n50(lin) / uncluttered)
 
 
@@ -260,7 +260,7 @@ def _clutter_analogue_of_ratio(inverse: Any, xp: Any = None) -> Any:
     xp = xp or _arrays.namespace(inverse)
     with np.errstate(divide="ignore"):
         lin = 1.0 / inverse  # SNR_lin: +inf without noise
-    return _ratio_n50(lin, xp) / _ratio_anchors()[0]
+    return _ratio_n50(lin, xp) / ratio_anchors()[0]
 
 
 def _no_noise_factor(snr: Any) -> Any:

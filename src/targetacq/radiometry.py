@@ -104,10 +104,10 @@ __all__ = [
     "wien_spectral_exitance",
 ]
 
-_BAND_CONSTANT = 2.0 * math.pi * BOLTZMANN**4 / (PLANCK**3 * SPEED_OF_LIGHT**2)
-_Q0 = math.pi**4 / 15.0
-_SMALL_X = 2.0
-_X_CAP = 1.0e4  # e^{-x} is 0 in float64 long before this; caps inf (T = 0, λ = 0) safely
+BAND_CONSTANT = 2.0 * math.pi * BOLTZMANN**4 / (PLANCK**3 * SPEED_OF_LIGHT**2)
+Q0 = math.pi**4 / 15.0
+SMALL_X = 2.0
+X_CAP = 1.0e4  # e^{-x} is 0 in float64 long before this; caps inf (T = 0, λ = 0) safely
 
 
 @functools.cache
@@ -133,8 +133,8 @@ def _partial_small(x: Any, xp: Any) -> Any:
 
 def _tail_large(x: Any, xp: Any) -> Any:
     """∫_x^∞ t³/(e^t − 1) dt for x >= 2 (elements below 2 give garbage that is not used)."""
-    finite = xp.where(x >= _SMALL_X, x, _SMALL_X)
-    x_min = float(xp.min(finite)) if finite.size else _SMALL_X
+    finite = xp.where(x >= SMALL_X, x, SMALL_X)
+    x_min = float(xp.min(finite)) if finite.size else SMALL_X
     terms = max(1, math.ceil(37.5 / x_min))
     decay = xp.exp(-finite)
     power = decay
@@ -151,11 +151,11 @@ def _tail_large(x: Any, xp: Any) -> Any:
 
 
 def _x_from(lam_t: Any, xp: Any) -> Any:
-    """x = c2 / (λT), capped at _X_CAP (also where λT = 0), without division warnings; NaN
+    """x = c2 / (λT), capped at X_CAP (also where λT = 0), without division warnings; NaN
     where λT is NaN."""
     safe = xp.where(lam_t > 0, lam_t, 1.0)
-    capped = xp.where(xp.isnan(lam_t), lam_t, _X_CAP)
-    return xp.where(lam_t > 0, xp.minimum(SECOND_RADIATION_CONSTANT / safe, _X_CAP), capped)
+    capped = xp.where(xp.isnan(lam_t), lam_t, X_CAP)
+    return xp.where(lam_t > 0, xp.minimum(SECOND_RADIATION_CONSTANT / safe, X_CAP), capped)
 
 
 def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
@@ -163,23 +163,23 @@ def _x_of(wavelength: float, t: Any, xp: Any) -> Any:
     if math.isinf(wavelength):
         return xp.zeros_like(t)
     if wavelength == 0:  # x = +inf at any T, capped (0 · T would be NaN at T = inf)
-        return xp.where(xp.isnan(t), t, xp.full_like(t, _X_CAP))
+        return xp.where(xp.isnan(t), t, xp.full_like(t, X_CAP))
     return _x_from(wavelength * t, xp)
 
 
 def _band_integral_planck(x_short: Any, x_long: Any, xp: Any) -> Any:
     """∫_{x_long}^{x_short} t³/(e^t−1) dt (x_short = c2/(λ1 T) >= x_long = c2/(λ2 T))."""
     # Each series is evaluated only where some element needs it (most bands need one only).
-    small_long_any = bool(xp.any(x_long < _SMALL_X))
-    large_short_any = bool(xp.any(x_short >= _SMALL_X))
+    small_long_any = bool(xp.any(x_long < SMALL_X))
+    large_short_any = bool(xp.any(x_short >= SMALL_X))
     if not small_long_any:  # both ends in the large-x series
         return _tail_large(x_long, xp) - _tail_large(x_short, xp)
-    small_long = _partial_small(xp.minimum(x_long, _SMALL_X), xp)
-    tail_long = xp.where(x_long < _SMALL_X, _Q0 - small_long, _tail_large(x_long, xp))
+    small_long = _partial_small(xp.minimum(x_long, SMALL_X), xp)
+    tail_long = xp.where(x_long < SMALL_X, Q0 - small_long, _tail_large(x_long, xp))
     if not large_short_any:  # both ends in the small-x series: no large constant cancels
-        return _partial_small(xp.minimum(x_short, _SMALL_X), xp) - small_long
-    both_small = x_short < _SMALL_X
-    small_short = _partial_small(xp.minimum(x_short, _SMALL_X), xp)
+        return _partial_small(xp.minimum(x_short, SMALL_X), xp) - small_long
+    both_small = x_short < SMALL_X
+    small_short = _partial_small(xp.minimum(x_short, SMALL_X), xp)
     tail_short = xp.where(both_small, 0.0, _tail_large(x_short, xp))
     return xp.where(both_small, small_short - small_long, tail_long - tail_short)
 
@@ -200,12 +200,12 @@ BAND_EXITANCE_METHODS = {"planck": _band_integral_planck, "wien": _band_integral
 # Fast NumPy path of band_exitance (method "planck", float64 arrays): tables of Q and S.
 # ---------------------------------------------------------------------------------------------
 
-_TABLE_STEPS = 64.0  # intervals per unit of x: interval i covers [i/64, (i+1)/64)
-_TABLE_DEGREE = 5
-_TABLE_END = 20.0  # Q is tabulated on [0, 20), S on [0, 2); beyond 20, two terms of the series
-_LOG_X = 700.0  # e^{-x} is subnormal above 708: from here on the exitance is taken in logarithms
-_KQ = _BAND_CONSTANT**0.25  # K T⁴ = (K^{1/4} T)⁴, which overflows only where K T⁴ does
-_HUGE_KQT = 1.0e76  # (K^{1/4} T)⁴ overflows above 1.16e77: in logarithms there as well
+TABLE_STEPS = 64.0  # intervals per unit of x: interval i covers [i/64, (i+1)/64)
+TABLE_DEGREE = 5
+TABLE_END = 20.0  # Q is tabulated on [0, 20), S on [0, 2); beyond 20, two terms of the series
+LOG_X = 700.0  # e^{-x} is subnormal above 708: from here on the exitance is taken in logarithms
+KQ = BAND_CONSTANT**0.25  # K T⁴ = (K^{1/4} T)⁴, which overflows only where K T⁴ does
+HUGE_KQT = 1.0e76  # (K^{1/4} T)⁴ overflows above 1.16e77: in logarithms there as well
 _CHUNK = 16384
 _EXTENDED_PI = "3.14159265358979323846264338327950288419716939937510"
 
@@ -239,7 +239,7 @@ def _q_extended(rows: Any) -> Any:
     """Q(x) in np.longdouble for an (intervals, nodes) array sorted by interval: the small-x
     series below x = 2, the large-x series with ⌈50/x⌉ terms (remainder below e^{-50}) above."""
     q = np.empty_like(rows)
-    small = np.max(rows, axis=1) < _SMALL_X  # whole intervals: 2 is an interval boundary
+    small = np.max(rows, axis=1) < SMALL_X  # whole intervals: 2 is an interval boundary
     x = rows[small]
     q[small] = np.longdouble(_EXTENDED_PI) ** 4 / 15 - x**3 * _s_extended(x)
     large = rows[~small]
@@ -247,7 +247,7 @@ def _q_extended(rows: Any) -> Any:
     power = np.ones_like(large)
     acc = np.zeros_like(large)
     starts = np.min(large, axis=1)  # increasing
-    for n in range(1, math.ceil(50.0 / _SMALL_X) + 1):
+    for n in range(1, math.ceil(50.0 / SMALL_X) + 1):
         # The intervals that still need the n-th term (x < 50/(n − 1)): a prefix.
         active = int(np.searchsorted(starts, 50.0 / (n - 1))) if n > 1 else len(starts)
         power[:active] *= decay[:active]
@@ -260,12 +260,12 @@ def _q_extended(rows: Any) -> Any:
 def _chebyshev_table(function: Any, end: float) -> np.ndarray:
     """Coefficients (in t = 64 x − i, Horner order) of the degree-5 Chebyshev interpolants of
     ``function`` on the intervals [i/64, (i+1)/64) below ``end``, computed in np.longdouble."""
-    d = _TABLE_DEGREE
+    d = TABLE_DEGREE
     pi = np.longdouble(_EXTENDED_PI)
     angles = pi * (np.arange(d + 1) + np.longdouble(0.5)) / (d + 1)
     nodes = (1 + np.cos(angles)) / 2  # Chebyshev points of [0, 1]
-    starts = np.arange(round(end * _TABLE_STEPS), dtype=np.longdouble)
-    values = function((starts[:, None] + nodes[None, :]) / np.longdouble(_TABLE_STEPS))
+    starts = np.arange(round(end * TABLE_STEPS), dtype=np.longdouble)
+    values = function((starts[:, None] + nodes[None, :]) / np.longdouble(TABLE_STEPS))
     # Chebyshev coefficients b_n = 2/(d+1) Σ_k f_k T_n(u_k) (b_0 halved), then the power basis
     # of t through the shifted Chebyshev polynomials T_n(2t − 1) (integer coefficients).
     chebyshev = np.cos(np.outer(np.arange(d + 1), angles))
@@ -287,11 +287,11 @@ def _chebyshev_table(function: Any, end: float) -> np.ndarray:
 
 
 @functools.cache
-def _tables() -> tuple[np.ndarray, np.ndarray]:
+def band_tables() -> tuple[np.ndarray, np.ndarray]:
     """The tables of Q on [0, 20) and of S on [0, 2) (module docstring), built on first use."""
     with np.errstate(all="ignore"):
-        q = _chebyshev_table(_q_extended, _TABLE_END)
-        s = _chebyshev_table(_s_extended, _SMALL_X)
+        q = _chebyshev_table(_q_extended, TABLE_END)
+        s = _chebyshev_table(_s_extended, SMALL_X)
     q.flags.writeable = False
     s.flags.writeable = False
     return q, s
@@ -303,7 +303,7 @@ def _split_tables() -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np
     copies by its fast paths (a 48-byte row goes through ``memmove``, 1.5 times slower)."""
     return tuple(  # type: ignore[return-value]
         (np.ascontiguousarray(table[:, :4]), np.ascontiguousarray(table[:, 4:]))
-        for table in _tables()
+        for table in band_tables()
     )
 
 
@@ -332,8 +332,8 @@ def _q_asymptotic(x: np.ndarray, x_min: float, x_max: float) -> np.ndarray:
     two terms of the large-x series (the third is below 2e-18 relative). From x = 37.5 on the
     second is below 2^-54 of the first, so that the sum rounds to the first: it is left out
     where no element is below 37.5 (the same numbers)."""
-    if x_max > _X_CAP:
-        np.minimum(x, _X_CAP, out=x)
+    if x_max > X_CAP:
+        np.minimum(x, X_CAP, out=x)
     decay = np.negative(x)
     np.exp(decay, out=decay)
     value = x + 3.0  # x³ + 3x² + 6x + 6 by Horner, in place
@@ -357,45 +357,45 @@ def _q_asymptotic(x: np.ndarray, x_min: float, x_max: float) -> np.ndarray:
 
 def _q_fast(scaled: np.ndarray, low: float, high: float) -> np.ndarray:
     """Q(scaled / 64) for scaled >= 0 (inf allowed) whose least and greatest are low and high."""
-    end = _TABLE_END * _TABLE_STEPS
+    end = TABLE_END * TABLE_STEPS
     if high < end:
         return _tabulated(_split_tables()[0], scaled)
-    x = scaled / _TABLE_STEPS
+    x = scaled / TABLE_STEPS
     if low >= end:
-        return _q_asymptotic(x, low / _TABLE_STEPS, high / _TABLE_STEPS)
+        return _q_asymptotic(x, low / TABLE_STEPS, high / TABLE_STEPS)
     inside = scaled < end
     table = _tabulated(_split_tables()[0], np.where(inside, scaled, 0.0))
-    outside = _q_asymptotic(np.maximum(x, _TABLE_END), _TABLE_END, high / _TABLE_STEPS)
+    outside = _q_asymptotic(np.maximum(x, TABLE_END), TABLE_END, high / TABLE_STEPS)
     return np.where(inside, table, outside)
 
 
 def _log_q(x: np.ndarray) -> np.ndarray:
     """ln Q(x) for x >= 0, also where Q underflows: ``−x + ln(x³ + 3x² + 6x + 6)`` from 700 on
     (the second term of the series is e^{-700} times the first there)."""
-    x = np.minimum(x, _X_CAP)
-    inside = np.minimum(x, _LOG_X) * _TABLE_STEPS
+    x = np.minimum(x, X_CAP)
+    inside = np.minimum(x, LOG_X) * TABLE_STEPS
     direct = np.log(_q_fast(inside, float(np.min(inside)), float(np.max(inside))))
-    return np.where(x < _LOG_X, direct, np.log(_p(x)) - x)
+    return np.where(x < LOG_X, direct, np.log(_p(x)) - x)
 
 
 def _cool_chunk(
     t: np.ndarray, t_min: float, t_max: float, u_short: float, u_long: float
 ) -> np.ndarray:
     """``K T⁴ [Q(x_long) − Q(x_short)]`` for 0 < T < inf (where x_short >= 2)."""
-    steps_short = u_short * _TABLE_STEPS  # x · 64 = (u · 64) / T, exactly 64 x
-    steps_long = u_long * _TABLE_STEPS
+    steps_short = u_short * TABLE_STEPS  # x · 64 = (u · 64) / T, exactly 64 x
+    steps_long = u_long * TABLE_STEPS
     if u_long == 0.0:  # λ2 = inf: Q(0) = π⁴/15
-        integral = np.full_like(t, _Q0)
+        integral = np.full_like(t, Q0)
     else:
         integral = _q_fast(steps_long / t, steps_long / t_max, steps_long / t_min)
     if not math.isinf(u_short):  # else λ1 = 0: Q(inf) = 0
         integral -= _q_fast(steps_short / t, steps_short / t_max, steps_short / t_min)
-    power = t * _KQ
+    power = t * KQ
     power *= power
     power *= power
     integral *= power
-    if u_long / t_min >= _LOG_X or _KQ * t_max > _HUGE_KQT:
-        far = (u_long / t >= _LOG_X) | (t * _KQ > _HUGE_KQT)
+    if u_long / t_min >= LOG_X or KQ * t_max > HUGE_KQT:
+        far = (u_long / t >= LOG_X) | (t * KQ > HUGE_KQT)
         if bool(np.any(far)):
             integral[far] = _cool_in_logs(t[far], u_short, u_long)
     return integral
@@ -406,24 +406,24 @@ def _cool_in_logs(t: np.ndarray, u_short: float, u_long: float) -> np.ndarray:
     with ``r = Q(x_short)/Q(x_long)``: e^{-x} subnormal or (K^{1/4} T)⁴ overflowing."""
     log_long = _log_q(u_long / t)
     ratio = np.zeros_like(t) if math.isinf(u_short) else np.exp(_log_q(u_short / t) - log_long)
-    return np.exp(4.0 * np.log(t * _KQ) + log_long + np.log1p(-ratio))
+    return np.exp(4.0 * np.log(t * KQ) + log_long + np.log1p(-ratio))
 
 
 def _hot_chunk(t: np.ndarray, u_short: float, u_long: float, mixed: bool) -> np.ndarray:
     """``K T u1³ [S(x_short) − (λ1/λ2)³ S(x_long)]`` for 0 < T < inf where x_short < 2 (in a
     ``mixed`` chunk, the elements where it is not give numbers that are not used)."""
     s_table = _split_tables()[1]
-    last = math.nextafter(_SMALL_X * _TABLE_STEPS, 0.0)
-    scaled = (u_short * _TABLE_STEPS) / t
+    last = math.nextafter(SMALL_X * TABLE_STEPS, 0.0)
+    scaled = (u_short * TABLE_STEPS) / t
     short = _tabulated(s_table, np.minimum(scaled, last) if mixed else scaled)
     if u_long > 0.0:
         ratio = (u_long / u_short) ** 3
-        scaled = (u_long * _TABLE_STEPS) / t
+        scaled = (u_long * TABLE_STEPS) / t
         long = _tabulated(s_table, np.minimum(scaled, last) if mixed else scaled)
         long *= ratio
         short -= long
     short *= t
-    short *= _BAND_CONSTANT * (u_short * u_short * u_short)  # inf, not OverflowError
+    short *= BAND_CONSTANT * (u_short * u_short * u_short)  # inf, not OverflowError
     return short
 
 
@@ -438,11 +438,11 @@ def _band_exitance_chunk(t: np.ndarray, low: float, high: float) -> np.ndarray:
         return np.where(special, t, _band_exitance_chunk(regular, low, high))
     u_short = SECOND_RADIATION_CONSTANT / low if low > 0.0 else math.inf
     u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
-    if u_short / t_max >= _SMALL_X:  # every element on the large-x side at λ1 (the usual case)
+    if u_short / t_max >= SMALL_X:  # every element on the large-x side at λ1 (the usual case)
         return _cool_chunk(t, t_min, t_max, u_short, u_long)
-    if u_short / t_min < _SMALL_X:  # hot: both edges on the small-x side
+    if u_short / t_min < SMALL_X:  # hot: both edges on the small-x side
         return _hot_chunk(t, u_short, u_long, mixed=False)
-    hot = u_short / t < _SMALL_X
+    hot = u_short / t < SMALL_X
     return np.where(
         hot,
         _hot_chunk(t, u_short, u_long, mixed=True),
@@ -572,12 +572,12 @@ def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
 
     def kernel(part: Any) -> Any:
         x_short, x_long = _x_of(low, part, xp), _x_of(high, part, xp)
-        if method == "planck" and _arrays.any_known(x_short < _SMALL_X, xp):
+        if method == "planck" and _arrays.any_known(x_short < SMALL_X, xp):
             return _planck_hot_or_cool(part, x_short, x_long, low, high, xp)
         integral = integrate(x_short, x_long, xp)
         with np.errstate(over="ignore", invalid="ignore"):  # T⁴ beyond 1e308: inf, or NaN
             t2 = part * part
-            return _BAND_CONSTANT * t2 * t2 * integral
+            return BAND_CONSTANT * t2 * t2 * integral
 
     return _arrays.result(_arrays.chunked_elementwise(kernel, t))
 
@@ -590,18 +590,18 @@ def _planck_hot_or_cool(t: Any, x_short: Any, x_long: Any, low: float, high: flo
     ``K T⁴ I = K T [(c2/λ1)³ S(x1) − (c2/λ2)³ S(x2)]`` with ``S = I/x³`` (:func:`_small_series`):
     the same numbers, scaled before they are multiplied (Rayleigh–Jeans side of the band).
     """
-    hot = x_short < _SMALL_X
+    hot = x_short < SMALL_X
     u_short = SECOND_RADIATION_CONSTANT / low  # low > 0 wherever x_short is below the cap
     u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
-    small_short = xp.minimum(x_short, _SMALL_X)
-    small_long = xp.minimum(x_long, _SMALL_X)
+    small_short = xp.minimum(x_short, SMALL_X)
+    small_long = xp.minimum(x_long, SMALL_X)
     scaled = u_short**3 * _small_series(small_short, xp) - u_long**3 * _small_series(small_long, xp)
     cool_t = xp.where(hot, 0.0, t)
-    cool = _band_integral_planck(xp.where(hot, _X_CAP, x_short), xp.where(hot, _X_CAP, x_long), xp)
+    cool = _band_integral_planck(xp.where(hot, X_CAP, x_short), xp.where(hot, X_CAP, x_long), xp)
     with np.errstate(over="ignore"):
         t2 = cool_t * cool_t
-        cooled = _BAND_CONSTANT * t2 * t2 * cool
-    return xp.where(hot, _BAND_CONSTANT * t * scaled, cooled)
+        cooled = BAND_CONSTANT * t2 * t2 * cool
+    return xp.where(hot, BAND_CONSTANT * t * scaled, cooled)
 
 
 def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
@@ -663,9 +663,9 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
     x_short, x_long = _x_of(low, t, xp), _x_of(high, t, xp)
     # Hot (both edges on the small-x series): T³ I and T³ g(x) as (c2/λ)³ S(x) and
     # (c2/λ)³ x/(e^x − 1), finite up to T = inf (the Rayleigh–Jeans limit), as in band_exitance.
-    hot = x_short < _SMALL_X
+    hot = x_short < SMALL_X
     cool_t = xp.where(hot, 0.0, t)
-    x_short_cool, x_long_cool = xp.where(hot, _X_CAP, x_short), xp.where(hot, _X_CAP, x_long)
+    x_short_cool, x_long_cool = xp.where(hot, X_CAP, x_short), xp.where(hot, X_CAP, x_long)
     integral = _band_integral_planck(x_short_cool, x_long_cool, xp)
 
     def g(x: Any) -> Any:
@@ -674,7 +674,7 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
         return xp.where(x > 0, value, xp.zeros_like(x))
 
     def scaled(u: float, x: Any) -> Any:  # (c2/λ)³ [4 S(x) − x/(e^x − 1)]; 1/(e^x−1)·x → 1
-        small = xp.minimum(x, _SMALL_X)
+        small = xp.minimum(x, SMALL_X)
         safe = xp.where(small > 0, small, 1.0)
         ratio = xp.where(small > 0, safe / xp.expm1(safe), xp.ones_like(small))
         return u**3 * (4.0 * _small_series(small, xp) - ratio)
@@ -685,7 +685,7 @@ def band_exitance_derivative(temperature: Any, band: Any) -> Any:
         cool = cool_t**3 * (4.0 * integral + g(x_long_cool) - g(x_short_cool))
     if not math.isinf(u_short) and _arrays.any_known(hot, xp):
         cool = xp.where(hot, scaled(u_short, x_short) - scaled(u_long, x_long), cool)
-    return _arrays.result(_BAND_CONSTANT * cool)
+    return _arrays.result(BAND_CONSTANT * cool)
 
 
 def stefan_boltzmann_exitance(temperature: Any) -> Any:

@@ -24,14 +24,18 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass
 from difflib import get_close_matches
 from typing import Any
 
 from targetacq import _arrays, optics
 from targetacq import transforms as _transforms
 from targetacq.acquisition import get_motion_rule, given_clutter
-from targetacq.core.cases import RangeCase, case_acquisition, case_probability
+from targetacq.core.cases import (
+    RangeCase,
+    RangePerformance,
+    case_acquisition,
+    case_probability,
+)
 from targetacq.criteria import Criterion, get_criterion
 
 __all__ = [
@@ -317,28 +321,6 @@ def _order(ranges: dict[str, Any]) -> None:
 CASE_KEYS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(RangeCase))
 """Keys of a case of :func:`range_performance` given as a mapping: the fields of
 :class:`RangeCase` (``options``: the transform's options)."""
-
-
-@dataclass(frozen=True)
-class RangePerformance:
-    """Range-performance curves and DRI ranges for one or several cases.
-
-    Attributes
-    ----------
-    curves : xarray.Dataset
-        Dims ``(case, range)``; variables ``detection``, ``recognition``, ``identification``
-        (ordered probabilities), ``cycles`` [cycles], ``transmittance`` and ``snr`` [dB]; the
-        ``range`` coordinate in metres.
-    dri : pandas.DataFrame
-        One row per case, task and probability: ``range_m`` (NaN where never reached) and
-        ``reached``.
-    cases : Mapping[str, RangeCase]
-        Each case, as a :class:`RangeCase` (mappings given are converted).
-    """
-
-    curves: Any
-    dri: Any
-    cases: Mapping[str, RangeCase]
 
 
 def as_range_case(label: str, case: RangeCase | Mapping[str, Any]) -> RangeCase:

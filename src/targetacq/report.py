@@ -47,7 +47,7 @@ THESIS_CITATION = (
 BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 """Programs :func:`find_browser` looks for on the PATH, in order."""
 
-_STYLE = """
+STYLE = """
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 62em; color: #222; }
 h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { font-size: 1.2em; margin-top: 1.6em; }
 table { border-collapse: collapse; margin: 0.6em 0; }
@@ -62,13 +62,13 @@ figure { margin: 0; } figcaption { color: #444; font-size: 0.9em; margin: 0.3em 
 """
 
 
-def _figure_uri(fig: Figure) -> str:
+def figure_uri(fig: Figure) -> str:
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png")
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
-def _table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], numeric: set[str]) -> str:
+def html_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], numeric: set[str]) -> str:
     head = "".join(f"<th>{html.escape(c)}</th>" for c in columns)
     body = []
     for row in rows:
@@ -86,7 +86,7 @@ def _section_table(items: Mapping[str, str | Mapping[str, str]]) -> str:
     cases = list(dict.fromkeys(c for v in items.values() if isinstance(v, Mapping) for c in v))
     if not cases:
         rows = [{"item": k, "value": v} for k, v in items.items()]
-        return _table(rows, ["item", "value"], set())
+        return html_table(rows, ["item", "value"], set())
     head = "<th>item</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in cases)
     body = []
     for item, value in items.items():
@@ -158,7 +158,7 @@ def render_report(
     stamp = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-        f"<title>{html.escape(title)}</title><style>{_STYLE}</style></head><body>",
+        f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>",
         f"<h1>{html.escape(title)}</h1>",
         f"<p class='muted'>targetacq {html.escape(version)} — generated {stamp}. Ranges are slant "
         "ranges in metres; probabilities are those of the conceptual sensor model of "
@@ -173,7 +173,9 @@ def render_report(
         _probability_column(p) for p in sorted(set(performance.dri["probability"]))
     ]
     parts.append("<h2>DRI ranges [m]</h2>")
-    parts.append(_table(dri_rows, ["case", "task", *probability_columns], set(probability_columns)))
+    parts.append(
+        html_table(dri_rows, ["case", "task", *probability_columns], set(probability_columns))
+    )
     parts.append(
         "<p class='muted'>Range at which each task reaches the probability. Recognition is "
         "capped at detection and identification at recognition (nothing is recognised that was "
@@ -184,7 +186,7 @@ def render_report(
     )
     for heading, fig in figures.items():
         parts.append(f"<h2>{html.escape(heading)}</h2>")
-        parts.append(f"<figure><img alt='{html.escape(heading)}' src='{_figure_uri(fig)}'>")
+        parts.append(f"<figure><img alt='{html.escape(heading)}' src='{figure_uri(fig)}'>")
         caption = (captions or {}).get(heading)
         if caption:
             parts.append(f"<figcaption>{html.escape(caption)}</figcaption>")

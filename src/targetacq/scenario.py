@@ -963,6 +963,75 @@ class FalseTargets(_Strict):
         return self
 
 
+def _pointed(sensor: Any) -> bool:
+    return sensor.look_at is not None or (
+        sensor.azimuth is not None and sensor.depression is not None
+    )
+
+
+NO_FALSE_TARGET_SENSORS = (
+    "false_targets.sensors: an empty list names no sensor, so none would report false targets; "
+    "name at least one sensor, or leave sensors out for every sensor with a field of view (or "
+    "remove the [false_targets] table)"
+)
+"""The problem with an empty ``false_targets.sensors``: it names no sensor, so no false target
+would ever be drawn, without a word."""
+
+
+def false_target_problems(scenario: Any) -> list[str]:
+    """What is wrong with a scenario's ``[false_targets]`` table, each problem located.
+
+    ``false_targets.sensors`` must name sensors of the scenario, at least one, each with a
+    field of view (``pixels``) and a pointing (``look_at``, or ``azimuth`` and ``depression``),
+    once; without ``sensors``, at least one sensor must have a field of view.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    list of str
+        Empty where there is no table or nothing is wrong.
+    """
+    table = getattr(scenario, "false_targets", None)
+    if table is None:
+        return []
+    sensors = {s.name: s for s in scenario.sensors}
+    if table.sensors is None:
+        if not any(s.pixels is not None for s in scenario.sensors):
+            return [
+                "false_targets: no sensor has a field of view (pixels = [width, height]), so "
+                "none can report false targets; give one pixels and a pointing"
+            ]
+        return []
+    if not table.sensors:
+        return [NO_FALSE_TARGET_SENSORS]
+    problems = []
+    seen: set[str] = set()
+    for k, name in enumerate(table.sensors):
+        where = f"false_targets.sensors[{k}]"
+        sensor = sensors.get(name)
+        if name in seen:
+            problems.append(f"{where}: {name!r} is listed twice")
+        elif sensor is None:
+            problems.append(
+                f"{where}: unknown sensor {name!r}; the sensors are: {', '.join(sensors)}"
+            )
+        elif sensor.pixels is None:
+            problems.append(
+                f"{where}: sensor {name!r} has no field of view (give pixels = [width, height] "
+                "and a pointing); false targets are drawn inside a field of view"
+            )
+        elif not _pointed(sensor):
+            problems.append(
+                f"{where}: sensor {name!r} is not pointed (give look_at, or azimuth and "
+                "depression); false targets are drawn inside its field of view on the ground"
+            )
+        seen.add(name)
+    return problems
+
+
 class TimeGrid(_Strict):
     """Evaluation times: ``start`` to ``stop`` inclusive every ``step``."""
 
@@ -1032,8 +1101,6 @@ class Scenario(_Strict):
         for kind in dict.fromkeys(s.type for s in self.sensors):
             problems += get_sensor_type(kind).requirements(self)
         if self.false_targets is not None:
-            from targetacq.false_targets import false_target_problems
-
             problems += false_target_problems(self)
         image = self.background.image is not None
         for k, target in enumerate(self.targets):

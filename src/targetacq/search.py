@@ -96,7 +96,7 @@ _TASKS = ("detection", "recognition", "identification")
 # the step), so the same seed gives the same draws whatever the step and the pointing pattern.
 _CAPABILITY, _CLOCK = 3, 4
 # Runs × pairs of a step up to which it is advanced element by element in Python floats
-# (_SearchState._interval_small), where NumPy's fixed cost per call is larger than the work.
+# (SearchState._interval_small), where NumPy's fixed cost per call is larger than the work.
 _SMALL = 8
 
 
@@ -186,7 +186,7 @@ def check_simulation_size(
     return int(steps)
 
 
-class _Streams:
+class Streams:
     """The Philox keys of every sensor-target pair (flat index ``s · n_g + g``), computed the
     first time a pair needs a draw (hashing a million names takes seconds)."""
 
@@ -239,7 +239,7 @@ class ShortVisit:
     step: float
 
 
-class _SearchState:
+class SearchState:
     """The sampled state of every run × sensor × target pair, advanced one step at a time.
 
     Arrays are (runs, pairs) with the pairs flattened (sensor-major); the probabilities and the
@@ -249,7 +249,7 @@ class _SearchState:
 
     def __init__(
         self,
-        streams: _Streams,
+        streams: Streams,
         runs: np.ndarray,
         search_time: float,
         redraw: str | RedrawRule = "never",
@@ -741,7 +741,7 @@ def simulate(
     in_view = np.ascontiguousarray(arrays["in_view"].reshape(n_s * n_g, -1).T)
     # The bands of a colour camera draw from the camera's streams (as in the step API).
     scene = chain.compiled.scene
-    streams = _Streams(seed, scene.sensors.group_names, chain.target_names)
+    streams = Streams(seed, scene.sensors.group_names, chain.target_names)
     crossings = _scripted_crossings(chain, edges, p, in_view)
     footprints = _false_target_footprints(chain, edges, runs, seed)
     false_parts: list[FalseDetections] = []
@@ -749,7 +749,7 @@ def simulate(
     at = edges.tolist()
     short: ShortVisit | None = None
     for first in range(0, runs, batch):
-        state = _SearchState(
+        state = SearchState(
             streams,
             np.arange(first, min(first + batch, runs)),
             sc.model.search_time,

@@ -108,10 +108,10 @@ def pixels_on_target(area: Any, range: Any, ifov: Any) -> Any:
     _arrays.require_nonnegative("area", a, xp, "m²")
     _arrays.require_positive("range", r, xp, "m")
     _arrays.require_positive("ifov", i, xp, "rad")
-    return _arrays.result(_pixels(a, r, i))
+    return _arrays.result(pixels_on_target_unchecked(a, r, i))
 
 
-def _pixels(a: Any, r: Any, i: Any) -> Any:
+def pixels_on_target_unchecked(a: Any, r: Any, i: Any) -> Any:
     """:func:`pixels_on_target` of checked float arrays (the arithmetic kernel)."""
     footprint = r * i
     return a / (footprint * footprint)
@@ -177,10 +177,10 @@ def sensor_snr(contrast: Any, noise_equivalent: Any, transmittance: Any, pixels:
     _arrays.require_nonnegative("noise_equivalent", noise, xp)
     _arrays.require_unit_interval("transmittance", tau, xp)
     _arrays.require_nonnegative("pixels", n, xp)
-    return _arrays.result(_sensor_db(c, noise, tau, n, xp)[0])
+    return _arrays.result(sensor_db(c, noise, tau, n, xp)[0])
 
 
-def _sensor_db(c: Any, noise: Any, tau: Any, n: Any, xp: Any) -> tuple[Any, Any, Any]:
+def sensor_db(c: Any, noise: Any, tau: Any, n: Any, xp: Any) -> tuple[Any, Any, Any]:
     """:func:`sensor_snr` of checked float arrays (the arithmetic kernel).
 
     Returns
@@ -225,10 +225,10 @@ def combined_snr(*snr: Any) -> Any:
     xp, values = _arrays.arrays(*snr, names=[f"snr {k + 1}" for k in range(len(snr))])
     if len(values) == 1:
         return _arrays.result(values[0])
-    return _arrays.result(_combined_db(values, xp))
+    return _arrays.result(combined_db(values, xp))
 
 
-def _combined_db(values: list[Any], xp: Any) -> Any:
+def combined_db(values: list[Any], xp: Any) -> Any:
     """:func:`combined_snr` of two or more float arrays (the arithmetic kernel)."""
     # 1/SNR_lin² = 10^(−SNR/10): 0 at +inf, +inf at −inf.
     with np.errstate(over="ignore", divide="ignore"):

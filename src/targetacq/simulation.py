@@ -72,9 +72,9 @@ from targetacq.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.scenario import Scenario, ScenarioError, Sensor, load_scenario
 from targetacq.search import (
+    SearchState,
     ShortVisitWarning,
-    _SearchState,
-    _Streams,
+    Streams,
     check_seed,
     pair_crossings,
     short_visit_message,
@@ -372,7 +372,7 @@ class Simulation:
         self._shape = (len(self.sensors), len(self.targets))
         # The bands of a colour camera draw from the camera's streams: one look, not several.
         self._stream_names = scene.sensors.group_names
-        self._streams = _Streams(check_seed(seed), self._stream_names, self.targets)
+        self._streams = Streams(check_seed(seed), self._stream_names, self.targets)
         none = np.empty(0, dtype=np.int64)
         self._empty = Events(none, none, none, np.empty(0), none, self.sensors, self.targets)
         self._false = self._false_targets(self.seed)
@@ -411,12 +411,12 @@ class Simulation:
             :func:`targetacq.search.simulate`).
         """
         if seed is not None and check_seed(seed) != self._streams.seed:
-            self._streams = _Streams(seed, self._stream_names, self.targets)
+            self._streams = Streams(seed, self._stream_names, self.targets)
             self._false = self._false_targets(self._streams.seed)
         if not isinstance(run, (int, np.integer)) or isinstance(run, bool) or not 0 <= run < 2**32:
             raise ValueError(f"run must be an integer in [0, 2**32), got {run!r}")
         model = self.scenario.model
-        self._state = _SearchState(
+        self._state = SearchState(
             self._streams,
             np.array([run]),
             self._scene.choices.search_time,

@@ -100,7 +100,7 @@ TTPF_E0 = 2.7
 TTPF_E1 = 0.7
 
 # Beyond exp(±700) float64 over/underflows; the logistic is then 0 or 1 to double precision.
-_LOGIT_LIMIT = 700.0
+LOGIT_LIMIT = 700.0
 
 
 # --------------------------------------------------------------------------------------------
@@ -112,7 +112,7 @@ def _ttpf(x: Array, xp: Any) -> Array:
     """TTPF of x = N/N50 >= 0 (or NaN), as the logistic of E·ln x, without warnings."""
     positive = x > 0
     log_x = xp.log(xp.where(positive | xp.isnan(x), x, 1.0))
-    z = xp.clip((TTPF_E0 + TTPF_E1 * x) * log_x, -_LOGIT_LIMIT, _LOGIT_LIMIT)
+    z = xp.clip((TTPF_E0 + TTPF_E1 * x) * log_x, -LOGIT_LIMIT, LOGIT_LIMIT)
     p = 1.0 / (1.0 + xp.exp(-z))
     return xp.where(x == 0, 0.0, p)
 
@@ -285,7 +285,7 @@ class _Curve:
 
 
 @functools.cache
-def _c2nveo_curves() -> Mapping[tuple[str, str], _Curve]:
+def c2nveo_curves() -> Mapping[tuple[str, str], _Curve]:
     table = load_table("c2nveo")
     p = table.numbers("probability")
     curves = {}
@@ -298,13 +298,13 @@ def _c2nveo_curves() -> Mapping[tuple[str, str], _Curve]:
 
 
 @functools.cache
-def _c2nveo_reference_n50(task: str) -> float:
+def c2nveo_reference_n50(task: str) -> float:
     # The nominal curve's 50 % point: the geometric mean of the 0.50 row (the c2nveo criterion).
-    return float(_c2nveo_curves()[task, "nominal"].inverse(_arrays.as_float(0.5, _np()), _np()))
+    return float(c2nveo_curves()[task, "nominal"].inverse(_arrays.as_float(0.5, _np()), _np()))
 
 
 @functools.cache
-def _sw_curves() -> Mapping[str, _Curve]:
+def sw_curves() -> Mapping[str, _Curve]:
     table = load_table("schmieder_weathersby")
     p = table.numbers("probability")
     return MappingProxyType(
@@ -313,8 +313,8 @@ def _sw_curves() -> Mapping[str, _Curve]:
 
 
 @functools.cache
-def _sw_reference_n50() -> float:
-    return float(_sw_curves()["medium"].inverse(_arrays.as_float(0.5, _np()), _np()))
+def sw_reference_n50() -> float:
+    return float(sw_curves()["medium"].inverse(_arrays.as_float(0.5, _np()), _np()))
 
 
 def _np() -> Any:
@@ -373,8 +373,8 @@ def c2nveo(cycles: Any, n50: Any, task: str = "detection", bound: str = "nominal
     xp, (n, n50_) = _arrays.arrays(cycles, n50, names=("cycles", "n50"))
     _arrays.require_nonnegative("cycles", n, xp)
     _arrays.require_positive("n50", n50_, xp)
-    scaled = n * (_c2nveo_reference_n50(task) / n50_)
-    return _arrays.result(_c2nveo_curves()[task, bound].forward(scaled, xp))
+    scaled = n * (c2nveo_reference_n50(task) / n50_)
+    return _arrays.result(c2nveo_curves()[task, bound].forward(scaled, xp))
 
 
 def c2nveo_inverse(
@@ -398,8 +398,8 @@ def c2nveo_inverse(
     xp, (p, n50_) = _arrays.arrays(probability, n50, names=("probability", "n50"))
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
-    n = _c2nveo_curves()[task, bound].inverse(p, xp)
-    return _arrays.result(n * (n50_ / _c2nveo_reference_n50(task)))
+    n = c2nveo_curves()[task, bound].inverse(p, xp)
+    return _arrays.result(n * (n50_ / c2nveo_reference_n50(task)))
 
 
 def clutter_region(scr: Any) -> Any:
@@ -428,29 +428,29 @@ def clutter_region(scr: Any) -> Any:
 
 
 @functools.cache
-def _sw_high_anchor() -> tuple[float, float, float]:
+def sw_high_anchor() -> tuple[float, float, float]:
     """(lowest observed SCR, high-clutter N50, exponent α) of the continuation (module doc)."""
     observed = load_table("schmieder_weathersby_observed").numbers("scr")
     scr_low = min(observed)
-    high_n50 = float(_sw_curves()["high"].inverse(_arrays.as_float(0.5, _np()), _np()))
-    medium_n50 = _sw_reference_n50()  # at the medium / high boundary, SCR = 1
+    high_n50 = float(sw_curves()["high"].inverse(_arrays.as_float(0.5, _np()), _np()))
+    medium_n50 = sw_reference_n50()  # at the medium / high boundary, SCR = 1
     return scr_low, high_n50, math.log(high_n50 / medium_n50) / math.log(1.0 / scr_low)
 
 
 def _sw_stretch(scr: Array, xp: Any) -> Array:
     """Cycles-axis multiplier in (0, 1]: 1 for SCR >= 0.33, (SCR/0.33)^α below (module doc)."""
-    scr_low, _, alpha = _sw_high_anchor()
+    scr_low, _, alpha = sw_high_anchor()
     below = scr < scr_low
     ratio = xp.where(below, scr, scr_low) / scr_low
     return xp.where(below, ratio**alpha, xp.ones_like(scr))
 
 
 @functools.cache
-def _sw_region_n50() -> Mapping[str, float]:
+def sw_region_n50() -> Mapping[str, float]:
     """The 50 % point of each Table 3.5 region's curve [cycles] (computed once)."""
     half = _arrays.as_float(0.5, _np())
     return MappingProxyType(
-        {name: float(curve.inverse(half, _np())) for name, curve in _sw_curves().items()}
+        {name: float(curve.inverse(half, _np())) for name, curve in sw_curves().items()}
     )
 
 
@@ -482,7 +482,7 @@ def clutter_n50(scr: Any) -> Any:
     """
     xp, (s,) = _arrays.arrays(scr, names=("scr",))
     _arrays.require_nonnegative("scr", s, xp)
-    n50 = {name: xp.full_like(s, value) for name, value in _sw_region_n50().items()}
+    n50 = {name: xp.full_like(s, value) for name, value in sw_region_n50().items()}
     base = _sw_select(n50, s, None, xp)
     stretch = _sw_stretch(s, xp)
     safe = xp.where(stretch > 0, stretch, 1.0)
@@ -532,7 +532,7 @@ def _sw_select(
     """
     if scr is None:
         return values[region or "low"]
-    scr_low = _sw_high_anchor()[0]
+    scr_low = sw_high_anchor()[0]
     if isinstance(scr, np.ndarray):
         return _sw_select_numpy(values, scr, scr_low)
     safe = xp.where(scr > 0, scr, scr_low)
@@ -626,19 +626,19 @@ def schmieder_weathersby(
     if moving:
         return _arrays.result(xp.where(xp.isnan(n), n, xp.ones_like(n)))
     if hot_spot:
-        return _arrays.result(_sw_probability(n, n50_, None, "low", xp))
-    return _arrays.result(_sw_probability(n, n50_, s, region, xp))
+        return _arrays.result(sw_probability(n, n50_, None, "low", xp))
+    return _arrays.result(sw_probability(n, n50_, s, region, xp))
 
 
-def _sw_probability(n: Array, n50: Any, scr: Array | None, region: str | None, xp: Any) -> Array:
+def sw_probability(n: Array, n50: Any, scr: Array | None, region: str | None, xp: Any) -> Array:
     """:func:`schmieder_weathersby` of checked arrays: the region's curve (default low), or with
     an SCR array the stretched curves blended in ``log SCR`` (:func:`_sw_select`).
 
     The arithmetic kernel. NumPy evaluates only the curves the SCRs need, with ``log N`` taken
     once for them; the numbers are the same.
     """
-    scaled = n * (_sw_reference_n50() / n50)
-    curves = _sw_curves()
+    scaled = n * (sw_reference_n50() / n50)
+    curves = sw_curves()
     if scr is None:
         return curves[region or "low"].forward(scaled, xp)
     if not isinstance(scaled, np.ndarray) or scaled.ndim == 0:
@@ -646,7 +646,7 @@ def _sw_probability(n: Array, n50: Any, scr: Array | None, region: str | None, x
         values = {name: curve.forward(scaled, xp) for name, curve in curves.items()}
         return _sw_select(values, scr, None, xp)
     scr = np.asarray(scr)
-    below = scr < _sw_high_anchor()[0]
+    below = scr < sw_high_anchor()[0]
     if below.any():  # the stretch is 1 elsewhere: scaled · 1 is scaled
         scaled = scaled * _sw_stretch(scr, xp)
     with np.errstate(divide="ignore"):
@@ -688,16 +688,16 @@ def schmieder_weathersby_inverse(
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
     s = _sw_options(scr, region, hot_spot, moving, xp)
-    scale = n50_ / _sw_reference_n50()
+    scale = n50_ / sw_reference_n50()
     if moving:
         return _arrays.result(xp.where(xp.isnan(p), p, xp.zeros_like(p)) * scale)
     if hot_spot:
-        return _arrays.result(_sw_curves()["low"].inverse(p, xp) * scale)
+        return _arrays.result(sw_curves()["low"].inverse(p, xp) * scale)
     if s is None:
-        return _arrays.result(_sw_curves()[region or "low"].inverse(p, xp) * scale)
+        return _arrays.result(sw_curves()[region or "low"].inverse(p, xp) * scale)
     p, s = xp.broadcast_arrays(p, s)
     stretch = _sw_stretch(s, xp)
-    curves = _sw_curves()
+    curves = sw_curves()
     top = _sw_select(
         {name: xp.full_like(s, c.probabilities[-1]) for name, c in curves.items()}, s, None, xp
     )

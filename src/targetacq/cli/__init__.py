@@ -524,9 +524,9 @@ def _signals_handled() -> Iterator[None]:
 
 def _import_commands() -> None:
     """Import every command module (each registers its commands on :data:`app`)."""
-    # The commands register themselves on `app` when their modules are imported.
-    from targetacq.cli import design, dri, figures, images, scenarios, sweep, validation  # noqa: F401
-
+    # The commands register themselves on `app` when their modules are imported. They are found
+    # by name in COMMANDS, as plugins: each command module imports this package, never the
+    # other way round.
     for module, _ in COMMANDS.values():
         if importlib.util.find_spec(f"{__name__}.{module}"):
             importlib.import_module(f"{__name__}.{module}")

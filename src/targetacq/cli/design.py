@@ -20,7 +20,7 @@ from targetacq.limits import check_count
 from targetacq.outputs import json_text
 from targetacq.services.options import typed_options
 from targetacq.services.range_case import (
-    _example_camera,
+    example_camera,
     option_choice,
     option_quantity,
     range_setup,
@@ -98,7 +98,7 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
             "pitch), not both"
         )
     if options.get("example") and pitch is None and focal_length is None:
-        pitch = _example_camera()["pitch"]
+        pitch = example_camera()["pitch"]
     if options.get("f_number") is not None and pitch is None and focal_length is None:
         raise ValueError(
             "--f-number needs --pitch or --focal-length (aperture = focal length / F#)"

@@ -70,15 +70,16 @@ def dri(
 def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -> str:
     """The DRI ranges of every sensor-target pair of a scenario, as ``targetacq report`` has
     them (range cases for imagers, the core for radars and laser radars)."""
-    from targetacq.cli.figures import _check_scenario_options, _scenario_performance
+    from targetacq.cli.figures import _check_scenario_options
     from targetacq.model import ModelChain
+    from targetacq.report_content import scenario_performance
     from targetacq.scenario import load_scenario
     from targetacq.services.range_case import option_probabilities
 
     _check_scenario_options(case_options, "a scenario's dri", "--probability and --format")
     probabilities = option_probabilities(case_options.get("probability") or "0.5")
     chain = ModelChain(load_scenario(path))
-    performance, _ = _scenario_performance(chain, chain.range_cases(), None, probabilities)
+    performance, _ = scenario_performance(chain, chain.range_cases(), None, probabilities)
     rows = [
         {
             "pair": str(r["case"]),

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import math
 import re
-import textwrap
 from collections.abc import Mapping, Sequence
 from typing import Annotated, Any
 
 import typer
 
-from targetacq import __version__, ranges
+from targetacq import __version__
 from targetacq.atmosphere import (
     EXTINCTION_LEVELS,
 )
@@ -19,12 +18,19 @@ from targetacq.cli import (
     app,
 )
 from targetacq.cli.options import range_case_options
-from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA, get_criterion
-from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.outputs import output_path
-from targetacq.scenario import load_scenario
+from targetacq.report_content import (
+    REPORT_PROBABILITIES,
+    atmosphere_figures,
+    case_title,
+    performance_and_note,
+    scenario_report,
+    sensor_text,
+    sources_line,
+    titled,
+)
 from targetacq.services.options import option_product, typed_options
 from targetacq.services.range_case import (
     RangeSetup,
@@ -44,9 +50,6 @@ PLOT_KIND_NAMES = ("curves", "transforms", "atmosphere")
 """The names of :data:`targetacq.plots.PLOT_KINDS`, known without importing matplotlib (for the
 help text; a test keeps the two equal)."""
 
-_REPORT_PROBABILITIES = "0.5,0.8,0.95"
-"""The probabilities of a figure's or a report's DRI points unless --probability is given."""
-
 
 def _given(case_options: dict[str, Any]) -> set[str]:
     """The names of the range-case options given on the command line."""
@@ -63,47 +66,6 @@ def _check_scenario_options(case_options: dict[str, Any], command: str, takes: s
             f"{command} takes its sensors and targets from the file; it takes {takes} only, "
             f"got {flags}"
         )
-
-
-def _sources() -> str:
-    """The model's source as a report prints it: the thesis, and where our errata and
-    assumptions are written down (targetacq.report, with matplotlib, is imported on use)."""
-    from targetacq.report import THESIS_CITATION
-
-    return f"{THESIS_CITATION}; errata and assumptions: see the targetacq user guide"
-
-
-_FLOOR = 0.02
-"""Automatic range axes extend until every task's probability is below this."""
-
-_MAX_AUTO_RANGE = 500e3
-"""The longest automatic range axis [m]; the caption says where curves stop above the floor."""
-
-_SIMULATION_RUNS, _SIMULATION_SEED, _SIMULATION_STEPS = 500, 0, 240
-"""Runs, seed and least number of time steps of a scenario report's simulated first times."""
-
-
-def _titled(heading: str, conditions: str) -> str:
-    """A figure title: the heading, then the conditions wrapped to the figure's width."""
-    return "\n".join([heading, textwrap.fill(conditions, 100)])
-
-
-def _sensor_text(setup: RangeSetup) -> str:
-    sensor = setup.sensor
-    if "pitch_m" in sensor:
-        pitch_um, focal_mm = sensor["pitch_m"] * 1e6, sensor["focal_length_m"] * 1e3
-        optics_text = f"{pitch_um:.3g} µm pitch, {focal_mm:.4g} mm focal length"
-    elif "hfov_rad" in sensor:
-        optics_text = f"{math.degrees(sensor['hfov_rad']):.3g}° over {sensor['pixels']:.0f} pixels"
-    else:
-        optics_text = "IFOV given"
-    return f"IFOV {setup.case.ifov * 1e3:.4g} mrad ({optics_text})"
-
-
-def _title(setup: RangeSetup) -> str:
-    return (
-        f"{_sensor_text(setup)} — target critical dimension {setup.case.critical_dimension:.3g} m"
-    )
 
 
 def _field_of_view(setup: RangeSetup) -> str:
@@ -166,76 +128,6 @@ def _case_label(swept: Mapping[str, Any]) -> str:
     return ", ".join(parts)
 
 
-def _performance(
-    cases: Mapping[str, RangeCase],
-    max_range: str | float | None,
-    probabilities: Sequence[float],
-    requirement: tuple[float, float | None] | None = None,
-) -> tuple[Any, str]:
-    """Range performance of the cases on 600 ranges, and a caption saying where they stop.
-
-    The range axis goes out to --max-range (text, or a number of metres); by default to a
-    quarter beyond the farthest DRI range of the table (and the requirement's range), so that
-    every answer is on the chart and none is squeezed into its first few per cent; where no
-    DRI range is finite, to where every task of every case is below :data:`_FLOOR` (bounded by
-    :data:`_MAX_AUTO_RANGE` either way).
-    """
-    answers = [
-        float(r)
-        for case in cases.values()
-        for p in probabilities
-        for r in ranges.case_ranges(case, p).values()
-    ]
-    answers = [r for r in answers if math.isfinite(r) and r > 0]
-    if requirement is not None:
-        answers.append(requirement[0])
-    if isinstance(max_range, float):
-        r_max = max_range
-        limit = "twice the requirement's range"
-    elif max_range is not None:
-        r_max = option_quantity(max_range, "length", "--max-range")
-        limit = f"--max-range {max_range}"
-    elif answers:
-        r_max = min(1.25 * max(answers), _MAX_AUTO_RANGE)
-        limit = "a quarter beyond the farthest DRI range of the table"
-    else:
-        reach = [
-            float(r)
-            for case in cases.values()
-            for p in (_FLOOR, min(probabilities))
-            for r in ranges.case_ranges(case, p).values()
-        ]
-        finite = [r for r in reach if math.isfinite(r) and r > 0]
-        r_max = min(1.05 * max(finite), _MAX_AUTO_RANGE) if finite else 10e3
-        limit = f"the automatic limit of {_MAX_AUTO_RANGE / 1e3:g} km"
-    grid = [r_max * (k + 1) / 600 for k in range(600)]
-    performance = ranges.range_performance(grid, cases, probabilities)
-    last = performance.curves.isel(range=-1)
-    above = [
-        f"P({task}) {float(last[task].sel(case=case)):.2f} for {case}"
-        for task in ("detection", "recognition", "identification")
-        if task in last
-        for case in [str(c) for c in last["case"].values]
-        if float(last[task].sel(case=case)) >= _FLOOR
-    ]
-    if above:
-        note = (
-            f"The curves stop at {r_max / 1e3:.4g} km ({limit}), where "
-            + ", ".join(above[:6])
-            + (" and more" if len(above) > 6 else "")
-            + f" (still at or above {_FLOOR:.0%})."
-        )
-    else:
-        note = (
-            f"The curves are drawn out to {r_max / 1e3:.4g} km, where every task's probability "
-            f"is below {_FLOOR:.0%}."
-        )
-    if requirement is not None:
-        p_text = "" if requirement[1] is None else f"P ≥ {requirement[1]:g} "
-        note += f" Star and dashed line: the requirement, {p_text}at {requirement[0]:,.0f} m."
-    return performance, note + " Dots: the DRI ranges of the table."
-
-
 def option_requirement(text: str | None) -> tuple[float, float | None] | None:
     """``--requirement RANGE[,P]``: the range [m] and, optionally, the probability a task must
     reach there."""
@@ -258,32 +150,6 @@ def option_requirement(text: str | None) -> tuple[float, float | None] | None:
     if not 0 < p < 1:
         raise ValueError(f"--requirement probability must be in (0, 1); got {parts[1]!r}")
     return r, p
-
-
-def _atmosphere_figures(
-    bands: Sequence[tuple[float, float]], r_max: float, level: str, conditions: str
-) -> dict[str, Any]:
-    """One Table 7.1 figure per band in use, headed by the band."""
-    from targetacq.bands import band_name
-    from targetacq.plots import plot_atmosphere
-
-    figures = {}
-    for band in dict.fromkeys(bands):
-        try:
-            name = band_name(band)
-        except ValueError:  # Table 7.1 has the named bands only
-            continue
-        figures[f"Atmosphere, {name} band"] = plot_atmosphere(
-            band,
-            r_max,
-            level,
-            title=_titled(
-                f"Atmosphere, Table 7.1 {level} extinction, {name} band "
-                f"({band[0] * 1e6:g}–{band[1] * 1e6:g} µm)",
-                f"this report: {conditions}",
-            ),
-        )
-    return figures
 
 
 @app.command()
@@ -333,14 +199,18 @@ def plot(
     if max_range is not None and kind == "transforms":
         raise ValueError("plot transforms does not use --max-range (its axis is cycles)")
     if kind == "curves":
-        setup = range_setup(**params, default_probability=_REPORT_PROBABILITIES)
+        setup = range_setup(**params, default_probability=REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
                 f"plot curves needs a criterion with probabilities (not {setup.criterion.name})"
             )
-        performance, _ = _performance({"this sensor": setup.case}, max_range, setup.probabilities)
+        performance, _ = performance_and_note(
+            {"this sensor": setup.case}, max_range, setup.probabilities
+        )
         conditions = _shared_conditions([_conditions(setup)])
-        fig = plot_range_performance(performance, title=title or _titled(_title(setup), conditions))
+        fig = plot_range_performance(
+            performance, title=title or titled(case_title(setup), conditions)
+        )
     elif kind == "transforms":
         crit = (
             option_criterion(params["n50"])
@@ -409,8 +279,8 @@ def report(
         _check_scenario_options(
             case_options, "a scenario report", "--probability, --max-range and --title"
         )
-        probability = case_options.get("probability") or _REPORT_PROBABILITIES
-        parts = _scenario_report(scenario, max_range, title, option_probabilities(probability))
+        probability = case_options.get("probability") or REPORT_PROBABILITIES
+        parts = scenario_report(scenario, max_range, title, option_probabilities(probability))
     else:
         parts = _range_case_report(case_options, max_range, title, wanted)
     heading, performance, sections, figures, captions = parts
@@ -434,7 +304,7 @@ def _range_case_report(
     bands: list[tuple[float, float]] = []
     swept_names: list[str] = []
     for swept, options in option_product(case_options):
-        setup = range_setup(**options, default_probability=_REPORT_PROBABILITIES)
+        setup = range_setup(**options, default_probability=REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
                 f"the report needs a criterion with probabilities (not {setup.criterion.name})"
@@ -446,14 +316,14 @@ def _range_case_report(
     first = next(iter(setups.values()))
     probabilities = first.probabilities
     cases = {label: s.case for label, s in setups.items()}
-    performance, note = _performance(cases, max_range, probabilities, requirement)
+    performance, note = performance_and_note(cases, max_range, probabilities, requirement)
     conditions = _shared_conditions([_conditions(s) for s in setups.values()])
     if title:
         heading = title
     elif len(setups) == 1:
-        heading = _title(first)
+        heading = case_title(first)
     else:
-        sensors = {_sensor_text(s) for s in setups.values()}
+        sensors = {sensor_text(s) for s in setups.values()}
         sensor = sensors.pop() if len(sensors) == 1 else "several sensors"
         heading = f"{sensor} — {len(setups)} cases over " + ", ".join(
             name.replace("_", " ") for name in swept_names
@@ -461,13 +331,15 @@ def _range_case_report(
     captions = {"Range performance": note}
     figures = {
         "Range performance": plot_range_performance(
-            performance, title=_titled(heading, conditions), requirement=requirement
+            performance, title=titled(heading, conditions), requirement=requirement
         )
     }
     if requirement is not None:
-        near, near_note = _performance(cases, 2.0 * requirement[0], probabilities, requirement)
+        near, near_note = performance_and_note(
+            cases, 2.0 * requirement[0], probabilities, requirement
+        )
         figures["Range performance near the requirement"] = plot_range_performance(
-            near, title=_titled(heading, conditions), requirement=requirement
+            near, title=titled(heading, conditions), requirement=requirement
         )
         captions["Range performance near the requirement"] = near_note
     criteria = {s.criterion.name: s.criterion for s in setups.values()}
@@ -475,7 +347,7 @@ def _range_case_report(
         key = "Transforms" if len(criteria) == 1 else f"Transforms, criterion {name}"
         figures[key] = plot_transforms(
             crit,
-            title=_titled(f"Resolution-to-probability transforms (criterion {name})", conditions),
+            title=titled(f"Resolution-to-probability transforms (criterion {name})", conditions),
         )
     r_max = float(performance.curves["range"].values[-1])
     levels = {
@@ -484,7 +356,7 @@ def _range_case_report(
         if s.path.get("source", "").startswith("Table 7.1")
     }
     level = levels.pop() if len(levels) == 1 else "nominal"
-    figures.update(_atmosphere_figures(bands, r_max, level, conditions))
+    figures.update(atmosphere_figures(bands, r_max, level, conditions))
     # What differs from case to case gets a column per case in each section (one table, no
     # cell that strings several cases' values together).
     sections = _merged_sections({label: _report_sections(s) for label, s in setups.items()})
@@ -510,212 +382,6 @@ def _merged_sections(
             distinct = set(values.values())
             items[item] = distinct.pop() if len(distinct) == 1 else values
     return merged
-
-
-def _scenario_performance(
-    chain: Any, cases: Mapping[str, RangeCase], max_range: str | None, probabilities: list[float]
-) -> tuple[Any, str]:
-    """Range performance of a scenario's pairs: the imagers' range cases, and the radars' and
-    laser radars' pairs through the core (:func:`targetacq.core.pair_ranges.pair_performance`),
-    on one range axis."""
-    import pandas as pd
-    import xarray as xr
-
-    from targetacq.core.pair_ranges import pair_performance
-    from targetacq.ranges import RangePerformance
-    from targetacq.sensors import get_sensor_type
-
-    types = chain.compiled.scene.sensors.types
-    rows = [k for k, kind in enumerate(types) if get_sensor_type(kind).kind != "imaging"]
-    if not rows:
-        return _performance(cases, max_range, probabilities)
-    limit = None if max_range is None else option_quantity(max_range, "length", "--max-range")
-    active = pair_performance(chain, rows, probabilities, max_range=limit)
-    if not cases:
-        r_max = float(active.curves["range"].values[-1])
-        return active, f"Curves to {r_max / 1e3:g} km (radars and laser radars: the core)."
-    performance, note = _performance(cases, max_range, probabilities)
-    curves = xr.concat([performance.curves, active.curves], dim="case", join="outer")
-    dri = pd.concat([performance.dri, active.dri], ignore_index=True)
-    return RangePerformance(curves=curves, dri=dri, cases=performance.cases), note
-
-
-def _scenario_report(
-    path: str, max_range: str | None, title: str | None, probabilities: list[float]
-) -> tuple[Any, ...]:
-    """Heading, range performance, sections, figures and captions of a scenario's report."""
-    from targetacq.plots import (
-        plot_first_times,
-        plot_range_performance,
-        plot_timeline,
-        plot_transforms,
-    )
-    from targetacq.search import simulate
-
-    scenario = load_scenario(path)
-    chain = ModelChain(scenario)
-    cases = chain.range_cases()
-    performance, note = _scenario_performance(chain, cases, max_range, probabilities)
-    heading = title or (scenario.name or path)
-    model = scenario.model
-    atm = scenario.atmosphere
-    criteria = list(dict.fromkeys(c.name for c in chain.criteria))
-    conditions = (
-        f"weather {_atmosphere_text(atm)}; clutter {_clutter_text(scenario.background)}; "
-        f"criterion {', '.join(criteria)}"
-    )
-    sensors = {}
-    for s in scenario.sensors:
-        if s.radar is not None:
-            r = s.radar
-            sensors[s.name] = (
-                f"radar, {r.frequency / 1e9:.4g} GHz, peak power {r.power:g} W, beamwidth "
-                f"{math.degrees(r.beamwidth):.3g}°, pulse {r.pulse_length * 1e6:.3g} µs, "
-                f"P_fa {r.false_alarm:g}, detector {r.detector}"
-            )
-            continue
-        fov = s.field_of_view
-        field = (
-            f"HFOV × VFOV {math.degrees(fov[0]):.3g}° × {math.degrees(fov[1]):.3g}° "
-            f"({s.pixels[0]} × {s.pixels[1]} pixels)"
-            if fov is not None and s.pixels is not None
-            else "field of view: no pixel count given"
-        )
-        sensors[s.name] = (
-            f"{s.type}, band {s.limits[0] * 1e6:g}–{s.limits[1] * 1e6:g} µm, IFOV "
-            f"{s.pixel_ifov * 1e3:.4g} mrad, {field}"
-            + (f", aperture {s.aperture * 1e3:g} mm" if s.aperture else "")
-        )
-    targets = {
-        t.name: f"{' × '.join(f'{d:g}' for d in t.dimensions)} m, criterion "
-        f"{chain.criteria[g].name}"
-        + (f", {t.temperature:g} K" if t.temperature is not None else "")
-        + (", moving" if t.moving else "")
-        + (", hot spot" if t.hot_spot else "")
-        for g, t in enumerate(scenario.targets)
-    }
-    case_items = {
-        label: f"critical dimension {case.critical_dimension:.3g} m (as seen at the start), "
-        f"IFOV {case.ifov * 1e3:.4g} mrad, criterion {get_criterion(case.criterion).name}"
-        for label, case in cases.items()
-    }
-    sections = {
-        "Scenario": {
-            "file": path,
-            "name": scenario.name or "(unnamed)",
-            "cases": "every sensor–target pair, critical dimension as seen at the start",
-        },
-        "Sensors": sensors,
-        "Targets": targets,
-        "Cases": case_items,
-        "Background and path": {
-            "clutter": _clutter_text(scenario.background),
-            "atmosphere": _atmosphere_text(atm),
-            "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7); noise model "
-            f"{model.noise_model}: {NOISE_MODELS[model.noise_model].source}",
-        },
-        "Model choices and sources": {
-            "transform": f"{model.transform}: {TRANSFORMS[model.transform].source}",
-            "criteria": "; ".join(dict.fromkeys(f"{c.name} ({c.source})" for c in chain.criteria)),
-            "fusion": "sensor level, P = 1 − Π(1 − P_s) over the sensors (Eq. (8.4))",
-            "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-            "sources": _sources(),
-        },
-    }
-    figures = {
-        "Range performance": plot_range_performance(
-            performance,
-            title=_titled(f"{heading}: range performance per sensor–target pair", conditions),
-        )
-    }
-    captions = {"Range performance": note}
-    figures["Transforms"] = plot_transforms(
-        scenario.model.criterion,
-        title=_titled(
-            f"Resolution-to-probability transforms (criterion {scenario.model.criterion})",
-            conditions,
-        ),
-    )
-    if atm.obscurant is not None or atm.extinction is not None or atm.visibility is not None:
-        _, _, level = (atm.obscurant or "").partition(":")
-        r_max = float(performance.curves["range"].values[-1])
-        figures.update(
-            _atmosphere_figures(
-                [s.limits for s in scenario.sensors if s.radar is None],
-                r_max,
-                level or "nominal",
-                conditions,
-            )
-        )
-    dataset = chain.evaluate().dataset
-    several = len(chain.sensor_names) > 1
-    figures["Timeline"] = plot_timeline(
-        dataset,
-        title=_titled(
-            f"{heading}: probabilities over time, per sensor"
-            + (" and fused (Eq. (8.4))" if several else ""),
-            conditions,
-        ),
-    )
-    grid = scenario.time
-    duration = float(grid.stop - grid.start)
-    captions["Timeline"] = (
-        f"Each target's probabilities at the scenario's times ({grid.start:g} s to {grid.stop:g} s "
-        f"every {grid.step:g} s)"
-        + (
-            "; thin broken lines per sensor, thick solid lines fused over the sensors."
-            if several
-            else "."
-        )
-    )
-    if duration > 0:
-        step = min(float(grid.step), duration / _SIMULATION_STEPS)
-        result = simulate(
-            chain,
-            duration=duration,
-            step=step,
-            runs=_SIMULATION_RUNS,
-            seed=_SIMULATION_SEED,
-        )
-        figures["Simulated first times"] = plot_first_times(
-            result,
-            title=_titled(
-                f"{heading}: first times over {_SIMULATION_RUNS} simulated runs "
-                f"(seed {_SIMULATION_SEED})" + (", fused over the sensors" if several else ""),
-                conditions,
-            ),
-        )
-        captions["Simulated first times"] = (
-            f"Share of {_SIMULATION_RUNS} runs (targetacq simulate, seed {_SIMULATION_SEED}, "
-            f"step {step:.3g} s) that have detected, recognised and identified each target by "
-            "each time; a curve ending below 1 means some runs never got there in the "
-            f"{duration:g} s simulated."
-        )
-    return heading, performance, sections, figures, captions
-
-
-def _clutter_text(background: Any) -> str:
-    if background.clutter is not None:
-        return f"region {background.clutter} (Table 3.5)"
-    if background.scr is not None:
-        return f"SCR {background.scr:g}"
-    if background.clutter_std is not None:
-        return f"temperature spread {background.clutter_std:g} K → SCR per pair (Eq. (6.9))"
-    if background.image is not None:
-        return f"measured in {background.image} around each target (Eqs. (3.12)–(3.15))"
-    if background.terrain is not None:
-        return "terrain map (Eqs. (6.10)–(6.11)); not in the range curves, which need one SCR"
-    return "none given: detection uses the transform"
-
-
-def _atmosphere_text(atm: Any) -> str:
-    if atm.extinction is not None:
-        return f"extinction {atm.extinction * 1e3:g} Np/km"
-    if atm.obscurant is not None:
-        return f"Table 7.1 {atm.obscurant}, per sensor band"
-    if atm.visibility is not None:
-        return f"visibility {atm.visibility / 1e3:g} km ({atm.visibility_convention})"
-    return "none"
 
 
 def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
@@ -785,7 +451,7 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         else "none given: detection uses the transform",
         "cycles on target": "N = (d / R) / cycle, small angle (Fig. 3.3)",
         "ordering": "P_id <= P_rec <= P_det: nothing is recognised that was not detected",
-        "sources": _sources(),
+        "sources": sources_line(),
     }
     return {
         "Sensor": sensor,

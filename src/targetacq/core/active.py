@@ -23,6 +23,7 @@ Everything here is array-API code over static row indices, so it runs under ``ja
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -194,24 +195,27 @@ def _radar_tasks(scene: SceneArrays, found: Any, xp: Any) -> tuple[Any, Any, Any
 
 
 def active_probabilities(
-    scene: SceneArrays, found: Any, moving: Any = None
+    scene: SceneArrays,
+    found: Any,
+    task_probabilities: Callable[..., tuple[Any, Any, Any]],
+    moving: Any = None,
 ) -> tuple[Any, Any, Any]:
     """Every row's ordered probabilities by its kind, before the field of view.
 
-    The imaging and laser-radar rows go through
-    :func:`targetacq.core.evaluate.task_probabilities` in groups of the same clutter (an SCR
-    or none) and noise (an SNR, or none where neither the path nor the sensor adds noise); the
-    radar rows through :func:`_radar_tasks`.
+    The imaging and laser-radar rows go through ``task_probabilities`` (the imagers' own,
+    :func:`targetacq.core.evaluate.task_probabilities`, which calls this module: passed in, so
+    that this module does not import it back) in groups of the same clutter (an SCR or none)
+    and noise (an SNR, or none where neither the path nor the sensor adds noise); the radar rows
+    through :func:`_radar_tasks`.
 
-    ``moving``: the targets' moving flags for this call (default their own), for the
-    imaging and laser-radar rows.
+    ``task_probabilities(cycles, snr, scr, scene, moving=moving)``: the imagers' ordered
+    probabilities. ``moving``: the targets' moving flags for this call (default their own), for
+    the imaging and laser-radar rows.
 
     Returns
     -------
     detection, recognition, identification : array ``(n_s, n_g, *batch)``
     """
-    from targetacq.core.evaluate import task_probabilities
-
     xp, (_rng,) = _arrays.arrays(found.range)
     n_s = scene.shape[0]
     radar_rows = () if scene.radar is None else scene.radar.rows

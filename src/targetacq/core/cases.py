@@ -45,6 +45,7 @@ __all__ = [
     "RESOLUTION_MODELS",
     "CaseAcquisition",
     "RangeCase",
+    "RangePerformance",
     "ResolutionModel",
     "case_acquisition",
     "case_factors",
@@ -330,6 +331,28 @@ class RangeCase:
             aperture=self.aperture,
             blur_sigma=self.blur_sigma,
         )
+
+
+@dataclass(frozen=True)
+class RangePerformance:
+    """Range-performance curves and DRI ranges for one or several cases.
+
+    Attributes
+    ----------
+    curves : xarray.Dataset
+        Dims ``(case, range)``; variables ``detection``, ``recognition``, ``identification``
+        (ordered probabilities), ``cycles`` [cycles], ``transmittance`` and ``snr`` [dB]; the
+        ``range`` coordinate in metres.
+    dri : pandas.DataFrame
+        One row per case, task and probability: ``range_m`` (NaN where never reached) and
+        ``reached``.
+    cases : Mapping[str, RangeCase]
+        Each case, as a :class:`RangeCase` (mappings given are converted).
+    """
+
+    curves: Any
+    dri: Any
+    cases: Mapping[str, RangeCase]
 
 
 @dataclass(frozen=True)

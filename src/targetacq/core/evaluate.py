@@ -91,7 +91,7 @@ from targetacq.core.records import (
     derived,
     pytree_record,
 )
-from targetacq.fusion import _fused, fuse, fuse_groups
+from targetacq.fusion import fuse, fuse_groups, fused_along
 from targetacq.noise import NoiseModel, get_noise_model
 
 __all__ = [
@@ -260,7 +260,7 @@ def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: An
     """
     space, (value,) = _arrays.arrays(visible_fraction, names=("visible_fraction",))
     xp = space if xp is None else xp
-    if isinstance(value, np.ndarray) and xp is not np and xp is not _arrays._NUMPY:
+    if isinstance(value, np.ndarray) and xp is not np and xp is not _arrays.NUMPY:
         value = xp.asarray(value)
     full = len(shape)
     per = "(n_s, n_g, *batch) = " + str(tuple(shape))
@@ -480,7 +480,7 @@ def _fixed_pointing(sensors: SensorArrays, pointing: Any = None) -> _Pointing:
     frame = None
     if not by_point.any():  # the boresight is a direction: the frame does not move
         east_, north_, up_ = (d[:, None] for d in direction)
-        frame = geometry._frame(east_, north_, up_, np)
+        frame = geometry.sensor_frame(east_, north_, up_, np)
     return _Pointing(
         by_point,
         look_at,
@@ -494,7 +494,7 @@ def _fixed_pointing(sensors: SensorArrays, pointing: Any = None) -> _Pointing:
 def _sensor_frames(
     s3: np.ndarray, sensors: SensorArrays, pointing: Any
 ) -> tuple[tuple[np.ndarray, ...], _Pointing]:
-    """Each sensor's frame (:func:`targetacq.geometry._frame`), ``(n_s, B)`` or ``(n_s, 1)``
+    """Each sensor's frame (:func:`targetacq.geometry.sensor_frame`), ``(n_s, B)`` or ``(n_s, 1)``
     where no sensor points at a place (the frame does not move then), and its pointing."""
     fixed = (
         derived(sensors, "pointing", _fixed_pointing)
@@ -507,7 +507,7 @@ def _sensor_frames(
     for k in range(3):  # toward the point, from where the sensor is, else the direction
         toward = np.where(fixed.by_point, fixed.look_at[:, k], 0.0)[:, None] - s3[:, :, k]
         forward.append(np.where(fixed.by_point[:, None], toward, fixed.direction[k][:, None]))
-    return geometry._frame(forward[0], forward[1], forward[2], np), fixed
+    return geometry.sensor_frame(forward[0], forward[1], forward[2], np), fixed
 
 
 def _blocks(n_s: int, n_g: int, n_b: int) -> Iterator[tuple[slice, slice, slice]]:
@@ -655,7 +655,7 @@ def _factors_numpy(
             viewing = fixed.viewing[sb]
             if viewing.any():
                 f_b = bb if moving_frame else slice(None)
-                inside = geometry._within_numpy(
+                inside = geometry.within_numpy(
                     x, y, z, tuple(c[sb, None, f_b] for c in frame), tan_h[sb], tan_v[sb]
                 )
                 if not viewing.all():
@@ -728,7 +728,7 @@ def _chain_numpy(
     pairs in view of :func:`step`: geometry (:func:`targetacq.geometry.box_outline`), N, the
     path (segments, clouds; Eq. (7.7)) and the sensor's own noise.
     """
-    r, horizontal, vertical = geometry._outline_numpy(
+    r, horizontal, vertical = geometry.outline_numpy(
         x, y, z, chain.sin_h, chain.cos_h, chain.length, chain.width, chain.height
     )
     seen = vertical * chain.visible
@@ -737,7 +737,7 @@ def _chain_numpy(
     footprint *= chain.cycle
     np.divide(seen, footprint, out=cycles)
     # The path: optical depth, transmittance, SNR of Eq. (7.7).
-    depth = atmosphere._segmented_depth(r, chain.extinction, lengths, list(chain.segments), np)
+    depth = atmosphere.segmented_depth(r, chain.extinction, lengths, list(chain.segments), np)
     clouds = path.cloud_center.reshape(-1, 3).shape[0]
     if clouds:
         start, end = ends()
@@ -748,16 +748,16 @@ def _chain_numpy(
             depth = depth + path.cloud_extinction[c] * chord
     tau = np.negative(depth)
     np.exp(tau, out=tau)
-    snr = atmosphere._snr_db(depth, np)
+    snr = atmosphere.snr_db(depth, np)
     ratio = None
     if noisy:
         # The area seen: the outline's horizontal side times the visible part of its height.
         area = horizontal * vertical * chain.visible
-        pixels = sensor_noise._pixels(area, np.maximum(r, 1e-9), chain.ifov)
-        own, inverse, unknown = sensor_noise._sensor_db(
+        pixels = sensor_noise.pixels_on_target_unchecked(area, np.maximum(r, 1e-9), chain.ifov)
+        own, inverse, unknown = sensor_noise.sensor_db(
             chain.contrast, chain.noise_equivalent, tau, pixels, np
         )
-        snr = sensor_noise._combined_db([snr, own], np)
+        snr = sensor_noise.combined_db([snr, own], np)
         # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
         path_inverse = np.expm1(depth)
         total = path_inverse * path_inverse
@@ -928,7 +928,7 @@ def _probabilities_numpy(
             whole[unknown] = np.nan
         out.append(whole)
         if picked is None or 2 * count > rng.size:
-            fused.append(_fused(whole, 0, np))
+            fused.append(fused_along(whole, 0, np))
         else:
             fused.append(_fused_sparse(whole, picked, unknown if some_unknown else None))
     return Probabilities(*out, *fused)
@@ -1290,7 +1290,7 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Pro
         moving = check_moving(moving, scene.shape[1])
     if active.has_active(scene):
         found_p = _probabilities_generic(
-            scene, found, active.active_probabilities(scene, found, moving)
+            scene, found, active.active_probabilities(scene, found, task_probabilities, moving)
         )
     elif _numpy_factors(scene, found):
         found_p = _probabilities_numpy(scene, found, _host_flags(moving))
@@ -1476,7 +1476,7 @@ def _step_numpy(
         viewing = fixed.viewing
         if viewing.any():
             tan_h, tan_v = fixed.half_tangents
-            in_view = geometry._within_numpy(x, y, z, frame, tan_h[:, :, 0], tan_v[:, :, 0])
+            in_view = geometry.within_numpy(x, y, z, frame, tan_h[:, :, 0], tan_v[:, :, 0])
             if not viewing.all():
                 in_view |= ~viewing[:, None]
             in_view &= ~unknown

@@ -7,7 +7,7 @@ computes. :func:`pair_performance` therefore moves each target along the ground,
 sensor along the bearing it has at the scenario's start (its height kept), evaluates the core at
 every slant range of a grid (the field of view ignored: the curves are what the sensor can do
 where it looks), and finds each task's range for each probability by bisection on the core
-itself. Its result is a :class:`targetacq.ranges.RangePerformance`, the same as the imagers'
+itself. Its result is a :class:`targetacq.core.cases.RangePerformance`, the same as the imagers'
 range cases give, so the report and the figures take both side by side.
 """
 
@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.core.cases import RangePerformance
 from targetacq.core.compile import scenario_positions
 from targetacq.core.evaluate import factors, probabilities
 
@@ -143,13 +144,11 @@ def pair_performance(
 
     Returns
     -------
-    targetacq.ranges.RangePerformance
+    targetacq.core.cases.RangePerformance
         Cases labelled ``"sensor → target"``, with no :class:`RangeCase` behind them.
     """
     import pandas as pd
     import xarray as xr
-
-    from targetacq.ranges import RangePerformance
 
     probs = np.asarray(probabilities, dtype=float).reshape(-1)
     if not np.all((probs > 0) & (probs < 1)):

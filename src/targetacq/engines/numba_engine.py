@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import _arrays, geometry, noise, transforms
-from targetacq.acquisition import _low_clutter_scale
+from targetacq.acquisition import low_clutter_scale
 from targetacq.core.evaluate import (
     Factors,
     Probabilities,
@@ -163,7 +163,7 @@ class NumbaScene:
         self.visible_fraction = _float(targets.visible_fraction)
         self.heading = _float(targets.heading)
         self.n50 = _float(targets.n50).reshape(-1, 3)
-        moving_n50 = self.n50[:, 0] * _low_clutter_scale()  # a moving target's detection N50
+        moving_n50 = self.n50[:, 0] * low_clutter_scale()  # a moving target's detection N50
         with np.errstate(divide="ignore"):
             self.log_n50 = np.ascontiguousarray(
                 np.column_stack([np.log(self.n50), moving_n50, np.log(moving_n50)])
@@ -184,13 +184,13 @@ class NumbaScene:
             ],
             dtype=np.int64,
         )
-        low, medium, alpha = noise._ratio_anchors()
+        low, medium, alpha = noise.ratio_anchors()
         self.noise_anchors = np.array([noise.QUADRATURE_CONSTANT, low, medium, alpha])
-        sw_curves = transforms._sw_curves()
+        sw_curves = transforms.sw_curves()
         self.sw = _curve_arrays([sw_curves[r] for r in transforms.CLUTTER_REGIONS])
-        scr_low, _, sw_alpha = transforms._sw_high_anchor()
+        scr_low, _, sw_alpha = transforms.sw_high_anchor()
         self.sw_constants = np.array(
-            [transforms._sw_reference_n50(), scr_low, sw_alpha, _low_clutter_scale()]
+            [transforms.sw_reference_n50(), scr_low, sw_alpha, low_clutter_scale()]
         )
         options = dict(choices.options)
         chosen = transforms.get_transform(choices.transform)
@@ -202,9 +202,9 @@ class NumbaScene:
                 raise ValueError(
                     f"bound must be one of {', '.join(transforms.C2NVEO_BOUNDS)}; got {bound!r}"
                 )
-            curves = transforms._c2nveo_curves()
+            curves = transforms.c2nveo_curves()
             self.tables = _curve_arrays([curves[t, bound] for t in _TASKS])
-            self.table_reference = np.array([transforms._c2nveo_reference_n50(t) for t in _TASKS])
+            self.table_reference = np.array([transforms.c2nveo_reference_n50(t) for t in _TASKS])
         else:  # unused by the TTPF: a placeholder of the same types
             self.tables = self.sw
             self.table_reference = np.ones(3)

@@ -5,7 +5,7 @@ A step of the step API (:class:`targetacq.Simulation`) evaluates positions ``(n_
 batch inside each pair, which leaves nothing to vectorise there; the kernels here take the
 targets as the inner loop instead:
 
-- :func:`pair_factors`: per sensor, its frame (:func:`targetacq.geometry._frame`'s arithmetic,
+- :func:`pair_factors`: per sensor, its frame (:func:`targetacq.geometry.sensor_frame`'s arithmetic,
   in the same order, so that the field-of-view test is the NumPy core's to the last bit), then
   passes over its targets: range, outline, critical dimension, cycles, field of view, optical
   depth (segments, clouds), transmittance and SNR;
@@ -68,7 +68,7 @@ OK, INFINITE_SENSOR, INFINITE_TARGET = 0, 1, 2
 
 @inline
 def _frame(fx, fy, fz, frame):
-    """The sensor frame of :func:`targetacq.geometry._frame` into ``frame`` (8,): the unit
+    """The sensor frame of :func:`targetacq.geometry.sensor_frame` into ``frame`` (8,): the unit
     boresight, the horizontal right, the up; the same operations in the same order."""
     square = fx * fx + fy * fy + fz * fz
     norm = math.sqrt(square if square > 0.0 else 1.0)

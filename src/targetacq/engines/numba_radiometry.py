@@ -34,17 +34,17 @@ from targetacq.constants import SECOND_RADIATION_CONSTANT
 
 __all__ = ["band_exitance_numba"]
 
-_STEPS = radiometry._TABLE_STEPS
-_DEGREE = radiometry._TABLE_DEGREE
-_TABLE_END = radiometry._TABLE_END * radiometry._TABLE_STEPS  # in units of 1/64 of x
-_HOT_END = radiometry._SMALL_X * radiometry._TABLE_STEPS
+_STEPS = radiometry.TABLE_STEPS
+_DEGREE = radiometry.TABLE_DEGREE
+TABLE_END = radiometry.TABLE_END * radiometry.TABLE_STEPS  # in units of 1/64 of x
+_HOT_END = radiometry.SMALL_X * radiometry.TABLE_STEPS
 _LAST_HOT = math.nextafter(_HOT_END, 0.0)
-_X_CAP = radiometry._X_CAP
-_LOG_X = radiometry._LOG_X
-_KQ = radiometry._KQ
-_HUGE_KQT = radiometry._HUGE_KQT
-_K = radiometry._BAND_CONSTANT
-_Q0 = radiometry._Q0
+X_CAP = radiometry.X_CAP
+LOG_X = radiometry.LOG_X
+KQ = radiometry.KQ
+HUGE_KQT = radiometry.HUGE_KQT
+_K = radiometry.BAND_CONSTANT
+Q0 = radiometry.Q0
 _INF = math.inf
 
 _compiled = njit(cache=True, error_model="numpy", nogil=True)
@@ -70,9 +70,9 @@ def _p(y: float) -> float:
 @_inline
 def _q(table: Any, scaled: float) -> float:
     """Q(scaled / 64) for scaled >= 0 (inf allowed)."""
-    if scaled < _TABLE_END:
+    if scaled < TABLE_END:
         return _tabulated(table, scaled)
-    x = min(scaled / _STEPS, _X_CAP)
+    x = min(scaled / _STEPS, X_CAP)
     decay = math.exp(-x)
     if x >= 37.5:  # the second term is below 2^-54 of the first: the same number without it
         return decay * _p(x)
@@ -82,8 +82,8 @@ def _q(table: Any, scaled: float) -> float:
 @_inline
 def _log_q(table: Any, x: float) -> float:
     """ln Q(x), also where Q underflows (x >= 700: ``ln(x³ + 3x² + 6x + 6) − x``)."""
-    x = min(x, _X_CAP)
-    if x < _LOG_X:
+    x = min(x, X_CAP)
+    if x < LOG_X:
         return math.log(_q(table, x * _STEPS))
     return math.log(_p(x)) - x
 
@@ -114,22 +114,22 @@ def _kernel(
                 short -= ratio3 * _tabulated(s_table, min(steps_long / temperature, _LAST_HOT))
             out[j] = short * temperature * hot_factor
             continue
-        integral = 0.0 if u_short == _INF else -_q(q_table, min(scaled_short, _X_CAP * _STEPS))
+        integral = 0.0 if u_short == _INF else -_q(q_table, min(scaled_short, X_CAP * _STEPS))
         if u_long == 0.0:
-            integral += _Q0
+            integral += Q0
         else:
             integral += _q(q_table, steps_long / temperature)
-        power = temperature * _KQ
+        power = temperature * KQ
         power *= power
         power *= power
-        if u_long / temperature >= _LOG_X or temperature * _KQ > _HUGE_KQT:
+        if u_long / temperature >= LOG_X or temperature * KQ > HUGE_KQT:
             log_long = _log_q(q_table, u_long / temperature)
             ratio = (
                 0.0
                 if u_short == _INF
                 else math.exp(_log_q(q_table, u_short / temperature) - log_long)
             )
-            out[j] = math.exp(4.0 * math.log(temperature * _KQ) + log_long + math.log1p(-ratio))
+            out[j] = math.exp(4.0 * math.log(temperature * KQ) + log_long + math.log1p(-ratio))
         else:
             out[j] = integral * power
 
@@ -167,7 +167,7 @@ def band_exitance_numba(temperature: Any, low: float, high: float) -> Any:
     """
     low, high = band_limits((low, high))
     xp, (t,) = _arrays.arrays(temperature, names=("temperature",))
-    if xp is not _arrays._NUMPY:
+    if xp is not _arrays.NUMPY:
         raise TypeError("band_exitance_numba takes NumPy arrays (or Python numbers)")
     t = np.asarray(t, dtype=np.float64)
     _arrays.require_nonnegative("temperature", t, xp, "K")
@@ -176,6 +176,6 @@ def band_exitance_numba(temperature: Any, low: float, high: float) -> Any:
     u_short = SECOND_RADIATION_CONSTANT / low if low > 0.0 else math.inf
     u_long = 0.0 if math.isinf(high) else SECOND_RADIATION_CONSTANT / high
     ratio3 = (u_long / u_short) ** 3 if u_long > 0.0 else 0.0  # as radiometry's, exactly
-    q_table, s_table = radiometry._tables()
+    q_table, s_table = radiometry.band_tables()
     _kernel(flat, u_short, u_long, ratio3, q_table, s_table, out)
     return _arrays.result(out.reshape(t.shape))

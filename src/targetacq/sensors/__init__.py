@@ -31,27 +31,9 @@ from typing import Any
 
 from targetacq.registry import lookup
 from targetacq.sensors import colour, imaging, laser_radar, radar, thermal, tv
+from targetacq.sensors.signature import Signature
 
 __all__ = ["SENSOR_TYPES", "SensorType", "Signature", "get_sensor_type"]
-
-
-@dataclass(frozen=True)
-class Signature:
-    """What one sensor sees of the targets and the background, in its band.
-
-    Attributes
-    ----------
-    target : numpy.ndarray
-        (n_targets,) target signals [W/m²] at the scene.
-    background : float
-        Mean background signal [W/m²].
-    clutter : float or None
-        Spread of the background signal [W/m²], where the scenario gives one.
-    """
-
-    target: Any
-    background: float
-    clutter: float | None
 
 
 @dataclass(frozen=True)

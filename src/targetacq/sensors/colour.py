@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import radiometry
+from targetacq.sensors.signature import Signature
 
 
 def band_value(value: Any, band: str) -> Any:
@@ -41,8 +42,6 @@ def band_value(value: Any, band: str) -> Any:
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """Reflected exitances of the targets and the background in the row's band."""
-    from targetacq.sensors import Signature
-
     band = sensor.bands[0]
     irradiance = band_value(background.irradiance, band)
     m_b = float(radiometry.reflected_exitance(band_value(background.reflectance, band), irradiance))

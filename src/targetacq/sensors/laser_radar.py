@@ -26,12 +26,11 @@ from typing import Any
 import numpy as np
 
 from targetacq import atmosphere
+from targetacq.sensors.signature import Signature
 
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """The targets' reflectances at the laser's wavelength (the range equation's ρ)."""
-    from targetacq.sensors import Signature
-
     reflectance = np.array([t.reflectance for t in targets], dtype=float)
     return Signature(reflectance, 0.0, None)
 

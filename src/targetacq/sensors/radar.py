@@ -35,11 +35,11 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.sensors.signature import Signature
+
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """The targets' radar cross-sections [m²] against no background signal."""
-    from targetacq.sensors import Signature
-
     rcs = np.array([t.rcs for t in targets], dtype=float)
     return Signature(rcs, 0.0, None)
 

@@ -14,12 +14,11 @@ import numpy as np
 
 from targetacq import clutter, radiometry
 from targetacq.sensors import imaging
+from targetacq.sensors.signature import Signature
 
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """Band exitances of the targets and the background, and the clutter, for one sensor."""
-    from targetacq.sensors import Signature
-
     band = sensor.limits
     eps_b = imaging.emissivity(background, band)
     m_b = float(radiometry.grey_body_exitance(eps_b, background.temperature, band))

@@ -13,12 +13,11 @@ from typing import Any
 import numpy as np
 
 from targetacq import radiometry
+from targetacq.sensors.signature import Signature
 
 
 def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """Reflected exitances of the targets and the background for one sensor."""
-    from targetacq.sensors import Signature
-
     irradiance = background.irradiance
     m_b = float(radiometry.reflected_exitance(background.reflectance, irradiance))
     reflectance = np.array([t.reflectance for t in targets], dtype=float)

@@ -60,7 +60,7 @@ def option_choice(value: str, choices: Any, name: str) -> str:
     return value
 
 
-def _example_camera() -> dict[str, str]:
+def example_camera() -> dict[str, str]:
     table = load_table("example_camera")
     return {
         quantity: f"{value} {unit}".strip()
@@ -518,7 +518,7 @@ def range_setup(
         named = TARGETS[option_choice(target, TARGETS, "--target")]
         critical_dimension = f"{named.critical_dimension!r}m"
     if example:
-        camera = _example_camera()
+        camera = example_camera()
         if ifov is None and hfov is None and pixels is None:
             pitch = pitch or camera["pitch"]
             focal_length = focal_length or camera["focal_length"]

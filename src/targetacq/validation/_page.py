@@ -8,7 +8,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from targetacq.report import _STYLE, _figure_uri, _table
+from targetacq.report import STYLE, figure_uri, html_table
 from targetacq.validation._model import Check, Section, Summary, format_residual, summarise
 
 __all__ = ["render_page"]
@@ -119,7 +119,7 @@ def _summary_html(summary: Summary, sections: Sequence[Section]) -> list[str]:
     parts.append("</div>")
     rows = [_section_summary(s) for s in sections]
     if rows:
-        parts.append(_table(rows, list(rows[0]), set(list(rows[0])[1:])))
+        parts.append(html_table(rows, list(rows[0]), set(list(rows[0])[1:])))
     return parts
 
 
@@ -144,7 +144,7 @@ def render_page(sections: Sequence[Section], version: str = "") -> str:
     summary = summarise(list(sections))
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-        f"<title>{html.escape(title)}</title><style>{_STYLE}{_EXTRA_STYLE}</style></head><body>",
+        f"<title>{html.escape(title)}</title><style>{STYLE}{_EXTRA_STYLE}</style></head><body>",
         f"<h1>{html.escape(title)}</h1>",
         f"<p class='muted'>targetacq {html.escape(version)} — generated {stamp} by "
         "<code>targetacq validation</code>. Every table of Sonesson (2004), <i>A Probabilistic "
@@ -164,12 +164,12 @@ def _section_html(section: Section) -> list[str]:
     parts.append(f"<p><b>Source.</b> {html.escape(section.source)}</p>")
     parts.append(f"<p><b>Model.</b> {html.escape(section.method)}</p>")
     rows, columns, numeric = _rows(section)
-    parts.append(f"<div class='wide'>{_table(rows, columns, numeric)}</div>")
+    parts.append(f"<div class='wide'>{html_table(rows, columns, numeric)}</div>")
     if section.notes:
         parts.append(f"<p class='muted'>{html.escape(section.notes)}</p>")
     if section.figure is not None:
         fig: Any = section.figure()
-        parts.append(f"<img alt='{html.escape(section.title)}' src='{_figure_uri(fig)}'>")
+        parts.append(f"<img alt='{html.escape(section.title)}' src='{figure_uri(fig)}'>")
     if section.provenance:
         parts.append(
             "<details><summary class='muted'>Data file header (the transcription's source and "

@@ -624,7 +624,7 @@ def _no_curves(setup: Any) -> str | None:
 def _curves(body: BaseModel) -> dict[str, Any]:
     """The range-performance curves of the body's one case."""
     from targetacq import ranges
-    from targetacq.cli.figures import _FLOOR, _MAX_AUTO_RANGE, _title
+    from targetacq.report_content import FLOOR, MAX_AUTO_RANGE, case_title
     from targetacq.services.range_case import option_quantity
 
     setup = _setup(body)
@@ -633,7 +633,7 @@ def _curves(body: BaseModel) -> dict[str, Any]:
         return {
             "range_m": [],
             **dict.fromkeys(("detection", "recognition", "identification")),
-            "case": _title(setup),
+            "case": case_title(setup),
             "note": unsupported,
         }
     max_range = body.max_range  # type: ignore[attr-defined]
@@ -643,13 +643,13 @@ def _curves(body: BaseModel) -> dict[str, Any]:
         else:
             reach = [
                 float(r)
-                for p in (_FLOOR, min(setup.probabilities))
+                for p in (FLOOR, min(setup.probabilities))
                 for r in ranges.case_ranges(setup.case, p).values()
             ]
             finite = [r for r in reach if math.isfinite(r) and r > 0]
-            r_max = min(1.05 * max(finite), _MAX_AUTO_RANGE) if finite else 10e3
+            r_max = min(1.05 * max(finite), MAX_AUTO_RANGE) if finite else 10e3
         grid = [r_max * (k + 1) / CURVE_POINTS for k in range(CURVE_POINTS)]
-        label = _title(setup)
+        label = case_title(setup)
         curves = ranges.range_performance(grid, {label: setup.case}, setup.probabilities).curves
     out: dict[str, Any] = {"range_m": grid}
     for task in ("detection", "recognition", "identification"):
@@ -744,16 +744,16 @@ def _check_report_work(scenario: Scenario, limit: int) -> None:
     """A report whose work exceeds ``limit`` is refused before any work: sensor rows × targets ×
     (:data:`REPORT_CURVE_POINTS` curve ranges + the scenario's times + the simulated runs × their
     steps), each a pair's evaluation or draw at one range or time."""
-    from targetacq.cli.figures import _SIMULATION_RUNS, _SIMULATION_STEPS
     from targetacq.core import sensor_rows
+    from targetacq.report_content import SIMULATION_RUNS, SIMULATION_STEPS
 
     pairs = len(sensor_rows(scenario)) * len(scenario.targets)
     times = int(scenario.time.count)
     duration = float(scenario.time.stop - scenario.time.start)
-    steps = max(times - 1, _SIMULATION_STEPS) if duration > 0 else 0
-    work = pairs * (REPORT_CURVE_POINTS + times + _SIMULATION_RUNS * steps)
+    steps = max(times - 1, SIMULATION_STEPS) if duration > 0 else 0
+    work = pairs * (REPORT_CURVE_POINTS + times + SIMULATION_RUNS * steps)
     if work > limit:
-        where = "time.step" if times - 1 > _SIMULATION_STEPS else "targets"
+        where = "time.step" if times - 1 > SIMULATION_STEPS else "targets"
         raise ApiError(
             422,
             [
@@ -761,7 +761,7 @@ def _check_report_work(scenario: Scenario, limit: int) -> None:
                     ["scenario", where],
                     f"the report asks for {work:,} pair evaluations ({pairs:,} sensor rows × "
                     f"targets × ({REPORT_CURVE_POINTS} curve ranges + {times:,} times + "
-                    f"{_SIMULATION_RUNS} simulated runs × {steps:,} steps)); the server's "
+                    f"{SIMULATION_RUNS} simulated runs × {steps:,} steps)); the server's "
                     f"limit is {limit:,}: run it with targetacq report instead",
                 )
             ],
@@ -808,21 +808,21 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
 
 def _report(body: ReportRequest, max_evaluations: int, max_report_work: int) -> Response:
     from targetacq import __version__
-    from targetacq.cli.figures import _REPORT_PROBABILITIES, _scenario_report
     from targetacq.report import render_report
+    from targetacq.report_content import REPORT_PROBABILITIES, scenario_report
     from targetacq.services.range_case import option_probabilities
 
     scenario, found = _scenario(body.scenario)  # refuses files and locates problems first
     _check_work(scenario, max_evaluations)
     _check_report_work(scenario, max_report_work)
     with _library_errors(["probability", "max_range"]):
-        probabilities = option_probabilities(body.probability or _REPORT_PROBABILITIES)
+        probabilities = option_probabilities(body.probability or REPORT_PROBABILITIES)
         with tempfile.TemporaryDirectory(prefix="targetacq-web-") as folder:
             path = Path(folder) / "scenario.toml"
             path.write_text(body.scenario, encoding="utf-8")
             title = scenario.name or "scenario"
             with collected():  # the file read again: its warnings are listed already
-                heading, performance, sections, figures, captions = _scenario_report(
+                heading, performance, sections, figures, captions = scenario_report(
                     str(path), body.max_range, title, probabilities
                 )
         sections = {

@@ -100,6 +100,7 @@ api_modules = [
     "targetacq.scenario",
     "targetacq.bundled",
     "targetacq.sensors",
+    "targetacq.sensors.signature",
     "targetacq.sensors.imaging",
     "targetacq.sensors.thermal",
     "targetacq.sensors.tv",
@@ -123,6 +124,7 @@ api_modules = [
     "targetacq.constants",
     "targetacq.plots",
     "targetacq.report",
+    "targetacq.report_content",
 ]
 
 sphinx_gallery_conf = {

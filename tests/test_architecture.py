@@ -14,8 +14,12 @@ How an import becomes an edge of the module graph:
 * ``from pkg import name`` is an edge to the submodule ``pkg.name`` when that is a module, and
   otherwise to ``pkg`` itself. So ``from targetacq import atmosphere`` depends on
   :mod:`targetacq.atmosphere`, while ``from targetacq import dri_ranges`` depends on the package
-  ``targetacq``, which imports :mod:`targetacq.ranges`; inside the package, import a name from the
-  module that defines it.
+  ``targetacq`` (and so on whatever the package imports); inside the package, import a name from
+  the module that defines it.
+
+Modules imported by a name computed at run time (``importlib.import_module``) are no edge: the
+CLI finds its command modules that way, by name in its command table, as plugins (each command
+module imports the CLI package to register on its ``app``, never the other way round).
 
 Imports under ``if TYPE_CHECKING:`` never run, so they cannot make an import cycle, and they are
 left out of the cycle rule (a type annotation may name a record of a higher layer without the
@@ -23,22 +27,22 @@ module depending on it at run time). They count for every other rule.
 
 The rules:
 
-0. **Layers**: every top-level module and subpackage belongs to one layer of :data:`LAYERS`, and
+1. **Layers**: every top-level module and subpackage belongs to one layer of :data:`LAYERS`, and
    imports only modules of its own layer or of layers before it (imports under
    ``if TYPE_CHECKING:`` aside, as for cycles). A new top-level module must be placed in a layer
    here (and on the contributor page "Architecture").
-1. **No cycle** in the module graph (module- and function-level imports together).
-2. **The CLI is a leaf**: nothing outside ``targetacq/cli/`` imports :mod:`targetacq.cli` or
+2. **No cycle** in the module graph (module- and function-level imports together).
+3. **The CLI is a leaf**: nothing outside ``targetacq/cli/`` imports :mod:`targetacq.cli` or
    anything under it. ``targetacq/__main__.py`` (``python -m targetacq``) is the CLI's second
    entry point and belongs to the CLI.
-3. **Front-ends are independent**: the front-ends are :mod:`targetacq.cli`,
+4. **Front-ends are independent**: the front-ends are :mod:`targetacq.cli`,
    :mod:`targetacq.web`, :mod:`targetacq.envs` and :mod:`targetacq.validation`; none imports
    another. What two front-ends share belongs in a lower layer. The one exception is starting
    another front-end: the CLI is the package's command, and two of its commands exist only to
    start another front-end (``targetacq serve`` the web explorer, ``targetacq validation`` the
    validation page). Those two command modules (:data:`LAUNCHERS`) may import the public names
    of the front-end they start, and nothing else of any front-end.
-4. **No reaching into another module's internals.** A leading underscore makes a thing private
+5. **No reaching into another module's internals.** A leading underscore makes a thing private
    to the namespace that holds it:
 
    * a private *name* (``_ratio_anchors``; dunders such as ``__version__`` are not private) is

@@ -69,11 +69,20 @@ SIMULATION_RUNS, SIMULATION_SEED, SIMULATION_STEPS = 500, 0, 240
 
 
 def titled(heading: str, conditions: str) -> str:
-    """A figure title: the heading, then the conditions wrapped to the figure's width."""
+    """A figure title: the heading, then the conditions wrapped to the figure's width.
+
+    Examples
+    --------
+    >>> print(titled("Range performance", "weather none; no clutter; criterion johnson"))
+    Range performance
+    weather none; no clutter; criterion johnson
+    """
     return "\n".join([heading, textwrap.fill(conditions, 100)])
 
 
 def sensor_text(setup: RangeSetup) -> str:
+    """A range case's sensor in words: its IFOV [mrad] and how it was given (pitch and focal
+    length, field of view over pixels, or the IFOV itself)."""
     sensor = setup.sensor
     if "pitch_m" in sensor:
         pitch_um, focal_mm = sensor["pitch_m"] * 1e6, sensor["focal_length_m"] * 1e3
@@ -86,6 +95,8 @@ def sensor_text(setup: RangeSetup) -> str:
 
 
 def case_title(setup: RangeSetup) -> str:
+    """A range case's title: its sensor (:func:`sensor_text`) and the target's critical
+    dimension [m]."""
     return f"{sensor_text(setup)} — target critical dimension {setup.case.critical_dimension:.3g} m"
 
 

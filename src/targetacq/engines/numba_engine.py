@@ -6,9 +6,9 @@ anchors, the model choices as codes, the per-sensor and per-target arrays). Each
 prepares the positions (the boresight and the sensor frame per sensor and batch element, with the
 NumPy core's own functions, so that the field-of-view test is the same to the last bit) and runs
 
-1. :func:`~targetacq.engines.numba_kernels.factors_kernel`: range, outline, critical dimension,
+1. :func:`~targetacq.engines.numba_kernels._factors_kernel`: range, outline, critical dimension,
    cycles, field of view, optical depth with segments and clouds, transmittance, SNR;
-2. :func:`~targetacq.engines.numba_kernels.probabilities_kernel`: noise, the transforms,
+2. :func:`~targetacq.engines.numba_kernels._probabilities_kernel`: noise, the transforms,
    detection in clutter, hot spots and motion, the semantics, the field of view and the
    sensor-level fusion (8.4).
 
@@ -323,11 +323,11 @@ class NumbaScene:
         scr: Any,
         visible_fraction: Any,
     ) -> Factors:
-        """:meth:`factors` of one time: :func:`~targetacq.engines.numba_pairs.pair_factors`."""
+        """:meth:`factors` of one time: :func:`~targetacq.engines.numba_pairs._pair_factors`."""
         sin_cos, visible, sensors = self._pair_inputs(headings, pointing, visible_fraction)
         out = np.empty((6, *self.shape))
         in_view = np.empty(self.shape, dtype=bool)
-        status = pairs.pair_factors(
+        status = pairs._pair_factors(
             s_pos,
             t_pos,
             sin_cos,
@@ -375,7 +375,7 @@ class NumbaScene:
         has_scr = found.scr is not None
         p = np.empty((3, *shape))
         fused = np.empty((3, shape[1]))
-        pairs.pair_probabilities(
+        pairs._pair_probabilities(
             full(found.cycles),
             full(found.snr) if self._with_snr else self._zeros,
             full(found.scr) if has_scr else self._zeros,
@@ -417,7 +417,7 @@ class NumbaScene:
         scr: Any = None,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """One time's field of view, probabilities and fusion in one kernel call
-        (:func:`~targetacq.engines.numba_pairs.pair_step`); see
+        (:func:`~targetacq.engines.numba_pairs._pair_step`); see
         :meth:`targetacq.engines.BoundEngine.step`."""
         s_pos, t_pos = self._pair_positions(sensor_positions, target_positions)
         if s_pos is None:
@@ -432,7 +432,7 @@ class NumbaScene:
         in_view = np.empty(self.shape, dtype=bool)
         p = np.empty((3, *self.shape))
         fused = np.empty((3, self.shape[1]))
-        status = pairs.pair_step(
+        status = pairs._pair_step(
             s_pos,
             t_pos,
             sin_cos,
@@ -479,8 +479,8 @@ class NumbaScene:
         """As :func:`targetacq.core.factors` of the bound scene.
 
         Positions of one time, ``(n_s, 3)`` and ``(n_g, 3)``, go through the pair kernel
-        (:func:`~targetacq.engines.numba_pairs.pair_factors`, the targets as its inner loop);
-        batches through :func:`~targetacq.engines.numba_kernels.factors_kernel`.
+        (:func:`~targetacq.engines.numba_pairs._pair_factors`, the targets as its inner loop);
+        batches through :func:`~targetacq.engines.numba_kernels._factors_kernel`.
         """
         one_s, one_t = self._pair_positions(sensor_positions, target_positions)
         if one_s is not None and (headings is None or np.ndim(headings) <= 1):
@@ -547,7 +547,7 @@ class NumbaScene:
         out = [np.empty(flat) for _ in range(6)]
         in_view = np.empty(flat, dtype=bool)
         cycle, ifov = self.sensor_arrays
-        kernels.factors_kernel(
+        kernels._factors_kernel(
             sensors,
             targets,
             np.sin(heading),
@@ -627,7 +627,7 @@ class NumbaScene:
         """As :func:`targetacq.core.probabilities` of the bound scene.
 
         Factors of one time, ``(n_s, n_g)``, go through
-        :func:`~targetacq.engines.numba_pairs.pair_probabilities`. Otherwise the kernel runs per
+        :func:`~targetacq.engines.numba_pairs._pair_probabilities`. Otherwise the kernel runs per
         sensor and target over the batch. Where the batch is short (one step
         of the step API), the targets that share a probability model go through as one row,
         their pairs as its batch: the kernel's loops then run over the targets.
@@ -697,7 +697,7 @@ class NumbaScene:
         settings = self.settings.copy()
         settings[6] = int(has_scr)
         size = inputs[0].shape[2]
-        kernels.probabilities_kernel(
+        kernels._probabilities_kernel(
             *inputs,
             self.n50[targets],
             self.log_n50[targets],

@@ -30,7 +30,7 @@ whole batch, segment by segment), and the exponentials and logarithms are
 targets that share a probability model as one row of the probabilities kernel, while the
 factors kernel runs its pairs one by one.
 
-:func:`factors_kernel` and :func:`probabilities_kernel` are the two kernels of
+:func:`_factors_kernel` and :func:`_probabilities_kernel` are the two kernels of
 :mod:`targetacq.engines.numba_engine`, which prepares their inputs; :func:`ttpf_three` is the
 core kernel alone (``benchmarks/bench_core.py``). Importing this module imports numba (the
 ``fast`` extra).
@@ -157,7 +157,7 @@ def combined_snr(a, b):
 
 
 @compiled
-def factors_kernel(
+def _factors_kernel(
     sensor_positions,  # (3, n_s, B): east, north, up, component-major (unit-stride loads)
     target_positions,  # (3, n_g, B)
     sin_heading,  # (n_g, B)
@@ -417,7 +417,7 @@ def table_curve(n, n50, task, tables, table_reference):
 
 
 @compiled
-def probabilities_kernel(
+def _probabilities_kernel(
     cycles,  # (n_s, n_g, B)
     snr,  # (n_s, n_g, B)
     scr,  # (n_s, n_g, B), contiguous

@@ -5,14 +5,14 @@ A step of the step API (:class:`targetacq.Simulation`) evaluates positions ``(n_
 batch inside each pair, which leaves nothing to vectorise there; the kernels here take the
 targets as the inner loop instead:
 
-- :func:`pair_factors`: per sensor, its frame (:func:`targetacq.geometry.sensor_frame`'s arithmetic,
-  in the same order, so that the field-of-view test is the NumPy core's to the last bit), then
-  passes over its targets: range, outline, critical dimension, cycles, field of view, optical
-  depth (segments, clouds), transmittance and SNR;
-- :func:`pair_probabilities`: the pairs in view (or of unknown geometry) gathered into one list,
+- :func:`_pair_factors`: per sensor, its frame (:func:`targetacq.geometry.sensor_frame`'s
+  arithmetic, in the same order, so that the field-of-view test is the NumPy core's to the last
+  bit), then passes over its targets: range, outline, critical dimension, cycles, field of
+  view, optical depth (segments, clouds), transmittance and SNR;
+- :func:`_pair_probabilities`: the pairs in view (or of unknown geometry) gathered into one list,
   then each one's noisy N, the three task curves, detection in clutter, of hot spots and of
   moving targets, the semantics; zero elsewhere; and the sensor-level fusion (8.4);
-- :func:`pair_step`: both, in one call (the bound engine's ``step``).
+- :func:`_pair_step`: both, in one call (the bound engine's ``step``).
 
 Each pair's arithmetic is that of the per-element functions of
 :mod:`targetacq.engines.numba_kernels` (the same order of operations), so the numbers equal the
@@ -52,13 +52,13 @@ from targetacq.engines.numba_kernels import (
     ttpf,
 )
 
-__all__ = ["SENSOR_COLUMNS", "pair_factors", "pair_probabilities", "pair_step"]
+__all__ = ["SENSOR_COLUMNS"]
 
 # Columns of the sensor table (one row per sensor).
 CYCLE, IFOV, TAN_H, TAN_V, EXTINCTION, NOISE_EQUIVALENT, VIEWING, BY_POINT = range(8)
 AIM = 8  # 8, 9, 10: the look-at point (BY_POINT) or the boresight direction
 SENSOR_COLUMNS = 11
-"""Columns of the sensor table :func:`pair_factors` reads: cycle [rad], IFOV [rad], the half
+"""Columns of the sensor table :func:`_pair_factors` reads: cycle [rad], IFOV [rad], the half
 tangents, extinction [Np/m], noise-equivalent signal [W/m²], 1 where pointed with a field of
 view, 1 where pointed at a point, and the point [m] or the boresight direction."""
 
@@ -85,7 +85,7 @@ def _frame(fx, fy, fz, frame):
 
 
 @compiled
-def pair_factors(
+def _pair_factors(
     sensor_positions,  # (n_s, 3)
     target_positions,  # (n_g, 3)
     sin_cos,  # (2, n_g): sine and cosine of each target's heading
@@ -202,11 +202,11 @@ _D50, _R50, _I50, _LD, _LR, _LI, _LOW50, _LLOW = range(7, 15)
 _X, _U, _RATIO, _CURVES = 15, 16, 17, 18  # 18, 19, 20: Table 3.5's three curves
 _ROWS = 21
 CHUNK = 256
-"""Pairs per pass of :func:`pair_probabilities`: its work space stays in the CPU cache."""
+"""Pairs per pass of :func:`_pair_probabilities`: its work space stays in the CPU cache."""
 
 
 @compiled
-def pair_probabilities(
+def _pair_probabilities(
     cycles,  # (n_s, n_g)
     snr,  # (n_s, n_g)
     scr,  # (n_s, n_g)
@@ -362,7 +362,7 @@ def pair_probabilities(
 
 
 @compiled
-def pair_step(
+def _pair_step(
     sensor_positions,
     target_positions,
     sin_cos,
@@ -386,14 +386,14 @@ def pair_step(
     table_reference,
     sw,
     sw_constants,
-    factors,  # (6, n_s, n_g) work space: the factors of pair_factors
+    factors,  # (6, n_s, n_g) work space: the factors of _pair_factors
     in_view,  # (n_s, n_g) bool
     out,  # (3, n_s, n_g)
     fused,  # (3, n_g)
 ):
-    """:func:`pair_factors` then :func:`pair_probabilities`, in one call; the status of
-    :func:`pair_factors`."""
-    status = pair_factors(
+    """:func:`_pair_factors` then :func:`_pair_probabilities`, in one call; the status of
+    :func:`_pair_factors`."""
+    status = _pair_factors(
         sensor_positions,
         target_positions,
         sin_cos,
@@ -410,7 +410,7 @@ def pair_step(
     )
     if status != OK:
         return status
-    pair_probabilities(
+    _pair_probabilities(
         factors[2],
         factors[5],
         scr,

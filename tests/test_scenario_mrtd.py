@@ -9,7 +9,10 @@ DRI range is where the core gives the asked probability.
 
 from __future__ import annotations
 
+import json
 import shutil
+import subprocess
+import sys
 from importlib import resources
 from pathlib import Path
 
@@ -258,3 +261,42 @@ def test_dri_range_gives_the_asked_probability(scenario_path: Path, row: int) ->
         assert abs(got - entry.probability) < 1e-6, (entry.task, entry.probability, got)
         checked += 1
     assert checked >= 4
+
+
+def test_dri_of_the_scenario_on_the_command_line(scenario_path: Path) -> None:
+    """``targetacq dri SCENARIO``: every pair's range, evaluated by the core with the target
+    moved there in view, gives the asked probability (and the MRTD pair's ranges are not the
+    geometric ones)."""
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "targetacq",
+            "dri",
+            str(scenario_path),
+            "--probability",
+            "0.5,0.9",
+            "--format",
+            "json",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    rows = {"ir → truck": 0, "ir-netd → truck": 1, "geometric → truck": 2}
+    scene = ModelChain(load_scenario(scenario_path)).compiled.scene
+    ranges = json.loads(run.stdout)["ranges"]
+    assert {r["probability"] for r in ranges} == {0.5, 0.9}
+    for entry in ranges:
+        if entry["pair"] == "ir-netd → truck":
+            continue  # the range case counts the NETD's pixels over d², the core the outline
+        found, p = evaluate(scene, *_positions(np.array([entry["range_m"]])))
+        row = rows[entry["pair"]]
+        assert bool(found.in_view[row, 0, 0])
+        got = float(getattr(p, entry["task"])[row, 0, 0])
+        assert abs(got - entry["probability"]) < 1e-6, (entry, got)
+    by_pair = {(r["pair"], r["task"], r["probability"]): r["range_m"] for r in ranges}
+    assert (
+        by_pair[("ir → truck", "recognition", 0.5)]
+        < 0.95 * by_pair[("geometric → truck", "recognition", 0.5)]
+    )

@@ -436,10 +436,11 @@ class Sensor(_Strict):
     the atmosphere adds noise. The resolution is given one way: ``pitch`` with
     ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
     or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
-    every target is taken to be in view. ``mrtd``: a thermal sensor's MRTD curve, a CSV file
-    (:meth:`targetacq.mrtd.MrtdCurve.from_csv`; relative to the scenario file's folder), which
-    makes its resolution MRTD-limited (the pair's contrast as a blackbody ΔT at
-    ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    every target is taken to be in view. ``mrtd``: a thermal sensor's MRTD curve, the path of a
+    CSV file (:meth:`targetacq.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
+    folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
+    resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
+    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
     """
 
     name: Name

@@ -3,11 +3,9 @@
 A thermal sensor with an MRTD curve (:attr:`targetacq.core.records.SensorArrays.mrtd`) resolves
 its target to the bar frequency ``f*`` at which the target's apparent temperature difference
 ``τ · ΔT`` equals the curve (:mod:`targetacq.mrtd`), so its cycles on target are
-
-    N = f*(τ · |ΔT|) · d / R            (:func:`targetacq.mrtd.mrtd_cycles`)
-
-instead of the geometric ``d / (R · cycle)``, with the pair's slant range ``R``, critical
-dimension ``d`` and path transmittance ``τ`` (segments and local clouds included) as
+``N = f*(τ · |ΔT|) · d / R`` (:func:`targetacq.mrtd.mrtd_cycles`) instead of the geometric
+``d / (R · cycle)``, with the pair's slant range ``R``, critical dimension ``d`` and path
+transmittance ``τ`` (segments and local clouds included) as
 :func:`targetacq.core.evaluate.factors` computed them, and ``ΔT`` the pair's exitance contrast
 over the slope ``∂M_bb,band/∂T`` at the sensor's reference temperature: the blackbody
 temperature difference that gives the same contrast in the band (the range-case chain's
@@ -50,6 +48,26 @@ def mrtd_factors(scene: SceneArrays, found: Any) -> Any:
         ``found`` itself with its NumPy cycles written over at the rows (what
         :func:`targetacq.core.evaluate.factors` keeps beside them is kept), or a copy with new
         cycles in other array namespaces.
+
+    Examples
+    --------
+    :func:`targetacq.core.evaluate.factors` calls it for a scene with MRTD-limited rows:
+
+    >>> from importlib import resources
+    >>> import numpy as np
+    >>> from targetacq.core import compile_scenario, factors
+    >>> from targetacq.scenario import Scenario
+    >>> curve = str(resources.files("targetacq") / "data" / "example_mrtd.csv")
+    >>> scenario = Scenario.model_validate({
+    ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 3.4e-4, "position": [0, 0, 2],
+    ...                  "mrtd": curve}],
+    ...     "targets": [{"name": "truck", "dimensions": [7, 2.5, 3], "temperature": 295.0,
+    ...                  "position": [1000, 0, 2]}],
+    ...     "background": {"temperature": 293.0}})
+    >>> scene = compile_scenario(scenario).scene
+    >>> found = factors(scene, np.array([[[0.0, 0.0, 2.0]]]), np.array([[[1000.0, 0.0, 2.0]]]))
+    >>> round(float(found.cycles[0, 0, 0]), 6)  # 2 K, no atmosphere: the cut-off, 1400 × 3 / 1000
+    4.2
     """
     limited = scene.sensors.mrtd
     if limited is None:

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from targetacq import radiometry
+from targetacq import Simulation, radiometry
 from targetacq.core.cases import RangeCase, case_acquisition
 from targetacq.core.compile import check_runnable
 from targetacq.core.evaluate import evaluate
@@ -300,3 +300,19 @@ def test_dri_of_the_scenario_on_the_command_line(scenario_path: Path) -> None:
         by_pair[("ir → truck", "recognition", 0.5)]
         < 0.95 * by_pair[("geometric → truck", "recognition", 0.5)]
     )
+
+
+def test_the_step_api_takes_the_scenario_file(scenario_path: Path) -> None:
+    """Simulation.from_scenario(path, engine="auto"): the probabilities of a step are the core's
+    with the curve (the file found from the scenario's folder)."""
+    simulation = Simulation.from_scenario(scenario_path, engine="auto")
+    sensors, targets = _positions(np.array([6000.0]))
+    scene = ModelChain(load_scenario(scenario_path)).compiled.scene
+    _, want = evaluate(scene, sensors, targets)
+    simulation.step(0.0, 0.0, sensors[:, 0], targets[:, 0])
+    got = simulation.step(1.0, 1.0, sensors[:, 0], targets[:, 0])
+    for task in TASKS:
+        np.testing.assert_allclose(
+            getattr(got, task)[:, 0], getattr(want, task)[:, 0, 0], rtol=1e-12
+        )
+    assert got.recognition[0, 0] < got.recognition[2, 0]  # the MRTD row resolves less

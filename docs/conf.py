@@ -112,6 +112,7 @@ api_modules = [
     "targetacq.core.compile",
     "targetacq.core.evaluate",
     "targetacq.core.active",
+    "targetacq.core.mrtd_rows",
     "targetacq.core.pair_ranges",
     "targetacq.bands",
     "targetacq.tables",

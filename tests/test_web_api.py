@@ -197,6 +197,16 @@ def test_a_scenario_naming_a_file_is_refused(client, table, key, path):
     assert "files are not read over HTTP" in item["msg"]
 
 
+@pytest.mark.parametrize("path", ["/evaluate", "/report", "/step"])
+def test_a_scenario_naming_an_mrtd_curve_is_refused(client, path):
+    text = FUSED.read_text().replace('name = "thermal"', 'name = "thermal"\nmrtd = "/etc/passwd"')
+    assert 'mrtd = "/etc/passwd"' in text
+    body = _step_body(scenario=text) if path == "/step" else {"scenario": text}
+    (item,) = _problem(client.post(path, json=body))
+    assert item["loc"] == ["scenario", "sensors[1].mrtd"]
+    assert "files are not read over HTTP" in item["msg"]
+
+
 def test_an_unknown_session_is_404(client):
     (item,) = _problem(client.post("/step", json=_step_body(session="nope")), 404)
     assert "unknown session 'nope'" in item["msg"]

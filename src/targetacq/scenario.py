@@ -30,8 +30,9 @@ itself).
 
 Errors. :class:`ScenarioError` holds every problem found, each located
 (``file: table[index].key: what``); its message is the first. Problems that need the files a
-scenario names (its image, its terrain map) or the size of its run are found when it is compiled
-(:func:`targetacq.core.compile.check_runnable`), which ``targetacq validate`` does too.
+scenario names (its image, its terrain map, its sensors' MRTD curves) or the size of its run are
+found when it is compiled (:func:`targetacq.core.compile.check_runnable`), which ``targetacq
+validate`` does too.
 
 Warnings. A valid value that no real sensor or scene has, most often a unit slip (``focal_length
 = 100`` from Python, meant in mm: a 100 m lens), is emitted as a
@@ -435,7 +436,11 @@ class Sensor(_Strict):
     the atmosphere adds noise. The resolution is given one way: ``pitch`` with
     ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
     or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
-    every target is taken to be in view.
+    every target is taken to be in view. ``mrtd``: a thermal sensor's MRTD curve, the path of a
+    CSV file (:meth:`targetacq.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
+    folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
+    resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
+    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
     """
 
     name: Name
@@ -460,6 +465,7 @@ class Sensor(_Strict):
     bands: Annotated[list[Name], Field(min_length=1)] | None = None
     radar: Radar | None = None
     laser: Laser | None = None
+    mrtd: str | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
@@ -1031,6 +1037,12 @@ class Scenario(_Strict):
                 )
         for kind in dict.fromkeys(s.type for s in self.sensors):
             problems += get_sensor_type(kind).requirements(self)
+        problems += [
+            f'sensors[{k}].mrtd: an MRTD curve is a thermal sensor\'s (type = "thermal"); '
+            f"a {s.type} sensor's resolution is its own"
+            for k, s in enumerate(self.sensors)
+            if s.mrtd is not None and s.type != "thermal"
+        ]
         if self.false_targets is not None:
             from targetacq.false_targets import false_target_problems
 
@@ -1187,7 +1199,8 @@ def load_scenario(path: str | Path) -> Scenario:
 
     The file is a regular file of at most :data:`targetacq.limits.MAX_INPUT_BYTES`, in UTF-8
     (a byte-order mark is allowed; :func:`targetacq.inputs.read_input_text`). Relative
-    ``image`` and terrain ``map`` paths are taken from the file's folder.
+    ``image`` and terrain ``map`` paths, and sensors' ``mrtd`` curves, are taken from the file's
+    folder.
 
     Raises
     ------
@@ -1218,4 +1231,12 @@ def load_scenario(path: str | Path) -> Scenario:
         )
     if update:
         scenario = scenario.model_copy(update={"background": bg.model_copy(update=update)})
+    if any(s.mrtd is not None and not Path(s.mrtd).is_absolute() for s in scenario.sensors):
+        sensors = [
+            s.model_copy(update={"mrtd": str(source.parent / s.mrtd)})
+            if s.mrtd is not None and not Path(s.mrtd).is_absolute()
+            else s
+            for s in scenario.sensors
+        ]
+        scenario = scenario.model_copy(update={"sensors": sensors})
     return scenario

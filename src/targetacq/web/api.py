@@ -661,8 +661,8 @@ def _curves(body: BaseModel) -> dict[str, Any]:
 
 
 def _scenario(text: str) -> tuple[Scenario, list[str]]:
-    """A scenario from TOML text, and its plausibility warnings; one that names a file is
-    refused."""
+    """A scenario from TOML text, and its plausibility warnings; one that names a file (an
+    image, a terrain map, an MRTD curve) is refused."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -683,6 +683,19 @@ def _scenario(text: str) -> tuple[Scenario, list[str]]:
                         )
                     ],
                 )
+    sensors = data.get("sensors")
+    for k, sensor in enumerate(sensors if isinstance(sensors, list) else []):
+        if isinstance(sensor, dict) and sensor.get("mrtd") is not None:
+            raise ApiError(
+                422,
+                [
+                    (
+                        ["scenario", f"sensors[{k}].mrtd"],
+                        f"{_FILES_REFUSED}: give a scenario without sensors[{k}].mrtd (run it "
+                        "with targetacq evaluate FILE instead)",
+                    )
+                ],
+            )
     with _library_errors(), collected() as found:
         scenario = parse_scenario(data, source="scenario")
     return scenario, [message.removeprefix("scenario: ") for message in found]

@@ -14,6 +14,9 @@ and one entry here.
     Reflected light in the visible band (:mod:`targetacq.sensors.tv`).
 ``colour``
     A TV camera per colour band, merged as correlated (:mod:`targetacq.sensors.colour`).
+``swir``
+    Reflected plus emitted radiation in a band within 0.9–2.5 µm
+    (:mod:`targetacq.sensors.swir`).
 ``radar``
     A pulse radar: cells on target, σ⁰ clutter, the radar equation
     (:mod:`targetacq.sensors.radar`).
@@ -31,7 +34,7 @@ from typing import Any
 
 from targetacq.bands import BANDS, parse_band
 from targetacq.registry import lookup
-from targetacq.sensors import colour, imaging, laser_radar, radar, thermal, tv
+from targetacq.sensors import colour, imaging, laser_radar, radar, swir, thermal, tv
 
 __all__ = [
     "NOISE_KEYS",
@@ -172,6 +175,19 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             noise_key="nec",
             table="bands",
         ),
+        "swir": SensorType(
+            "swir",
+            "SWIR imager: reflected plus emitted radiation in a band within 0.9-2.5 um",
+            swir.signature,
+            swir.requirements,
+            None,
+            noise_equivalent=tv.noise_equivalent,
+            source="Sonesson (2004) §6.1-6.2, Eqs. (6.4), (6.5), (6.12); the sum is the project's",
+            default_band=swir.SWIR_BAND,
+            band_within=swir.SWIR_BAND,
+            band_example="'1-1.7 um'",
+            noise_key="nec",
+        ),
         "radar": SensorType(
             "radar",
             "pulse radar: resolution cells, sigma0 clutter, the radar equation",
@@ -212,7 +228,14 @@ def _um(limits: tuple[float, float]) -> str:
 
 
 def sensor_band(sensor: Any) -> tuple[float, float]:
-    """(λ1, λ2) [m] of a scenario sensor: its ``band``, or its type's ``default_band``."""
+    """(λ1, λ2) [m] of a scenario sensor: its ``band``, or its type's ``default_band``.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> [round(x * 1e6, 6) for x in sensor_band(SimpleNamespace(type="swir", band=None))]
+    [0.9, 2.5]
+    """
     if sensor.band is None:
         return get_sensor_type(sensor.type).default_band
     return parse_band(sensor.band)
@@ -226,6 +249,13 @@ def check_sensor_tables(sensor: Any) -> None:
     ------
     ValueError
         Naming the key and the type it belongs to.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> check_sensor_tables(SimpleNamespace(type="tv", bands=["red"], radar=None, laser=None))
+    Traceback (most recent call last):
+    ValueError: bands belongs to a type = "colour" sensor
     """
     kind = get_sensor_type(sensor.type)
     for other in SENSOR_TYPES.values():
@@ -248,6 +278,13 @@ def check_sensor_band(sensor: Any) -> None:
     ------
     ValueError
         Naming ``band`` and, where the type limits it, the range it must lie within.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> check_sensor_band(SimpleNamespace(type="swir", band="3-5 um"))
+    Traceback (most recent call last):
+    ValueError: band of a swir sensor must lie within 0.9-2.5 um; got 3-5 um
     """
     kind = get_sensor_type(sensor.type)
     if sensor.band is None and kind.band_required:
@@ -268,6 +305,14 @@ def check_sensor_noise(sensor: Any) -> None:
     ------
     ValueError
         Naming the key, the types it belongs to and the key this type takes.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> check_sensor_noise(SimpleNamespace(type="thermal", netd=None, nec=0.01))
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ValueError: nec is the noise-equivalent contrast of a type = ... a thermal sensor takes netd
     """
     kind = get_sensor_type(sensor.type)
     for key, meaning in NOISE_KEYS.items():
@@ -275,7 +320,8 @@ def check_sensor_noise(sensor: Any) -> None:
             continue
         if kind.noise_key is None:
             raise ValueError(kind.noise_elsewhere or f"a {kind.name} sensor takes no {key}")
-        owners = " or ".join(f'"{t.name}"' for t in SENSOR_TYPES.values() if t.noise_key == key)
+        names = [f'"{t.name}"' for t in SENSOR_TYPES.values() if t.noise_key == key]
+        owners = " or ".join([", ".join(names[:-1]), names[-1]] if len(names) > 1 else names)
         raise ValueError(
             f"{key} is the {meaning} of a type = {owners} sensor; a {kind.name} sensor takes "
             f"{kind.noise_key}"

@@ -104,6 +104,7 @@ api_modules = [
     "targetacq.sensors.thermal",
     "targetacq.sensors.tv",
     "targetacq.sensors.colour",
+    "targetacq.sensors.swir",
     "targetacq.sensors.radar",
     "targetacq.sensors.laser_radar",
     "targetacq.core",

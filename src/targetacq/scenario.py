@@ -68,7 +68,6 @@ from pydantic import (
 
 from targetacq import atmosphere as _atmosphere
 from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
-from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
 from targetacq.engagement import REDRAW_RULES
 from targetacq.inputs import read_input_text
@@ -87,7 +86,14 @@ from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.plausibility import collected, emit, plausibility_warnings
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
-from targetacq.sensors import SENSOR_TYPES, get_sensor_type
+from targetacq.sensors import (
+    SENSOR_TYPES,
+    check_sensor_band,
+    check_sensor_noise,
+    check_sensor_tables,
+    get_sensor_type,
+    sensor_band,
+)
 from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import is_quantity, to_si
 
@@ -502,10 +508,7 @@ class Sensor(_Strict):
                 raise ValueError("give aperture or f_number, not both")
             # The aperture diameter a datasheet's F-number stands for: D = f / F#.
             object.__setattr__(self, "aperture", self.focal_length / self.f_number)
-        if self.band is None and self.type == "thermal":
-            raise ValueError("a thermal sensor needs its band, e.g. 'lwir' or '8-12 um'")
-        if self.band is not None:
-            self.limits  # noqa: B018 - validates the band
+        check_sensor_band(self)  # required, or the type's default; within the type's limits
         _one_place(self.position, self.waypoints, "sensor")
         if self.look_at is not None and (self.azimuth is not None or self.depression is not None):
             raise ValueError("give look_at, or azimuth and depression, not both")
@@ -520,22 +523,12 @@ class Sensor(_Strict):
             )
         self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
-        if self.type == "laser_radar" and (self.netd is not None or self.nec is not None):
-            raise ValueError("a laser radar's noise is its receiver's: laser.nep")
-        if self.netd is not None and self.type != "thermal":
-            raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
-        if self.nec is not None and self.type not in ("tv", "colour"):
-            raise ValueError("nec is the noise-equivalent contrast of a TV sensor; give netd")
+        check_sensor_noise(self)  # netd or nec: the one the type takes
         return self
 
     def _check_type_tables(self) -> None:
         """The tables that belong to one sensor type: bands (colour), radar, laser."""
-        for key, kind in (("bands", "colour"), ("radar", "radar"), ("laser", "laser_radar")):
-            given = getattr(self, key) is not None
-            if given and self.type != kind:
-                raise ValueError(f'{key} belongs to a type = "{kind}" sensor')
-            if not given and self.type == kind:
-                raise ValueError(f'a type = "{kind}" sensor needs its {key}')
+        check_sensor_tables(self)
         if self.bands is not None and len(set(self.bands)) != len(self.bands):
             raise ValueError("bands must be distinct names")
 
@@ -560,10 +553,8 @@ class Sensor(_Strict):
 
     @property
     def limits(self) -> tuple[float, float]:
-        """The band (λ1, λ2) [m]; the visible band for a TV sensor without one."""
-        if self.band is None:
-            return BANDS["visible"]
-        return parse_band(self.band)
+        """The band (λ1, λ2) [m]; without one, its type's default (a TV sensor: the visible)."""
+        return sensor_band(self)
 
     @property
     def fov_projection(self) -> str:

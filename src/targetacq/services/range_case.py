@@ -316,7 +316,8 @@ def option_path(
         level = level or "nominal"
         option_choice(level, EXTINCTION_LEVELS, "--obscurant level")
         weather["obscurant"] = f"{name}:{level}"
-        source = f"Table 7.1: {name}, {level}, {band_name(band)}"
+        named = band_name_or_none(band) or f"{band[0] * 1e6:g}-{band[1] * 1e6:g} um"
+        source = f"Table 7.1: {name}, {level}, {named}"
     elif visibility is not None:
         if band is not None and band_name_or_none(band) != "visible":
             raise ValueError(

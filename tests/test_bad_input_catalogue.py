@@ -2891,7 +2891,9 @@ def test_web_evaluate_refuses_decibels_beyond_the_range_with_422() -> None:
 
     text = RADAR.read_text(encoding="utf-8").replace('gain = "32 dB"', 'gain = "4000 dB"')
     assert '"4000 dB"' in text
-    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as client:
+    with TestClient(
+        create_app(max_body_bytes=200_000, max_elements=1_000), base_url="http://127.0.0.1"
+    ) as client:
         answer = client.post("/evaluate", json={"scenario": text})
     assert answer.status_code == 422, answer.text
     items = answer.json()["detail"]

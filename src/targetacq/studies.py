@@ -132,7 +132,7 @@ def _point(
     from targetacq.ranges import case_ranges
     from targetacq.services.range_case import range_setup
 
-    setup = range_setup(**options, default_probability=default_probability)
+    setup = range_setup(options, default_probability)
     if grid is not None:
         if not setup.criterion.gives_probabilities:
             raise ValueError(

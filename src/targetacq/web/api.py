@@ -602,7 +602,7 @@ def _setup(body: BaseModel) -> Any:
             [(["body", "probability"], f"at most {MAX_PROBABILITIES} probabilities; got {listed}")],
         )
     with _library_errors(_OPTION_NAMES):
-        return range_setup(**typed_options(options, "dri"), default_probability="0.5")
+        return range_setup(typed_options(options, "dri"), "0.5")
 
 
 def _no_curves(setup: Any) -> str | None:

@@ -210,16 +210,15 @@ def test_snr_from_a_tiny_optical_depth():
 def test_foliage_is_a_transmittance_that_lowers_the_probabilities():
     assert atmosphere.foliage_transmittance(0.0, 0.5) == 1.0
     assert atmosphere.foliage_transmittance(4.0, 0.25) == pytest.approx(math.exp(-1.0))
-    open_field = ta.scene_acquisition(1500.0, 2.3, 2e-4, "lwir", 305.0, 295.0, extinction=1e-4)
+    open_field = ta.scene_acquisition(
+        1500.0, ta.RangeCase(2.3, 2e-4, extinction=1e-4), ta.Scene("lwir", 305.0, 295.0)
+    )
     in_forest = ta.scene_acquisition(
         1500.0,
-        2.3,
-        2e-4,
-        "lwir",
-        305.0,
-        295.0,
-        extinction=1e-4,
-        foliage=atmosphere.foliage_transmittance(4.0, 0.25),
+        ta.RangeCase(
+            2.3, 2e-4, extinction=1e-4, foliage=atmosphere.foliage_transmittance(4.0, 0.25)
+        ),
+        ta.Scene("lwir", 305.0, 295.0),
     )
     assert in_forest.transmittance == pytest.approx(open_field.transmittance * math.exp(-1.0))
     assert in_forest.detection < open_field.detection

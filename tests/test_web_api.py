@@ -838,3 +838,16 @@ def test_the_first_chart_after_start_imports_nothing() -> None:
     seconds, imported = done.stdout.splitlines()
     assert imported == "[]", imported
     assert float(seconds) < 1.0
+
+
+def test_evaluate_formats_are_the_writers_registry():
+    """The choices of ``POST /evaluate``'s format come from the writers' registry: the arrays
+    (json), or every format written as one file by the base install, with its media type."""
+    from targetacq.datasets import DIRECTORY_FORMATS, FORMAT_PACKAGES, MEDIA_TYPES, OUTPUT_FORMATS
+    from targetacq.web.api import EvaluateRequest
+
+    schema = EvaluateRequest.model_json_schema()["properties"]["format"]
+    files = {f for f in OUTPUT_FORMATS if f not in DIRECTORY_FORMATS and f not in FORMAT_PACKAGES}
+    assert set(schema["enum"]) == files | {"json"}
+    assert files <= set(MEDIA_TYPES)
+    assert {"csv", "parquet"} <= files  # the page's download buttons

@@ -138,7 +138,7 @@ def _text_options(options: Mapping[str, Any]) -> dict[str, Any]:
 
 def _setup(options: Mapping[str, Any], default_probability: str) -> RangeSetup:
     """One point's range setup: its options read as ``targetacq dri`` reads them."""
-    return range_setup(**options, default_probability=default_probability)
+    return range_setup(options, default_probability)
 
 
 def _check_grid(setup: RangeSetup, grid: np.ndarray | None) -> None:

@@ -77,6 +77,7 @@ import numpy as np
 from targetacq import _arrays, atmosphere, geometry, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import (
+    Clutter,
     MotionRule,
     Semantics,
     get_motion_rule,
@@ -989,10 +990,12 @@ def _in_view_tasks(
                 list(row),
                 chosen.transform,
                 chosen.options,
-                scr=part(scr),
-                region=scene.choices.region,
-                hot_spot=groups.flag("hot", k, at),
-                moving=groups.flag("moving", k, at),
+                clutter=Clutter(
+                    scr=part(scr),
+                    region=scene.choices.region,
+                    hot_spot=groups.flag("hot", k, at),
+                    moving=groups.flag("moving", k, at),
+                ),
                 snr=part(snr),
                 noise=noise,
                 motion=chosen.motion,
@@ -1241,10 +1244,12 @@ def task_probabilities(
             n50,
             resolved.transform,
             resolved.options,
-            scr=pick(scr),
-            region=choices.region,
-            hot_spot=flag("hot"),
-            moving=flag("moving"),
+            clutter=Clutter(
+                scr=pick(scr),
+                region=choices.region,
+                hot_spot=flag("hot"),
+                moving=flag("moving"),
+            ),
             snr=pick(snr),
             noise=noise,
             motion=resolved.motion,

@@ -32,13 +32,8 @@ def main() -> None:
     def scene():
         return ta.scene_acquisition(
             ranges,
-            2.3,
-            2.27e-4,
-            "lwir",
-            temperatures,
-            295.0,
-            clutter_std=clutter_std,
-            extinction=gamma,
+            ta.RangeCase(2.3, 2.27e-4, extinction=gamma),
+            ta.Scene("lwir", temperatures, 295.0, clutter_std=clutter_std),
         )
 
     def core():

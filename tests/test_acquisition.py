@@ -23,13 +23,13 @@ def test_effect_is_the_product_eq_2_5():
 def test_ordering_and_effect(ns, scr):
     n = np.array(ns)
     for kwargs in ({}, {"scr": scr}, {"hot_spot": True}, {"moving": True}):
-        acq = ta.acquisition_probabilities(n, **kwargs)
+        acq = ta.acquisition_probabilities(n, clutter=kwargs)
         assert np.all(acq.identification <= acq.recognition)
         assert np.all(acq.recognition <= acq.detection)
         # Nested: identified implies recognised and detected, so P_effect = P(identified).
         np.testing.assert_array_equal(acq.effect, acq.identification)
         # Conditional: Eq. (2.5), the product of the three curves.
-        cond = ta.acquisition_probabilities(n, semantics="conditional", **kwargs)
+        cond = ta.acquisition_probabilities(n, semantics="conditional", clutter=kwargs)
         rec, ide = (ta.probability(n, task) for task in ("recognition", "identification"))
         np.testing.assert_allclose(cond.detection, acq.detection, rtol=1e-15)
         np.testing.assert_allclose(cond.recognition, acq.detection * rec, rtol=1e-12)
@@ -39,7 +39,7 @@ def test_ordering_and_effect(ns, scr):
 def test_heavy_clutter_caps_recognition_at_detection():
     # §3.7: high clutter holds detection at 0.9 (Table 3.5) while recognition by TTPF (N50 = 4)
     # is 0.96 at 9 cycles; nothing is recognised that was not detected.
-    acq = ta.acquisition_probabilities(9.0, scr=0.33)
+    acq = ta.acquisition_probabilities(9.0, clutter=ta.Clutter(scr=0.33))
     marginal_rec = ta.probability(9.0, "recognition")
     detection = ta.schmieder_weathersby(9.0, scr=0.33)
     assert marginal_rec > detection

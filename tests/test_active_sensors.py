@@ -329,7 +329,14 @@ def test_dri_and_report_of_a_scenario_on_the_command_line(tmp_path: Path) -> Non
     [
         (_radar_document(rcs="-10 m^2"), r"targets\[0\]: rcs must be >= 0"),
         (_radar_document(rain="2 mm/h", frequency="500 MHz"), r"sensors\[0\].radar.frequency"),
-        ({**_laser_document(), "atmosphere": {"obscurant": "haze"}}, "atmosphere.obscurant"),
+        (  # a band Table 7.1 cannot be read for (the 5-8 um water-vapour absorption)
+            {
+                **_laser_document(),
+                "sensors": [{**_laser_document()["sensors"][0], "band": "6-6.1 um"}],
+                "atmosphere": {"obscurant": "haze"},
+            },
+            r"atmosphere.obscurant: Table 7.1 gives the bands .* got 6-6.1 um",
+        ),
         (
             {
                 **_laser_document(),

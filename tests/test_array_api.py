@@ -58,7 +58,11 @@ def test_fusion_under_array_api_strict():
 
 def test_acquisition_under_array_api_strict():
     n = [0.0, 1.0, 4.0, 9.0]
-    strict = ta.acquisition_probabilities(_strict(n), scr=_strict([20.0, 5.0, 0.5, 0.5]))
-    plain = ta.acquisition_probabilities(np.asarray(n), scr=np.asarray([20.0, 5.0, 0.5, 0.5]))
+    strict = ta.acquisition_probabilities(
+        _strict(n), clutter=ta.Clutter(scr=_strict([20.0, 5.0, 0.5, 0.5]))
+    )
+    plain = ta.acquisition_probabilities(
+        np.asarray(n), clutter=ta.Clutter(scr=np.asarray([20.0, 5.0, 0.5, 0.5]))
+    )
     for task in ("detection", "recognition", "identification", "effect"):
         _same(getattr(strict, task), getattr(plain, task))

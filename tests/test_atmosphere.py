@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 import targetacq as ta
 from targetacq import atmosphere
+from targetacq.bands import band_limits
 
 # Table 7.1, Sonesson (2004) p. 42, Np/km: (obscurant, band) → (low, high).
 TABLE_7_1 = {
@@ -41,6 +42,47 @@ def test_table_7_1():
         )
         nominal = atmosphere.obscurant_extinction(obscurant, band)
         assert nominal == pytest.approx(math.sqrt(low * high) / 1000)
+
+
+def test_a_band_inside_a_table_band_reads_its_cell():
+    for (obscurant, band), (low, high) in TABLE_7_1.items():
+        lo, hi = band_limits(band)
+        inside = (lo + 0.25 * (hi - lo), hi - 0.25 * (hi - lo))
+        assert atmosphere.obscurant_extinction(obscurant, inside, "low") == pytest.approx(low / 1e3)
+        assert atmosphere.obscurant_extinction(obscurant, inside, "high") == pytest.approx(
+            high / 1e3
+        )
+
+
+def test_a_short_wave_band_interpolates_log_log_between_visible_and_mid_wave():
+    # By hand: the SWIR band 0.9-2.5 um has its centre at 1.7 um; the visible cell stands at
+    # 0.55 um, the mid-wave one at 4 um; each cell end is interpolated in log(gamma) against
+    # log(wavelength).
+    w = math.log(1.7 / 0.55) / math.log(4.0 / 0.55)
+    for obscurant in atmosphere.OBSCURANTS:
+        vis, mid = TABLE_7_1[obscurant, "visible"], TABLE_7_1[obscurant, "mwir"]
+        for k, level in enumerate(("low", "high")):
+            expected = vis[k] ** (1 - w) * mid[k] ** w / 1e3
+            got = atmosphere.obscurant_extinction(obscurant, (0.9e-6, 2.5e-6), level)
+            assert got == pytest.approx(expected, rel=1e-12)
+            assert min(vis[k], mid[k]) / 1e3 <= got <= max(vis[k], mid[k]) / 1e3
+
+
+@given(st.floats(0.7, 2.9), st.floats(0.01, 1.0))
+def test_interpolated_haze_falls_with_wavelength(centre_um, shift_um):
+    # Table 7.1's haze cells fall from the visible to the mid-wave IR: so must the interpolation.
+    def haze(c):
+        return atmosphere.obscurant_extinction("haze", ((c - 0.05) * 1e-6, (c + 0.05) * 1e-6))
+
+    assume(centre_um + shift_um <= 2.9)
+    assert haze(centre_um + shift_um) <= haze(centre_um)
+
+
+def test_a_band_across_the_water_vapour_absorption_is_refused():
+    with pytest.raises(ValueError, match=r"Table 7.1 gives the bands .* got 5-8 um"):
+        atmosphere.obscurant_extinction("haze", (5e-6, 8e-6))
+    with pytest.raises(ValueError, match="got 10-14 um"):  # beyond the long-wave band
+        atmosphere.obscurant_extinction("haze", (10e-6, 14e-6))
 
 
 @pytest.mark.parametrize(
@@ -168,16 +210,15 @@ def test_snr_from_a_tiny_optical_depth():
 def test_foliage_is_a_transmittance_that_lowers_the_probabilities():
     assert atmosphere.foliage_transmittance(0.0, 0.5) == 1.0
     assert atmosphere.foliage_transmittance(4.0, 0.25) == pytest.approx(math.exp(-1.0))
-    open_field = ta.scene_acquisition(1500.0, 2.3, 2e-4, "lwir", 305.0, 295.0, extinction=1e-4)
+    open_field = ta.scene_acquisition(
+        1500.0, ta.RangeCase(2.3, 2e-4, extinction=1e-4), ta.Scene("lwir", 305.0, 295.0)
+    )
     in_forest = ta.scene_acquisition(
         1500.0,
-        2.3,
-        2e-4,
-        "lwir",
-        305.0,
-        295.0,
-        extinction=1e-4,
-        foliage=atmosphere.foliage_transmittance(4.0, 0.25),
+        ta.RangeCase(
+            2.3, 2e-4, extinction=1e-4, foliage=atmosphere.foliage_transmittance(4.0, 0.25)
+        ),
+        ta.Scene("lwir", 305.0, 295.0),
     )
     assert in_forest.transmittance == pytest.approx(open_field.transmittance * math.exp(-1.0))
     assert in_forest.detection < open_field.detection

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import dataclasses
 import datetime
 import json
 import math
@@ -1994,11 +1995,13 @@ def _target(**change: Any) -> Any:
 
 
 def prob(*args: Any, **kwargs: Any) -> Callable[[Path], Any]:
-    return lambda tmp: _ta().probability(*args, **kwargs)
+    """``probability``, the clutter's fields given as keywords going into its record."""
+    clutter = {k: kwargs.pop(k) for k in ("scr", "region", "hot_spot", "moving") if k in kwargs}
+    return lambda tmp: _ta().probability(*args, clutter=clutter or None, **kwargs)
 
 
-def ranges(*args: Any, **kwargs: Any) -> Callable[[Path], Any]:
-    return lambda tmp: _ta().dri_ranges(*args, **kwargs)
+def ranges(*args: Any, probability: Any = 0.5, **kwargs: Any) -> Callable[[Path], Any]:
+    return lambda tmp: _ta().dri_ranges(_ta().RangeCase(*args, **kwargs), probability)
 
 
 def rcase(*args: Any, **kwargs: Any) -> Callable[[Path], Any]:
@@ -2012,10 +2015,23 @@ def rcase(*args: Any, **kwargs: Any) -> Callable[[Path], Any]:
 
 SCENE = {"range": 1000.0, "critical_dimension": 2.3, "ifov": 2e-4, "band": "lwir"}
 SCENE |= {"target_temperature": 305.0, "background_temperature": 295.0}
+_SCENE_KEYWORDS = ("range", "netd", "netd_temperature", "quantisation_step")
+
+
+def _scene_acquisition(values: dict[str, Any]) -> Any:
+    """``scene_acquisition`` of :data:`SCENE` changed by ``values``, each in its place: the
+    fields of a ``Scene`` in the scene, the function's own keywords, the rest in the case."""
+    ta = _ta()
+    scene_fields = {f.name for f in dataclasses.fields(ta.Scene)}
+    given = {**SCENE, **values}
+    own = {k: v for k, v in given.items() if k in _SCENE_KEYWORDS}
+    scene = ta.Scene(**{k: v for k, v in given.items() if k in scene_fields})
+    rest = {k: v for k, v in given.items() if k not in scene_fields and k not in own}
+    return ta.scene_acquisition(own.pop("range"), ta.RangeCase(**rest), scene, **own)
 
 
 def scene(**change: Any) -> Callable[[Path], Any]:
-    return lambda tmp: _ta().scene_acquisition(**{**SCENE, **change})
+    return lambda tmp: _scene_acquisition(change)
 
 
 NAN = float("nan")
@@ -2204,7 +2220,7 @@ api(
     scene(scr=5.0, clutter_std=2.0),
     [("scr", "clutter")],
 )
-api("scene-clutter-region-unknown", "unknown", scene(clutter_region="extreme"), ["clutter_region"])
+api("scene-clutter-region-unknown", "unknown", scene(region="extreme"), ["region"])
 api(
     "scene-temperature-complex",
     "wrong-type",
@@ -2720,7 +2736,8 @@ def _nan_at(values: Any, where: Any) -> None:
 def _nan_probability(kwarg: str) -> Callable[[Path, Any], None]:
     def check(tmp: Path, capsys: Any) -> None:
         value = {"snr": np.array([10.0, NAN]), "scr": np.array([5.0, NAN])}[kwarg]
-        p = _ta().probability(np.array([3.0, 3.0]), "detection", **{kwarg: value})
+        given = {"clutter": {"scr": value}} if kwarg == "scr" else {kwarg: value}
+        p = _ta().probability(np.array([3.0, 3.0]), "detection", **given)
         _nan_at(p, [False, True])
 
     return check
@@ -2736,7 +2753,7 @@ def _nan_scene(name: str) -> Callable[[Path, Any], None]:
     def check(tmp: Path, capsys: Any) -> None:
         base = {"extinction": 1e-4, "foliage": 1.0}[name]
         values = {name: np.array([base, NAN, base])}
-        got = _ta().scene_acquisition(**{**SCENE, **values})
+        got = _scene_acquisition(values)
         for task in ("detection", "recognition", "identification"):
             _nan_at(getattr(got, task), [False, True, False])
 
@@ -2744,7 +2761,7 @@ def _nan_scene(name: str) -> Callable[[Path, Any], None]:
 
 
 def _nan_ranges(tmp: Path, capsys: Any) -> None:
-    got = _ta().dri_ranges(np.array([2.3, NAN]), 2e-4, extinction=4e-4)
+    got = _ta().dri_ranges(_ta().RangeCase(np.array([2.3, NAN]), 2e-4, extinction=4e-4))
     for task in ("detection", "recognition", "identification"):
         _nan_at(got[task], [False, True])
 
@@ -2852,7 +2869,7 @@ accepted("masked-array-keeps-mask", "nan-in-nan-out", _masked)
 
 def _nan_target_temperature(tmp: Path, capsys: Any) -> None:
     """No noise, no clutter: the contrast entered no factor (P = 0.99999 for a NaN before)."""
-    got = _ta().scene_acquisition(**{**SCENE, "target_temperature": np.array([305.0, NAN])})
+    got = _scene_acquisition({"target_temperature": np.array([305.0, NAN])})
     for task in ("detection", "recognition", "identification"):
         _nan_at(getattr(got, task), [False, True])
 
@@ -2891,7 +2908,9 @@ def test_web_evaluate_refuses_decibels_beyond_the_range_with_422() -> None:
 
     text = RADAR.read_text(encoding="utf-8").replace('gain = "32 dB"', 'gain = "4000 dB"')
     assert '"4000 dB"' in text
-    with TestClient(create_app(max_body_bytes=200_000, max_elements=1_000)) as client:
+    with TestClient(
+        create_app(max_body_bytes=200_000, max_elements=1_000), base_url="http://127.0.0.1"
+    ) as client:
         answer = client.post("/evaluate", json={"scenario": text})
     assert answer.status_code == 422, answer.text
     items = answer.json()["detail"]

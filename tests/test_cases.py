@@ -100,7 +100,7 @@ def test_case_equals_the_formulas_by_hand():
     np.testing.assert_allclose(got.cycles, n, rtol=1e-14)
     np.testing.assert_allclose(got.transmittance, tau, rtol=1e-14)
     np.testing.assert_allclose(got.snr, snr, rtol=1e-12)
-    acq = ta.acquisition_probabilities(n, scr=4.0, snr=snr)
+    acq = ta.acquisition_probabilities(n, clutter=ta.Clutter(scr=4.0), snr=snr)
     for task in ("detection", "recognition", "identification"):
         np.testing.assert_allclose(getattr(got, task), getattr(acq, task), rtol=1e-12)
 
@@ -160,9 +160,9 @@ def test_ranges_of_a_case_are_where_its_curves_cross():
         assert getattr(case_acquisition(case, r * (1 + 2e-9)), task) < 0.7
 
 
-def test_dri_ranges_is_case_ranges_of_its_case():
+def test_dri_ranges_of_a_mapping_is_case_ranges_of_its_case():
     kwargs = {"extinction": 1e-3, "scr": 2.0, "wavelength": 10e-6, "aperture": 0.03}
-    by_args = ta.dri_ranges(2.3, 2e-4, probability=0.6, **kwargs)
+    by_args = ta.dri_ranges({"critical_dimension": 2.3, "ifov": 2e-4, **kwargs}, 0.6)
     by_case = case_ranges(RangeCase(2.3, 2e-4, **kwargs), 0.6)
     assert by_args == by_case
 

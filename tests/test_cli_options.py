@@ -2,19 +2,19 @@
 
 from __future__ import annotations
 
-import inspect
+import dataclasses
 
 import pytest
 
 from targetacq.cli import all_commands
 from targetacq.services.options import RANGE_CASE_OPTIONS, option_coverage
-from targetacq.services.range_case import range_setup
+from targetacq.services.range_case import RangeOptions
 
 
-def test_every_range_setup_keyword_is_an_option():
+def test_every_range_options_field_is_an_option():
     missing, extra = option_coverage()
     assert missing == set() and extra == set()
-    assert "example" in inspect.signature(range_setup).parameters
+    assert "example" in {field.name for field in dataclasses.fields(RangeOptions)}
 
 
 @pytest.mark.parametrize("command", ["dri", "plot", "report"])

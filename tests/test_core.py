@@ -127,7 +127,7 @@ def test_extinction_for_band_reads_table_7_1_per_band():
 
 
 def test_sensor_types_come_from_the_registry():
-    assert set(SENSOR_TYPES) == {"thermal", "tv", "colour", "radar", "laser_radar"}
+    assert set(SENSOR_TYPES) == {"thermal", "tv", "colour", "swir", "radar", "laser_radar"}
     for kind in SENSOR_TYPES.values():
         assert get_sensor_type(kind.name) is kind
     with pytest.raises(ValueError, match="did you mean 'thermal'"):

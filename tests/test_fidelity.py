@@ -392,7 +392,7 @@ def test_done_when_without_noise_the_range_is_the_geometric_one(d, ifov, name, s
         expected = d / (crit.n50(task) * 2 * ifov)
         assert float(found[task]) == pytest.approx(expected, rel=1e-12, abs=0), task
     if semantics == "nested":
-        by_function = dri_ranges(d, ifov, name, 0.5)
+        by_function = dri_ranges(RangeCase(d, ifov, criterion=name), 0.5)
         for task in crit.tasks:
             expected = d / (crit.n50(task) * 2 * ifov)
             assert float(by_function[task]) == pytest.approx(expected, rel=1e-12, abs=0), task
@@ -459,7 +459,7 @@ def test_done_when_sampled_frequencies_match_the_reported_probabilities(semantic
     curves = {
         task: np.asarray(
             probability(
-                n, task, N50, snr=snr, **({"scr": SCENE_SCR} if task == "detection" else {})
+                n, task, N50, snr=snr, clutter={"scr": SCENE_SCR} if task == "detection" else None
             )
         )
         for task in TASKS

@@ -53,7 +53,7 @@ def test_uav_example_agrees_with_the_functions_called_by_hand():
             n = ta.cycles_on_target(d, rng, sensor.pixel_ifov, wavelength=10e-6, aperture=0.035)
             snr = ta.snr_from_transmittance(ta.transmittance(gamma, rng))
             acq = ta.acquisition_probabilities(
-                n, target.criterion, scr=scr, snr=snr, moving=target.moving
+                n, target.criterion, clutter=ta.Clutter(scr=scr, moving=target.moving), snr=snr
             )
             assert float(ds["range"][0, g, k]) == pytest.approx(rng, rel=1e-12)
             assert float(ds["cycles"][0, g, k]) == pytest.approx(n, rel=1e-12)

@@ -41,6 +41,26 @@ from targetacq.criteria import CRITERIA
 
 Kernel = tuple[Callable[..., Any], dict[str, Any]]
 
+
+def _with_clutter(function: Callable[..., Any]) -> Callable[..., Any]:
+    """``function``, with the fields of its :class:`targetacq.Clutter` record given as keywords
+    (so that the matrix puts NaN into each of them as into any other input)."""
+
+    def call(
+        *,
+        scr: Any = None,
+        region: Any = None,
+        hot_spot: Any = False,
+        moving: Any = False,
+        **kw: Any,
+    ) -> Any:
+        clutter = ta.Clutter(scr=scr, region=region, hot_spot=hot_spot, moving=moving)
+        return function(**kw, clutter=clutter)
+
+    call.__name__ = function.__name__
+    return call
+
+
 KERNELS: dict[str, Kernel] = {
     "ttpf": (ta.ttpf, {"cycles": 1.2, "n50": 1.0}),
     "ttpf_inverse": (ta.ttpf_inverse, {"probability": 0.3, "n50": 1.0}),
@@ -62,25 +82,28 @@ KERNELS: dict[str, Kernel] = {
         {"probability": 0.3, "n50": 1.0, "scr": 2.0},
     ),
     "clutter_n50": (transforms.clutter_n50, {"scr": 0.2}),
-    "probability": (ta.probability, {"cycles": 1.2, "task": "detection", "snr": 5.0, "scr": 0.3}),
+    "probability": (
+        _with_clutter(ta.probability),
+        {"cycles": 1.2, "task": "detection", "snr": 5.0, "scr": 0.3},
+    ),
     "probability recognition": (
-        ta.probability,
+        _with_clutter(ta.probability),
         {"cycles": 4.0, "task": "recognition", "snr": 5.0},
     ),
     "probability hot spot": (
-        ta.probability,
+        _with_clutter(ta.probability),
         {"cycles": 0.4, "task": "detection", "snr": 5.0, "hot_spot": True},
     ),
     "probability moving": (
-        ta.probability,
+        _with_clutter(ta.probability),
         {"cycles": 0.4, "task": "detection", "snr": 5.0, "moving": True},
     ),
     "acquisition_probabilities": (
-        ta.acquisition_probabilities,
+        _with_clutter(ta.acquisition_probabilities),
         {"cycles": 1.0, "snr": 5.0, "scr": 0.3},
     ),
     "acquisition_probabilities c2nveo": (
-        ta.acquisition_probabilities,
+        _with_clutter(ta.acquisition_probabilities),
         {"cycles": 4.0, "snr": 5.0, "scr": 0.2, "transform": "c2nveo"},
     ),
     "effect_probability": (
@@ -263,6 +286,9 @@ NOT_KERNELS = {
     "TRANSFORMS",
     "Acquisition",
     "Criterion",
+    "RangeCase",  # a record of inputs: test_range_cases_keep_nan
+    "Clutter",  # a record of inputs: the clutter rows of KERNELS below
+    "Scene",  # a record of inputs: tests/test_scene.py
     "SceneAcquisition",
     "Simulation",
     "get_criterion",
@@ -597,7 +623,12 @@ def test_acquisition_keeps_nan_in_cycles_and_snr_through_every_branch(
     cycles = np.array([2.0, np.nan, 2.0, 0.6])
     snr = np.array([12.0, 5.0, np.nan, -3.0])
     found = ta.acquisition_probabilities(
-        cycles, transform=transform, snr=snr, noise_model=noise_model, motion=motion, **clutter
+        cycles,
+        transform=transform,
+        snr=snr,
+        noise_model=noise_model,
+        motion=motion,
+        clutter=clutter,
     )
     scr_nan = bool(np.isnan(np.broadcast_to(clutter.get("scr", 1.0), (4,)))[3])
     moving = np.broadcast_to(clutter.get("moving", False), (4,))
@@ -618,7 +649,7 @@ def test_acquisition_keeps_nan_in_cycles_and_snr_through_every_branch(
         snr=snr,
         noise_model=noise_model,
         motion=motion,
-        **clutter,
+        clutter=clutter,
     )
     assert np.isnan(single).tolist() == np.isnan(found.detection).tolist()
 
@@ -639,7 +670,7 @@ def test_range_cases_keep_nan():
     # Nested semantics: a missing SCR reaches recognition through the cap P_rec <= P_det.
     for task in ("detection", "recognition", "identification"):
         assert np.isnan(getattr(found, task)).tolist() == [False, True, True, True, True]
-    ranges = ta.dri_ranges(np.array([2.3, np.nan]), 1e-4)
+    ranges = ta.dri_ranges(RangeCase(np.array([2.3, np.nan]), 1e-4))
     for task in ("detection", "recognition", "identification"):
         assert np.isnan(np.asarray(ranges[task])).tolist() == [False, True]
 

@@ -59,8 +59,8 @@ N = st.lists(st.floats(0.0, 40.0), min_size=1, max_size=10)
 def test_noise_free_limit_is_exactly_the_core_model(ns, scr):
     n = np.array(ns)
     for kwargs in ({}, {"scr": scr}, {"region": "high"}):
-        core = ta.acquisition_probabilities(n, **kwargs)
-        noisy = ta.acquisition_probabilities(n, snr=math.inf, **kwargs)
+        core = ta.acquisition_probabilities(n, clutter=kwargs)
+        noisy = ta.acquisition_probabilities(n, snr=math.inf, clutter=kwargs)
         for task in ("detection", "recognition", "identification"):
             np.testing.assert_array_equal(getattr(noisy, task), getattr(core, task))
 
@@ -70,8 +70,8 @@ def test_non_decreasing_in_snr(ns, snr_a, snr_b, scr):
     n = np.array(ns)
     low, high = sorted((snr_a, snr_b))
     for kwargs in ({}, {"scr": scr}):
-        worse = ta.acquisition_probabilities(n, snr=low, **kwargs)
-        better = ta.acquisition_probabilities(n, snr=high, **kwargs)
+        worse = ta.acquisition_probabilities(n, snr=low, clutter=kwargs)
+        better = ta.acquisition_probabilities(n, snr=high, clutter=kwargs)
         for task in ("detection", "recognition", "identification"):
             assert np.all(getattr(worse, task) <= getattr(better, task) + 1e-15)
 
@@ -80,8 +80,8 @@ def test_non_decreasing_in_snr(ns, snr_a, snr_b, scr):
 def test_non_decreasing_in_scr(ns, scr_a, scr_b, snr):
     n = np.array(ns)
     low, high = sorted((scr_a, scr_b))
-    worse = ta.acquisition_probabilities(n, scr=low, snr=snr)
-    better = ta.acquisition_probabilities(n, scr=high, snr=snr)
+    worse = ta.acquisition_probabilities(n, clutter=ta.Clutter(scr=low), snr=snr)
+    better = ta.acquisition_probabilities(n, clutter=ta.Clutter(scr=high), snr=snr)
     for task in ("detection", "recognition", "identification"):
         assert np.all(getattr(worse, task) <= getattr(better, task) + 1e-15)
 
@@ -90,11 +90,11 @@ def test_probability_vanishes_as_transmittance_vanishes():
     n = np.array([1.0, 10.0, 100.0])
     previous = np.ones(3)
     for snr in (-40.0, -80.0, -200.0):
-        acq = ta.acquisition_probabilities(n, snr=snr, scr=5.0)
+        acq = ta.acquisition_probabilities(n, snr=snr, clutter=ta.Clutter(scr=5.0))
         assert np.all(acq.detection < previous)
         previous = acq.detection
     assert np.all(previous < 1e-7)
-    acq = ta.acquisition_probabilities(n, snr=-math.inf, scr=5.0)
+    acq = ta.acquisition_probabilities(n, snr=-math.inf, clutter=ta.Clutter(scr=5.0))
     np.testing.assert_array_equal(acq.detection, 0.0)
     np.testing.assert_array_equal(acq.identification, 0.0)
     tiny = ta.acquisition_probabilities(n, snr=ta.snr_from_transmittance(1e-12))

@@ -8,13 +8,14 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import targetacq as ta
+from targetacq.core.cases import RangeCase
 from targetacq.criteria import CRITERIA
 
 
 def test_johnson_50_percent_ranges_are_the_closed_form():
     # R = d / (N50 · 2 IFOV): the TTPF is 0.5 exactly at N50.
     d, ifov = 2.3, 17e-6 / 75e-3
-    ranges = ta.dri_ranges(d, ifov)
+    ranges = ta.dri_ranges(RangeCase(d, ifov))
     assert list(ranges) == ["detection", "orientation", "recognition", "identification"]
     for task, n50 in zip(ranges, (1.0, 1.4, 4.0, 6.4)):
         assert ranges[task] == pytest.approx(d / (n50 * 2 * ifov), rel=1e-12)
@@ -31,7 +32,7 @@ PROBABILITY_CRITERIA = [name for name, c in CRITERIA.items() if c.gives_probabil
     st.floats(1e-5, 1e-3),
 )
 def test_probability_at_the_found_range_is_the_asked_probability(criterion, method, p, d, ifov):
-    ranges = ta.dri_ranges(d, ifov, criterion=criterion, probability=p, transform=method)
+    ranges = ta.dri_ranges(RangeCase(d, ifov, criterion=criterion, transform=method), p)
     assert ranges  # every probability criterion has some task the transform covers
     for task, r in ranges.items():
         n = ta.cycles_on_target(d, r, ifov)
@@ -42,8 +43,8 @@ def test_probability_at_the_found_range_is_the_asked_probability(criterion, meth
 
 def test_ranges_with_diffraction_use_the_coarser_cycle():
     d, ifov = 2.3, 1e-5
-    plain = ta.dri_ranges(d, ifov)["detection"]
-    limited = ta.dri_ranges(d, ifov, wavelength=10e-6, aperture=0.05)["detection"]
+    plain = ta.dri_ranges(RangeCase(d, ifov))["detection"]
+    limited = ta.dri_ranges(RangeCase(d, ifov, wavelength=10e-6, aperture=0.05))["detection"]
     cycle = ta.diffraction_angle(10e-6, 0.05)
     assert limited == pytest.approx(d / cycle, rel=1e-12)
     assert limited < plain
@@ -51,11 +52,7 @@ def test_ranges_with_diffraction_use_the_coarser_cycle():
 
 def test_schmieder_weathersby_ranges_and_never_reached():
     ranges = ta.dri_ranges(
-        2.3,
-        1e-4,
-        probability=np.array([0.5, 0.95]),
-        transform="schmieder-weathersby",
-        region="high",
+        RangeCase(2.3, 1e-4, transform="schmieder-weathersby", region="high"), np.array([0.5, 0.95])
     )
     assert list(ranges) == ["detection"]
     assert ranges["detection"][0] == pytest.approx(2.3 / (2.5 * 2e-4))  # Table 3.5: 2.5 cycles
@@ -63,13 +60,13 @@ def test_schmieder_weathersby_ranges_and_never_reached():
 
 
 def test_moving_target_is_detected_at_any_range():
-    r = ta.dri_ranges(2.3, 1e-4, transform="schmieder-weathersby", moving=True)
+    r = ta.dri_ranges(RangeCase(2.3, 1e-4, transform="schmieder-weathersby", moving=True))
     assert r["detection"] == math.inf
 
 
 def test_en62676_4_ranges_are_pixel_density_thresholds():
     ifov = 2e-4
-    ranges = ta.dri_ranges(2.3, ifov, criterion="en62676-4")
+    ranges = ta.dri_ranges(RangeCase(2.3, ifov, criterion="en62676-4"))
     assert ranges["identification"] == pytest.approx(1 / (250 * ifov))  # 250 px/m
     assert ranges["detection"] == pytest.approx(1 / (25 * ifov))
     assert list(ranges) == [
@@ -98,31 +95,33 @@ def test_probabilities_non_increasing_in_range(ranges, criterion, method, scr):
         p = ta.probability(n, task, criterion=criterion, transform=name, **options)
         assert np.all(np.diff(p) <= 0)
     if "recognition" in ta.get_criterion(criterion).tasks:
-        acq = ta.acquisition_probabilities(n, criterion=criterion, scr=scr)
+        acq = ta.acquisition_probabilities(n, criterion=criterion, clutter=ta.Clutter(scr=scr))
         for p in (acq.detection, acq.recognition, acq.identification):
             assert np.all(np.diff(p) <= 0)
 
 
 @pytest.mark.parametrize(
-    ("kwargs", "match"),
+    ("kwargs", "p", "match"),
     [
-        ({"probability": 1.0}, r"open interval \(0, 1\)"),
-        ({"probability": 0.0}, r"open interval \(0, 1\)"),
-        ({"criterion": "nope"}, "unknown criterion"),
-        ({"transform": "nope"}, "unknown transform"),
-        ({"criterion": "en62676-4", "bound": "nominal"}, "do not apply"),
+        ({}, 1.0, r"open interval \(0, 1\)"),
+        ({}, 0.0, r"open interval \(0, 1\)"),
+        ({"criterion": "nope"}, 0.5, "unknown criterion"),
+        ({"transform": "nope"}, 0.5, "unknown transform"),
+        ({"criterion": "en62676-4", "options": {"bound": "nominal"}}, 0.5, "do not apply"),
+        ({"extintion": 1e-3}, 0.5, "did you mean 'extinction'"),
     ],
 )
-def test_bad_range_requests(kwargs, match):
+def test_bad_range_requests(kwargs, p, match):
+    case = {"critical_dimension": 2.3, "ifov": 1e-4, **kwargs}  # a mapping: checked inside
     with pytest.raises(ValueError, match=match):
-        ta.dri_ranges(2.3, 1e-4, **kwargs)
+        ta.dri_ranges(case, p)
 
 
 def test_bad_sensor_or_target():
     with pytest.raises(ValueError, match="critical_dimension must be > 0"):
-        ta.dri_ranges(0.0, 1e-4)
+        ta.dri_ranges(RangeCase(0.0, 1e-4))
     with pytest.raises(ValueError, match="ifov must be > 0"):
-        ta.dri_ranges(2.3, -1e-4)
+        ta.dri_ranges(RangeCase(2.3, -1e-4))
 
 
 # --- with atmosphere and clutter ---------------------------------------------------------------
@@ -139,7 +138,7 @@ TOL = 1e-9
 )
 def test_inverse_with_atmosphere_agrees_with_forward(criterion, p, gamma, scr, d):
     ifov = 2e-4
-    ranges = ta.dri_ranges(d, ifov, criterion=criterion, probability=p, extinction=gamma, scr=scr)
+    ranges = ta.dri_ranges(RangeCase(d, ifov, criterion=criterion, extinction=gamma, scr=scr), p)
     for task, r in ranges.items():
         if math.isnan(r):
             # Never reached: even at a millionth of a millimetre P stays below p, which only
@@ -151,7 +150,9 @@ def test_inverse_with_atmosphere_agrees_with_forward(criterion, p, gamma, scr, d
         def prob(rr, task=task):
             n = ta.cycles_on_target(d, rr, ifov)
             snr = ta.snr_from_transmittance(ta.transmittance(gamma, rr))
-            acq = ta.acquisition_probabilities(n, criterion=criterion, scr=scr, snr=snr)
+            acq = ta.acquisition_probabilities(
+                n, criterion=criterion, clutter=ta.Clutter(scr=scr), snr=snr
+            )
             if task == "orientation":
                 return min(ta.probability(n, task, criterion=criterion, snr=snr), acq.detection)
             return getattr(acq, task)
@@ -161,16 +162,16 @@ def test_inverse_with_atmosphere_agrees_with_forward(criterion, p, gamma, scr, d
 
 
 def test_extinction_zero_equals_the_closed_form():
-    plain = ta.dri_ranges(2.3, 2e-4)
-    zero = ta.dri_ranges(2.3, 2e-4, extinction=0.0)
+    plain = ta.dri_ranges(RangeCase(2.3, 2e-4))
+    zero = ta.dri_ranges(RangeCase(2.3, 2e-4, extinction=0.0))
     for task in plain:
         assert zero[task] == pytest.approx(plain[task], rel=1e-12)
 
 
 def test_atmosphere_shortens_every_range_and_fog_most():
-    clear = ta.dri_ranges(2.3, 2e-4)
-    haze = ta.dri_ranges(2.3, 2e-4, extinction=ta.obscurant_extinction("haze", "lwir"))
-    fog = ta.dri_ranges(2.3, 2e-4, extinction=ta.obscurant_extinction("fog", "lwir"))
+    clear = ta.dri_ranges(RangeCase(2.3, 2e-4))
+    haze = ta.dri_ranges(RangeCase(2.3, 2e-4, extinction=ta.obscurant_extinction("haze", "lwir")))
+    fog = ta.dri_ranges(RangeCase(2.3, 2e-4, extinction=ta.obscurant_extinction("fog", "lwir")))
     for task in clear:
         # Nominal haze (0.09 Np/km) leaves more than 20 dB SNR over the short identification
         # range, where the noise model does nothing (noise.py); fog always shortens.
@@ -180,7 +181,7 @@ def test_atmosphere_shortens_every_range_and_fog_most():
 
 def test_recognition_never_beyond_detection():
     # High clutter at 0.85: detection reaches 0.85 only close in; recognition is capped there.
-    r = ta.dri_ranges(2.3, 2e-4, probability=0.85, scr=0.5)
+    r = ta.dri_ranges(RangeCase(2.3, 2e-4, scr=0.5), 0.85)
     assert r["recognition"] <= r["detection"]
     assert r["identification"] <= r["recognition"]
 
@@ -188,9 +189,13 @@ def test_recognition_never_beyond_detection():
 def test_dri_ranges_carry_the_sensor_noise():
     # With a NETD, a zero ΔT is never reached; a larger ΔT never shortens a range; without
     # noise the geometric closed form d / (N50 · 2 IFOV).
-    zero = ta.dri_ranges(2.3, 2e-4, delta_t=0.0, netd=0.05)
+    zero = ta.dri_ranges(RangeCase(2.3, 2e-4, contrast=0.0, noise_equivalent_contrast=0.05))
     assert all(np.isnan(r) for r in zero.values())
-    cold = ta.dri_ranges(2.3, 2e-4, delta_t=0.05, netd=0.1, extinction=0.4e-3)
-    hot = ta.dri_ranges(2.3, 2e-4, delta_t=45.0, netd=0.1, extinction=0.4e-3)
+    cold = ta.dri_ranges(
+        RangeCase(2.3, 2e-4, contrast=0.05, noise_equivalent_contrast=0.1, extinction=0.4e-3)
+    )
+    hot = ta.dri_ranges(
+        RangeCase(2.3, 2e-4, contrast=45.0, noise_equivalent_contrast=0.1, extinction=0.4e-3)
+    )
     assert all(hot[t] > cold[t] for t in hot)
-    assert ta.dri_ranges(2.3, 2e-4)["detection"] == pytest.approx(2.3 / (1.0 * 2 * 2e-4))
+    assert ta.dri_ranges(RangeCase(2.3, 2e-4))["detection"] == pytest.approx(2.3 / (1.0 * 2 * 2e-4))

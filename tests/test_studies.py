@@ -411,3 +411,126 @@ def test_losing_the_scheduler_mid_sweep_is_one_line(capsys, monkeypatch):
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert err.startswith(f"targetacq: error: the Dask scheduler {address} was lost during the ")
     assert "scheduler-connection-lost" in err and "re-run the sweep" in err
+
+
+# -- blocks: the points of a block stacked into arrays, the numbers of each point alone -------
+
+MRTD_CSV = os.path.join(
+    os.path.dirname(__file__), "..", "src", "targetacq", "data", "example_mrtd.csv"
+)
+
+
+def _points(**options):
+    """The points of a sweep of ``options`` (every option of ``dri``, None where not given)."""
+    from targetacq.services.options import option_product
+
+    return [full for _, full in option_product(studies._text_options(options))]
+
+
+def _mixed_points():
+    """Points of many groups: clear and fog, two cycles criteria, sensor noise and clutter,
+    conditional semantics, an MRTD curve and a pixel-density criterion, interleaved."""
+    focal = ["35mm", "50mm", "75mm"]
+    groups = [
+        _points(
+            pitch="12um",
+            focal_length=focal,
+            critical_dimension=["0.75m", "2.3m"],
+            band="lwir",
+            obscurant=["none", "fog:low", "haze:high"],
+            criterion=["johnson", "c2nveo"],
+        ),
+        _points(
+            example=True,
+            netd=["30mK", "50mK"],
+            delta_t=["0.5K", "2K"],
+            extinction=["0.2/km", "3/km"],
+            scr=["1", "5"],
+        ),
+        _points(
+            ifov=["0.2mrad", "0.34mrad"],
+            critical_dimension="2.3m",
+            mrtd=MRTD_CSV,
+            delta_t=["70mK", "2K"],
+            extinction=["0.5/km", "1e300/km"],
+            semantics=["nested", "conditional"],
+        ),
+        _points(pitch="12um", focal_length=focal, criterion="en62676-4", probability=None),
+    ]
+    mixed = [p for chunk in itertools.zip_longest(*groups) for p in chunk if p is not None]
+    assert len(mixed) == 36 + 16 + 16 + 3
+    return mixed
+
+
+def _assert_same(got, expected):
+    """Equal to 1e-12 relative, NaN where NaN and inf where inf."""
+    assert got.shape == expected.shape
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(expected))
+    np.testing.assert_array_equal(np.isinf(got), np.isinf(expected))
+    finite = np.isfinite(expected)
+    np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-12, atol=0)
+
+
+def test_a_block_of_mixed_points_equals_each_point_alone():
+    points = _mixed_points()
+    alone = [studies._point(dict(p), None, "0.5,0.9") for p in points]
+    assert any(np.isnan(values).any() for _, values in alone)  # some never reached
+    for block in (points, points[::-1]):  # in any order: each point's own numbers
+        found = studies._block(block, None, "0.5,0.9")
+        expected = alone if block is points else alone[::-1]
+        assert len(found) == len(block)
+        for (tasks, values), (want_tasks, want) in zip(found, expected, strict=True):
+            assert tasks == want_tasks
+            _assert_same(values, want)
+    assert {tasks for tasks, _ in alone} >= {
+        ("detection", "orientation", "recognition", "identification"),
+        ("detection", "recognition", "identification"),
+        ("monitoring", "detection", "observation", "recognition", "identification", "inspection"),
+    }
+
+
+def test_a_block_at_ranges_equals_each_point_alone():
+    points = [p for p in _mixed_points() if p["criterion"] != "en62676-4"]
+    grid = np.array([100.0, 700.0, 2500.0, 9000.0])
+    found = studies._block(points, grid, "0.5")
+    for options, (tasks, values) in zip(points, found, strict=True):
+        want_tasks, want = studies._point(dict(options), grid, "0.5")
+        assert tasks == want_tasks
+        _assert_same(values, want)
+
+
+def test_a_group_of_points_is_one_solve_per_probability(monkeypatch):
+    calls = []
+    real = studies.case_ranges
+
+    def counted(case, probability):
+        calls.append(np.shape(case.ifov))
+        return real(case, probability)
+
+    monkeypatch.setattr(studies, "case_ranges", counted)
+    points = _points(
+        pitch="12um",
+        focal_length=FOCAL,
+        critical_dimension=["0.75m", "2.3m"],
+        band="lwir",
+        obscurant=["none", "fog:low"],
+    )
+    studies._block(points, None, "0.5,0.9")
+    # two groups (clear, fog) of 6 points each, two probabilities: four solves of 6 points
+    assert calls == [(6,)] * 4
+
+
+def test_blocks_are_large_on_dask_and_every_250_points_serially():
+    points = [{}] * 100_000
+    on = "tcp://scheduler:8786"  # workers as given (a local cluster has at most one per CPU)
+    sizes = [len(b) for b in studies._blocks(points, None, on, 4, serial=False)]
+    assert sizes == [6250] * 16  # four blocks per worker
+    sizes = [len(b) for b in studies._blocks(points * 10, None, on, 4, serial=False)]
+    assert sizes == [10_000] * 100  # at most 10,000 points a block
+    assert [len(b) for b in studies._blocks(points[:1001], None, on, 16, serial=False)] == (
+        [100] * 10 + [1]
+    )  # at least 100
+    assert [len(b) for b in studies._blocks(points[:600], None, None, None, serial=True)] == (
+        [250, 250, 100]
+    )
+    assert [len(b) for b in studies._blocks(points[:5], 2, None, None, serial=True)] == [2, 2, 1]

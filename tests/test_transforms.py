@@ -158,7 +158,9 @@ def test_schmieder_weathersby_needs_the_clutter():
     with pytest.raises(ValueError, match="needs the clutter"):
         ta.schmieder_weathersby(1.0)
     with pytest.raises(ValueError, match="has no curve for task 'recognition'"):
-        ta.probability(4.0, "recognition", transform="schmieder-weathersby", scr=3.0)
+        ta.probability(
+            4.0, "recognition", transform="schmieder-weathersby", clutter=ta.Clutter(scr=3.0)
+        )
 
 
 # --- properties ----------------------------------------------------------------------------

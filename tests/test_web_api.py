@@ -197,6 +197,16 @@ def test_a_scenario_naming_a_file_is_refused(client, table, key, path):
     assert "files are not read over HTTP" in item["msg"]
 
 
+@pytest.mark.parametrize("path", ["/evaluate", "/report", "/step"])
+def test_a_scenario_naming_an_mrtd_curve_is_refused(client, path):
+    text = FUSED.read_text().replace('name = "thermal"', 'name = "thermal"\nmrtd = "/etc/passwd"')
+    assert 'mrtd = "/etc/passwd"' in text
+    body = _step_body(scenario=text) if path == "/step" else {"scenario": text}
+    (item,) = _problem(client.post(path, json=body))
+    assert item["loc"] == ["scenario", "sensors[1].mrtd"]
+    assert "files are not read over HTTP" in item["msg"]
+
+
 def test_an_unknown_session_is_404(client):
     (item,) = _problem(client.post("/step", json=_step_body(session="nope")), 404)
     assert "unknown session 'nope'" in item["msg"]
@@ -828,3 +838,16 @@ def test_the_first_chart_after_start_imports_nothing() -> None:
     seconds, imported = done.stdout.splitlines()
     assert imported == "[]", imported
     assert float(seconds) < 1.0
+
+
+def test_evaluate_formats_are_the_writers_registry():
+    """The choices of ``POST /evaluate``'s format come from the writers' registry: the arrays
+    (json), or every format written as one file by the base install, with its media type."""
+    from targetacq.datasets import DIRECTORY_FORMATS, FORMAT_PACKAGES, MEDIA_TYPES, OUTPUT_FORMATS
+    from targetacq.web.api import EvaluateRequest
+
+    schema = EvaluateRequest.model_json_schema()["properties"]["format"]
+    files = {f for f in OUTPUT_FORMATS if f not in DIRECTORY_FORMATS and f not in FORMAT_PACKAGES}
+    assert set(schema["enum"]) == files | {"json"}
+    assert files <= set(MEDIA_TYPES)
+    assert {"csv", "parquet"} <= files  # the page's download buttons

@@ -26,6 +26,7 @@ __version__ = "0.1.0"
 _EXPORTS: dict[str, tuple[str, ...]] = {
     "acquisition": (
         "Acquisition",
+        "Clutter",
         "acquisition_probabilities",
         "effect_probability",
         "probability",
@@ -87,8 +88,9 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "band_exitance",
         "spectral_exitance",
     ),
-    "ranges": ("dri_ranges",),
+    "ranges": ("RangeCase", "dri_ranges"),
     "scene": (
+        "Scene",
         "SceneAcquisition",
         "scene_acquisition",
     ),
@@ -118,7 +120,10 @@ __all__ = [
     "TASKS",
     "TRANSFORMS",
     "Acquisition",
+    "Clutter",
     "Criterion",
+    "RangeCase",
+    "Scene",
     "SceneAcquisition",
     "Simulation",
     "acquisition_probabilities",
@@ -175,6 +180,7 @@ __all__ = [
 if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps them equal)
     from targetacq.acquisition import (
         Acquisition,
+        Clutter,
         acquisition_probabilities,
         effect_probability,
         probability,
@@ -241,9 +247,11 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
         spectral_exitance,
     )
     from targetacq.ranges import (
+        RangeCase,
         dri_ranges,
     )
     from targetacq.scene import (
+        Scene,
         SceneAcquisition,
         scene_acquisition,
     )

@@ -37,6 +37,7 @@ import numpy as np
 
 from targetacq import _arrays
 from targetacq import transforms as _transforms
+from targetacq._arrays import Array
 from targetacq.criteria import Criterion, get_criterion
 from targetacq.noise import (
     NoiseModel,
@@ -52,6 +53,7 @@ __all__ = [
     "ACQUISITION_SEMANTICS",
     "MOTION_RULES",
     "Acquisition",
+    "Clutter",
     "MotionRule",
     "Semantics",
     "acquisition_probabilities",
@@ -64,6 +66,78 @@ __all__ = [
 ]
 
 _TASKS = ("detection", "recognition", "identification")
+
+
+@dataclass(frozen=True)
+class Clutter:
+    """The clutter acting on detection (§3.7–3.9 in Sonesson (2004)): one record for the four
+    inputs of the Schmieder–Weathersby transform and the motion rule.
+
+    The functions that take it check its values (:func:`probability`,
+    :func:`acquisition_probabilities`); a mapping with these keys may stand for it there.
+
+    Attributes
+    ----------
+    scr : array_like, optional
+        Signal-to-clutter ratio [1], >= 0 (+inf: no clutter), broadcasting with the cycles.
+    region : {"low", "medium", "high"}, optional
+        Table 3.5 clutter region, instead of ``scr``.
+    hot_spot : bool or array of bool
+        The target is a hot spot: detected on the low-clutter curve (§3.9).
+    moving : bool or array of bool
+        The target moves: detected by the motion rule (:data:`MOTION_RULES`).
+
+    Examples
+    --------
+    >>> Clutter(scr=5.0).given
+    {'scr': 5.0}
+    >>> Clutter().given
+    {}
+    """
+
+    scr: Array | None = None
+    region: str | None = None
+    hot_spot: bool | Array = False
+    moving: bool | Array = False
+
+    @property
+    def given(self) -> dict[str, Any]:
+        """The inputs given (not None, not False), as keyword arguments: the options of a
+        detection-in-clutter transform chosen by name."""
+        return {
+            name: value
+            for name, value in (
+                ("scr", self.scr),
+                ("region", self.region),
+                ("hot_spot", self.hot_spot),
+                ("moving", self.moving),
+            )
+            if value is not None and value is not False
+        }
+
+
+_NO_CLUTTER = Clutter()
+_CLUTTER_KEYS = ("scr", "region", "hot_spot", "moving")
+
+
+def _as_clutter(clutter: Clutter | Mapping[str, Any] | None) -> Clutter:
+    """``clutter`` as a :class:`Clutter` (None: none); a mapping's unknown key raises."""
+    if clutter is None:
+        return _NO_CLUTTER
+    if isinstance(clutter, Clutter):
+        return clutter
+    if not isinstance(clutter, Mapping):
+        raise TypeError(
+            f"clutter must be a Clutter or a mapping of {', '.join(_CLUTTER_KEYS)}; got "
+            f"{type(clutter).__name__}"
+        )
+    unknown = [key for key in clutter if key not in _CLUTTER_KEYS]
+    if unknown:
+        raise ValueError(
+            f"clutter: unknown key(s) {', '.join(map(repr, unknown))}; valid keys: "
+            f"{', '.join(_CLUTTER_KEYS)}"
+        )
+    return Clutter(**clutter)
 
 
 def _noisy(n: Any, snr: Any, noise: NoiseModel | None, xp: Any, ratio: Any = None) -> Any:
@@ -312,20 +386,17 @@ def _detection_in_clutter(
 
 
 def ordered_probabilities(
-    cycles: Any,
+    cycles: Array,
     n50: Sequence[Any],
     transform: _transforms.Transform,
     options: Mapping[str, Any],
     *,
-    scr: Any = None,
-    region: str | None = None,
-    hot_spot: Any = False,
-    moving: Any = False,
-    snr: Any = None,
+    clutter: Clutter | None = None,
+    snr: Array | None = None,
     noise: NoiseModel | None = None,
     motion: MotionRule | str = "low-clutter",
     semantics: Semantics | str = "nested",
-    noise_ratio: Any = None,
+    noise_ratio: Array | None = None,
 ) -> tuple[Any, Any, Any]:
     """Probabilities of being detected, recognised and identified (no input checks).
 
@@ -346,9 +417,10 @@ def ordered_probabilities(
     transform : Transform
     options : mapping
         The transform's options.
-    scr, region, hot_spot, moving, snr, noise
-        The clutter (``hot_spot`` and ``moving`` bools or bool arrays), the SNR [dB] and the
-        noise model (None: no noise).
+    clutter : Clutter, optional
+        The clutter (``hot_spot`` and ``moving`` bools or bool arrays); None for none.
+    snr, noise
+        The SNR [dB] and the noise model (None: no noise).
     motion : MotionRule or str
         How a moving target is detected (:data:`MOTION_RULES`).
     semantics : Semantics or str
@@ -363,6 +435,8 @@ def ordered_probabilities(
     -------
     detection, recognition, identification : array
     """
+    given = _NO_CLUTTER if clutter is None else clutter
+    scr, region, hot_spot, moving = given.scr, given.region, given.hot_spot, given.moving
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     ratio = noise_ratio
     numpy = isinstance(n, np.ndarray)
@@ -399,30 +473,27 @@ def ordered_probabilities(
     return get_semantics(semantics).events(det, rec, ide, xp)
 
 
-def given_clutter(**clutter: Any) -> dict[str, Any]:
-    """The clutter keywords given (not None, not False): the options of a detection-in-clutter
-    transform chosen by name."""
-    return {k: v for k, v in clutter.items() if v is not None and v is not False}
+def given_clutter(clutter: Clutter | Mapping[str, Any] | None) -> dict[str, Any]:
+    """The clutter inputs given (not None, not False): the options of a detection-in-clutter
+    transform chosen by name (:attr:`Clutter.given`)."""
+    return _as_clutter(clutter).given
 
 
 def probability(
-    cycles: Any,
+    cycles: Array,
     task: str,
     criterion: str | Criterion | Mapping[str, float] = "johnson",
     transform: str = "ttpf",
     *,
-    scr: Any = None,
-    region: str | None = None,
-    hot_spot: bool = False,
-    moving: bool = False,
-    snr: Any = None,
+    clutter: Clutter | Mapping[str, Any] | None = None,
+    snr: Array | None = None,
     noise_model: Any = "variance-sum",
     motion: str = "low-clutter",
     **options: Any,
 ) -> Any:
     """Probability of one task from cycles on target (the task's marginal curve).
 
-    Detection in clutter (``scr`` or ``region``), of a hot spot or of a moving target comes
+    Detection in clutter (``clutter.scr`` or ``.region``), of a hot spot or of a moving target comes
     from the Schmieder–Weathersby transform and the motion rule (§3.8–3.9), capped in clutter
     by the uncluttered curve; everything else from ``transform``. Noise (``snr``) moves the
     curves as the noise model says (:mod:`targetacq.noise`).
@@ -438,9 +509,10 @@ def probability(
         user-defined task → N50 mapping.
     transform : str
         A name from :data:`targetacq.transforms.TRANSFORMS`.
-    scr, region, hot_spot, moving
-        The clutter, see :func:`targetacq.transforms.schmieder_weathersby`; ignored for tasks
-        other than detection (clutter acts on detection, §3.8).
+    clutter : Clutter or mapping, optional
+        The clutter (:class:`Clutter`, or a mapping of its fields), see
+        :func:`targetacq.transforms.schmieder_weathersby`; ignored for tasks other than
+        detection (clutter acts on detection, §3.8). None for none.
     snr : array_like, optional
         Signal-to-noise ratio [dB]; None or +inf for no noise.
     noise_model : str, NoiseModel or callable
@@ -461,7 +533,11 @@ def probability(
     0.5
     >>> float(probability(1.0, "detection", snr=float("-inf")))  # no signal left
     0.0
+    >>> bool(probability(1.0, "detection", clutter=Clutter(scr=0.5)) < 0.5)  # high clutter
+    True
     """
+    given = _as_clutter(clutter)
+    scr, region, hot_spot, moving = given.scr, given.region, given.hot_spot, given.moving
     n50 = get_criterion(criterion).n50(task)
     chosen = _transforms.get_transform(transform)
     noise = get_noise_model(noise_model) if snr is not None else None
@@ -475,9 +551,8 @@ def probability(
     n_noisy = _noisy(n, snr, noise, xp)
     if chosen.tasks == ("detection",):
         # A detection-in-clutter transform chosen by name: the clutter is its own input.
-        clutter = given_clutter(scr=scr, region=region, hot_spot=hot_spot, moving=moving)
-        chosen.check(task, {**clutter, **options})
-        return chosen.forward(n_noisy, n50, task, **clutter, **options)
+        chosen.check(task, {**given.given, **options})
+        return chosen.forward(n_noisy, n50, task, **given.given, **options)
     plain = chosen.forward(n_noisy, n50, task, **options)
     clutter_given = scr is not None or region is not None
     if task == "detection" and (clutter_given or hot_spot is not False or moving is not False):
@@ -609,15 +684,12 @@ def _ttpf_constants(n50s: tuple[float, ...]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def acquisition_probabilities(
-    cycles: Any,
+    cycles: Array,
     criterion: str | Criterion | Mapping[str, float] = "johnson",
     transform: str = "ttpf",
     *,
-    scr: Any = None,
-    region: str | None = None,
-    hot_spot: bool = False,
-    moving: bool = False,
-    snr: Any = None,
+    clutter: Clutter | Mapping[str, Any] | None = None,
+    snr: Array | None = None,
     noise_model: Any = "variance-sum",
     motion: str = "low-clutter",
     semantics: str = "nested",
@@ -626,9 +698,9 @@ def acquisition_probabilities(
     """Probabilities of detection, recognition and identification, ordered, and P_effect.
 
     Recognition and identification come from ``transform``; so does detection, unless the
-    clutter is given (``scr``, ``region``, ``hot_spot`` or ``moving``), in which case detection
-    comes from the Schmieder–Weathersby transform and the motion rule (clutter acts on
-    detection, §3.8), never above the uncluttered value. The semantics say what the three
+    clutter is given (``scr``, ``region``, ``hot_spot`` or ``moving`` of ``clutter``), in which
+    case detection comes from the Schmieder–Weathersby transform and the motion rule (clutter
+    acts on detection, §3.8), never above the uncluttered value. The semantics say what the three
     numbers mean (:data:`ACQUISITION_SEMANTICS`); either way ``P_id <= P_rec <= P_det``.
 
     Parameters
@@ -640,12 +712,10 @@ def acquisition_probabilities(
     transform : str
         Transform for the tasks (not "schmieder-weathersby", which covers detection only: give
         the clutter instead).
-    scr : array_like, optional
-        Signal-to-clutter ratio, broadcasting with ``cycles``.
-    region : {"low", "medium", "high"}, optional
-        Clutter region instead of ``scr``.
-    hot_spot, moving : bool
-        See :func:`targetacq.transforms.schmieder_weathersby`.
+    clutter : Clutter or mapping, optional
+        The clutter (:class:`Clutter`, or a mapping of its fields): the signal-to-clutter ratio
+        ``scr`` broadcasting with ``cycles``, or a clutter ``region``; ``hot_spot`` and
+        ``moving`` (see :func:`targetacq.transforms.schmieder_weathersby`). None for none.
     snr : array_like, optional
         Signal-to-noise ratio [dB] (e.g. from :func:`targetacq.atmosphere.snr_from_transmittance`),
         broadcasting with ``cycles``; None or +inf for no noise.
@@ -684,6 +754,8 @@ def acquisition_probabilities(
     >>> print(f"{acq.recognition:.4f} {acq.detection * 0.5:.4f}")
     0.4998 0.4998
     """
+    given = _as_clutter(clutter)
+    scr, region, hot_spot, moving = given.scr, given.region, given.hot_spot, given.moving
     chosen = _transforms.get_transform(transform)
     if chosen.tasks is not None and "recognition" not in chosen.tasks:
         raise ValueError(
@@ -708,10 +780,7 @@ def acquisition_probabilities(
         n50s,
         chosen,
         options,
-        scr=scr,
-        region=region,
-        hot_spot=hot_spot,
-        moving=moving,
+        clutter=given,
         snr=snr,
         noise=noise,
         motion=rule,

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import _arrays
-from targetacq.bands import band_name
+from targetacq.bands import BANDS, band_limits
 from targetacq.tables import load_table
 
 __all__ = [
@@ -358,7 +358,13 @@ def obscurant_extinction(obscurant: str, band: Any, level: str = "nominal") -> f
     obscurant : str
         One of :data:`OBSCURANTS`.
     band : str or (float, float)
-        "visible", "mwir" (3–5 µm) or "lwir" (8–12 µm), or their limits in metres.
+        "visible", "mwir" (3–5 µm) or "lwir" (8–12 µm), or limits (λ1, λ2) in metres. A band
+        inside one of these reads its cell (Eq. (7.4) with γ flat over the band); a band between
+        the visible and the mid-wave IR (the near- and short-wave IR windows, e.g. 0.9–2.5 µm)
+        reads the cell ends interpolated log-log at its centre wavelength between the visible
+        cell (at 0.55 µm) and the mid-wave cell (at 4 µm) — the project's approximation: the
+        thesis gives no column there. Other bands (across the 5–8 µm water-vapour absorption,
+        beyond 12 µm) are refused.
     level : {"low", "nominal", "high"}
         Low end, geometric mean (the cells span up to two decades) or high end of the cell.
 
@@ -377,13 +383,46 @@ def obscurant_extinction(obscurant: str, band: Any, level: str = "nominal") -> f
     0.08944
     >>> print(f"{ta.obscurant_extinction('haze', 'lwir', 'high') * 1e3:.2f}")
     0.40
+
+    Haze in a short-wave IR band, 0.9–2.5 µm (centre 1.7 µm), between the visible cell
+    (0.2–2.0 Np/km) and the mid-wave cell (0.02–1.0 Np/km), high end in Np/km:
+
+    >>> print(f"{ta.obscurant_extinction('haze', (0.9e-6, 2.5e-6), 'high') * 1e3:.3f}")
+    1.348
     """
     if obscurant not in OBSCURANTS:
         raise ValueError(f"unknown obscurant {obscurant!r}; obscurants: {', '.join(OBSCURANTS)}")
     if level not in EXTINCTION_LEVELS:
         raise ValueError(f"level must be one of {', '.join(EXTINCTION_LEVELS)}; got {level!r}")
-    low, high = _extinction_table()[obscurant, band_name(band)]
+    low, high = _band_cell(obscurant, band_limits(band))
     return {"low": low, "high": high, "nominal": math.sqrt(low * high)}[level]
+
+
+# The gaps between Table 7.1's bands that are read by interpolation: the visible to the
+# mid-wave IR (the near- and short-wave IR windows). The 5-8 um gap is not: water vapour absorbs
+# there, which the two windows' cells do not describe.
+_INTERPOLATED_GAPS: tuple[tuple[str, str], ...] = (("visible", "mwir"),)
+
+
+def _band_cell(obscurant: str, limits: tuple[float, float]) -> tuple[float, float]:
+    """Table 7.1's (low, high) [Np/m] of an obscurant for a band: the cell of the named band the
+    band lies in, or the cells at the ends of an interpolated gap, log-log at its centre."""
+    table = _extinction_table()
+    for name, (lo, hi) in BANDS.items():
+        if lo * (1 - 1e-9) <= limits[0] and limits[1] <= hi * (1 + 1e-9):
+            return table[obscurant, name]
+    for short, long in _INTERPOLATED_GAPS:
+        (a_lo, a_hi), (b_lo, b_hi) = BANDS[short], BANDS[long]
+        if a_lo <= limits[0] and limits[1] <= b_hi:
+            w = math.log(sum(limits) / (a_lo + a_hi)) / math.log((b_lo + b_hi) / (a_lo + a_hi))
+            ends = zip(table[obscurant, short], table[obscurant, long], strict=True)
+            low, high = (a * (b / a) ** w for a, b in ends)  # log-log: exact where a == b
+            return low, high
+    gaps = ", ".join(f"{a} and {b}" for a, b in _INTERPOLATED_GAPS)
+    raise ValueError(
+        f"Table 7.1 gives the bands {', '.join(BANDS)} (and a band inside one), interpolated "
+        f"between {gaps}; got {limits[0] * 1e6:g}-{limits[1] * 1e6:g} um"
+    )
 
 
 @functools.cache

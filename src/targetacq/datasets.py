@@ -58,7 +58,9 @@ from targetacq.outputs import (
 
 __all__ = [
     "DIRECTORY_FORMATS",
+    "DOWNLOAD_FORMATS",
     "FORMAT_PACKAGES",
+    "MEDIA_TYPES",
     "OUTPUT_FORMATS",
     "Output",
     "annotate",
@@ -490,6 +492,20 @@ DIRECTORY_FORMATS = ("zarr",)
 
 FORMAT_PACKAGES: dict[str, tuple[str, ...]] = {"nc": ("netCDF4",), "zarr": ("zarr",)}
 """Format → the packages its writer needs beyond the base install (the ``[sweep]`` extra)."""
+
+MEDIA_TYPES: dict[str, str] = {
+    "csv": "text/csv",
+    "json": "application/json",
+    "parquet": "application/vnd.apache.parquet",
+    "nc": "application/x-netcdf",
+}
+"""Format → the media type of the one file its writer writes (every format but a folder's)."""
+
+DOWNLOAD_FORMATS: tuple[str, ...] = tuple(
+    name for name in OUTPUT_FORMATS if name not in DIRECTORY_FORMATS and name not in FORMAT_PACKAGES
+)
+"""The formats of :data:`OUTPUT_FORMATS` written as one file by the base install: those an
+HTTP answer can carry (the web API's ``/evaluate`` downloads)."""
 
 _EXTRA = "sweep"
 

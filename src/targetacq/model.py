@@ -337,7 +337,10 @@ class ModelChain:
         rule and semantics are the scenario's, and so is a sensor's own noise (its
         noise-equivalent exitance against the pair's exitance contrast), with the pixels on
         target counted over the critical dimension squared (the fewest a target of that critical
-        dimension covers: the range curves do not follow the outline's other side). Imaging
+        dimension covers: the range curves do not follow the outline's other side). A sensor
+        with an MRTD curve gives MRTD-limited cases: its curve, with the contrast and the NETD
+        as temperature differences (over the band's ``∂M_bb/∂T`` at ``netd_temperature``, as
+        the core has them: :mod:`targetacq.core.mrtd_rows`). Imaging
         sensors only: a radar's or laser radar's range performance comes from the core
         (:func:`targetacq.core.pair_ranges.pair_performance`).
 
@@ -367,6 +370,19 @@ class ModelChain:
         signature = scene.signature
         rows = signature.rows_with_clutter(len(sensors.names), signature.scr is not None)
         clutter = [signature.scr[s] if given else None for s, given in enumerate(rows)]
+        limited = sensors.mrtd
+        if limited is not None:  # MRTD-limited rows: the curve, with the contrast as a ΔT [K]
+            for k, s in enumerate(limited.rows):
+                slope = float(limited.exitance_slope[k])
+                netd = float(sensors.noise_equivalent[s]) / slope
+                noise[s] = [
+                    {
+                        "contrast": float(scene.signature.contrast[s, g]) / slope,
+                        "mrtd": limited.curves[k],
+                        **({"noise_equivalent_contrast": netd} if netd > 0 else {}),
+                    }
+                    for g in range(len(targets.names))
+                ]
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
             if get_sensor_type(sensors.types[s]).kind != "imaging":
@@ -376,7 +392,7 @@ class ModelChain:
                 cases[f"{sensor} → {target}"] = RangeCase(
                     float(seen[s, g]),
                     float(sensors.ifov[s]),
-                    cycle=float(sensors.cycle[s]),
+                    cycle=None if "mrtd" in noise[s][g] else float(sensors.cycle[s]),
                     criterion=self.compiled.criteria[g],
                     transform=choices.transform,
                     options=dict(choices.options),

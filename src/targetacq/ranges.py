@@ -29,6 +29,7 @@ from typing import Any
 
 from targetacq import _arrays, optics
 from targetacq import transforms as _transforms
+from targetacq._arrays import Array
 from targetacq.acquisition import get_motion_rule, given_clutter
 from targetacq.core.cases import (
     RangeCase,
@@ -53,69 +54,29 @@ _BRACKET = 1e-12  # lower end of the search, relative to the noise-free range
 
 
 def dri_ranges(
-    critical_dimension: Any,
-    ifov: Any,
-    criterion: str | Criterion | Mapping[str, float] = "johnson",
-    probability: Any = 0.5,
-    transform: str = "ttpf",
+    case: RangeCase | Mapping[str, Any],
+    probability: Array = 0.5,
     *,
-    extinction: Any = None,
-    scr: Any = None,
-    region: str | None = None,
-    hot_spot: bool = False,
-    moving: bool = False,
-    noise_model: Any = "variance-sum",
-    wavelength: Any = None,
-    aperture: Any = None,
-    blur_sigma: Any = None,
-    delta_t: Any = None,
-    netd: Any = None,
-    target_area: Any = None,
-    mrtd: Any = None,
-    motion: str = "low-clutter",
-    semantics: str = "nested",
     tolerance: float = 1e-9,
-    **options: Any,
 ) -> dict[str, Any]:
     """Range at which each task reaches a probability, for a sensor, a target and a path.
 
-    :func:`case_ranges` of the :class:`RangeCase` these inputs describe.
+    :func:`case_ranges` of the case: the sensor, target, path and model choices are the
+    fields of a :class:`RangeCase` (critical dimension [m], IFOV [rad], optics limits, criterion,
+    transform and its options, extinction [Np/m], foliage, clutter, noise model, the sensor's
+    noise, MRTD curve, motion rule and semantics; see its attributes).
 
     Parameters
     ----------
-    critical_dimension : array_like
-        [m], > 0.
-    ifov : array_like
-        Pixel IFOV [rad], > 0.
-    criterion : str, Criterion or mapping
-        Criteria set (name, object, or task → N50 mapping).
+    case : RangeCase or mapping
+        The case, or a mapping with the keys of :data:`CASE_KEYS` (the fields of
+        :class:`RangeCase`; ``critical_dimension`` and ``ifov`` required; an unknown key raises
+        ``ValueError`` naming the closest valid one).
     probability : array_like
-        In (0, 1); broadcasts with the other inputs.
-    transform : str
-        A name from :data:`targetacq.transforms.TRANSFORMS` ("schmieder-weathersby" gives the
-        detection range only).
-    extinction : array_like, optional
-        γ of the path [Np/m], >= 0; None for no atmosphere.
-    scr, region, hot_spot, moving
-        The clutter, acting on detection (§3.8); see
-        :func:`targetacq.transforms.schmieder_weathersby`.
-    noise_model : str, NoiseModel or callable
-        How the atmosphere's noise moves the transforms (:mod:`targetacq.noise`).
-    wavelength, aperture, blur_sigma : array_like, optional
-        Optics limits on the cycle, see :func:`targetacq.optics.resolvable_cycle_angle`.
-    delta_t, netd : array_like, optional
-        The target's temperature difference and the sensor's NETD [K]: the sensor's own noise
-        (:mod:`targetacq.sensor_noise`); ``delta_t`` with ``mrtd`` for the MRTD resolution model.
-    target_area : array_like, optional
-        Area of the target as seen [m²] for its pixels; default the critical dimension squared.
-    mrtd : MrtdCurve, optional
-        The sensor's MRTD curve (:class:`targetacq.mrtd.MrtdCurve`): MRTD-limited cycles.
-    motion, semantics : str
-        As in :func:`targetacq.acquisition_probabilities`.
+        In (0, 1); broadcasts with the case's arrays.
     tolerance : float
-        Relative tolerance on the range when it is solved numerically (module docstring).
-    **options
-        Options of the transform (e.g. ``bound=``).
+        Relative tolerance on the range when it is solved numerically (module docstring), in
+        (0, 0.01).
 
     Returns
     -------
@@ -128,33 +89,14 @@ def dri_ranges(
 
     Examples
     --------
-    >>> r = dri_ranges(2.3, 2e-4)  # R = d / (N50 · 2 IFOV) at P = 0.5
+    >>> r = dri_ranges(RangeCase(2.3, 2e-4))  # R = d / (N50 · 2 IFOV) at P = 0.5
     >>> round(float(r["detection"]), 6), round(float(r["identification"]), 6)
     (5750.0, 898.4375)
+    >>> r = dri_ranges({"critical_dimension": 2.3, "ifov": 2e-4, "extinction": 0.4e-3}, 0.8)
+    >>> bool(r["detection"] < 5750.0)  # a higher probability, and the haze's noise
+    True
     """
-    case = RangeCase(
-        critical_dimension,
-        ifov,
-        wavelength=wavelength,
-        aperture=aperture,
-        blur_sigma=blur_sigma,
-        criterion=criterion,
-        transform=transform,
-        options=options,
-        extinction=extinction,
-        scr=scr,
-        region=region,
-        hot_spot=hot_spot,
-        moving=moving,
-        noise_model=noise_model,
-        contrast=delta_t,
-        noise_equivalent_contrast=netd,
-        target_area=target_area,
-        mrtd=mrtd,
-        motion=motion,
-        semantics=semantics,
-    )
-    return case_ranges(case, probability, tolerance)
+    return case_ranges(as_range_case("case", case), probability, tolerance)
 
 
 _DRI_TASKS = ("detection", "recognition", "identification")
@@ -179,7 +121,7 @@ def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9
     Returns
     -------
     dict
-        Task → range [m], as :func:`dri_ranges`.
+        Task → range [m], as :func:`dri_ranges` describes.
 
     Examples
     --------
@@ -230,7 +172,7 @@ def _cycles_needed(
     hot spot reads the low-clutter curve, a moving target its motion rule, either the better."""
     n50 = crit.n50(task)
     if chosen.tasks == ("detection",):  # a detection-in-clutter transform chosen by name
-        given = given_clutter(**case.clutter)
+        given = given_clutter(case.clutter)
         return chosen.inverse(probability, n50, task, **given, **case.options)
     needed = _transforms.inverse_transform(
         probability, n50, task, method=chosen.name, **case.options

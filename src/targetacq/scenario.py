@@ -30,8 +30,9 @@ itself).
 
 Errors. :class:`ScenarioError` holds every problem found, each located
 (``file: table[index].key: what``); its message is the first. Problems that need the files a
-scenario names (its image, its terrain map) or the size of its run are found when it is compiled
-(:func:`targetacq.core.compile.check_runnable`), which ``targetacq validate`` does too.
+scenario names (its image, its terrain map, its sensors' MRTD curves) or the size of its run are
+found when it is compiled (:func:`targetacq.core.compile.check_runnable`), which ``targetacq
+validate`` does too.
 
 Warnings. A valid value that no real sensor or scene has, most often a unit slip (``focal_length
 = 100`` from Python, meant in mm: a 100 m lens), is emitted as a
@@ -67,7 +68,6 @@ from pydantic import (
 
 from targetacq import atmosphere as _atmosphere
 from targetacq.acquisition import ACQUISITION_SEMANTICS, MOTION_RULES
-from targetacq.bands import BANDS, parse_band
 from targetacq.criteria import CRITERIA
 from targetacq.engagement import REDRAW_RULES
 from targetacq.inputs import read_input_text
@@ -86,7 +86,14 @@ from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.plausibility import collected, emit, plausibility_warnings
 from targetacq.radiometry import MATERIALS
 from targetacq.registry import lookup, unknown_name
-from targetacq.sensors import SENSOR_TYPES, get_sensor_type
+from targetacq.sensors import (
+    SENSOR_TYPES,
+    check_sensor_band,
+    check_sensor_noise,
+    check_sensor_tables,
+    get_sensor_type,
+    sensor_band,
+)
 from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.units import is_quantity, to_si
 
@@ -435,7 +442,11 @@ class Sensor(_Strict):
     the atmosphere adds noise. The resolution is given one way: ``pitch`` with
     ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
     or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
-    every target is taken to be in view.
+    every target is taken to be in view. ``mrtd``: a thermal sensor's MRTD curve, the path of a
+    CSV file (:meth:`targetacq.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
+    folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
+    resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
+    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
     """
 
     name: Name
@@ -460,6 +471,7 @@ class Sensor(_Strict):
     bands: Annotated[list[Name], Field(min_length=1)] | None = None
     radar: Radar | None = None
     laser: Laser | None = None
+    mrtd: str | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
@@ -496,10 +508,7 @@ class Sensor(_Strict):
                 raise ValueError("give aperture or f_number, not both")
             # The aperture diameter a datasheet's F-number stands for: D = f / F#.
             object.__setattr__(self, "aperture", self.focal_length / self.f_number)
-        if self.band is None and self.type == "thermal":
-            raise ValueError("a thermal sensor needs its band, e.g. 'lwir' or '8-12 um'")
-        if self.band is not None:
-            self.limits  # noqa: B018 - validates the band
+        check_sensor_band(self)  # required, or the type's default; within the type's limits
         _one_place(self.position, self.waypoints, "sensor")
         if self.look_at is not None and (self.azimuth is not None or self.depression is not None):
             raise ValueError("give look_at, or azimuth and depression, not both")
@@ -514,22 +523,12 @@ class Sensor(_Strict):
             )
         self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
-        if self.type == "laser_radar" and (self.netd is not None or self.nec is not None):
-            raise ValueError("a laser radar's noise is its receiver's: laser.nep")
-        if self.netd is not None and self.type != "thermal":
-            raise ValueError("netd is the noise of a thermal sensor; a TV sensor takes nec")
-        if self.nec is not None and self.type not in ("tv", "colour"):
-            raise ValueError("nec is the noise-equivalent contrast of a TV sensor; give netd")
+        check_sensor_noise(self)  # netd or nec: the one the type takes
         return self
 
     def _check_type_tables(self) -> None:
         """The tables that belong to one sensor type: bands (colour), radar, laser."""
-        for key, kind in (("bands", "colour"), ("radar", "radar"), ("laser", "laser_radar")):
-            given = getattr(self, key) is not None
-            if given and self.type != kind:
-                raise ValueError(f'{key} belongs to a type = "{kind}" sensor')
-            if not given and self.type == kind:
-                raise ValueError(f'a type = "{kind}" sensor needs its {key}')
+        check_sensor_tables(self)
         if self.bands is not None and len(set(self.bands)) != len(self.bands):
             raise ValueError("bands must be distinct names")
 
@@ -554,10 +553,8 @@ class Sensor(_Strict):
 
     @property
     def limits(self) -> tuple[float, float]:
-        """The band (λ1, λ2) [m]; the visible band for a TV sensor without one."""
-        if self.band is None:
-            return BANDS["visible"]
-        return parse_band(self.band)
+        """The band (λ1, λ2) [m]; without one, its type's default (a TV sensor: the visible)."""
+        return sensor_band(self)
 
     @property
     def fov_projection(self) -> str:
@@ -1100,6 +1097,12 @@ class Scenario(_Strict):
                 )
         for kind in dict.fromkeys(s.type for s in self.sensors):
             problems += get_sensor_type(kind).requirements(self)
+        problems += [
+            f'sensors[{k}].mrtd: an MRTD curve is a thermal sensor\'s (type = "thermal"); '
+            f"a {s.type} sensor's resolution is its own"
+            for k, s in enumerate(self.sensors)
+            if s.mrtd is not None and s.type != "thermal"
+        ]
         if self.false_targets is not None:
             problems += false_target_problems(self)
         image = self.background.image is not None
@@ -1254,7 +1257,8 @@ def load_scenario(path: str | Path) -> Scenario:
 
     The file is a regular file of at most :data:`targetacq.limits.MAX_INPUT_BYTES`, in UTF-8
     (a byte-order mark is allowed; :func:`targetacq.inputs.read_input_text`). Relative
-    ``image`` and terrain ``map`` paths are taken from the file's folder.
+    ``image`` and terrain ``map`` paths, and sensors' ``mrtd`` curves, are taken from the file's
+    folder.
 
     Raises
     ------
@@ -1285,4 +1289,12 @@ def load_scenario(path: str | Path) -> Scenario:
         )
     if update:
         scenario = scenario.model_copy(update={"background": bg.model_copy(update=update)})
+    if any(s.mrtd is not None and not Path(s.mrtd).is_absolute() for s in scenario.sensors):
+        sensors = [
+            s.model_copy(update={"mrtd": str(source.parent / s.mrtd)})
+            if s.mrtd is not None and not Path(s.mrtd).is_absolute()
+            else s
+            for s in scenario.sensors
+        ]
+        scenario = scenario.model_copy(update={"sensors": sensors})
     return scenario

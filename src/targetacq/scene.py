@@ -11,25 +11,27 @@ Atmosphere and SCR: target and background are attenuated alike along the same pa
 1/R² and cos⁴ factors of (6.18) are the same for neighbouring cells, so the SCR is the ratio of
 exitances at the scene. The atmosphere enters through the SNR of Eq. (7.7).
 
-Clutter is given as the background's temperature spread in kelvin (``clutter_std``), as in
-scenarios and the CLI, or as an exitance spread in W/m² (``clutter_exitance_std``).
+The scene is a :class:`Scene` record, the sensor, path and model a
+:class:`targetacq.core.cases.RangeCase`. Clutter is given as the background's temperature spread
+in kelvin (``Scene.clutter_std``), as in scenarios and the CLI, or as an exitance spread in W/m²
+(``Scene.clutter_exitance_std``).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
 from targetacq import _arrays, clutter, radiometry
+from targetacq._arrays import Array
 from targetacq.acquisition import Acquisition
 from targetacq.core.cases import RangeCase, case_acquisition
 from targetacq.limits import MAX_TEMPERATURE
-from targetacq.registry import unknown_name
-from targetacq.transforms import CLUTTER_REGIONS
 
 _TASKS = ("detection", "recognition", "identification")
 
-__all__ = ["SceneAcquisition", "SceneSignature", "scene_acquisition", "scene_signature"]
+__all__ = ["Scene", "SceneAcquisition", "SceneSignature", "scene_acquisition", "scene_signature"]
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,63 @@ class SceneSignature:
     contrast: Any
     clutter: Any
     scr: Any
+
+
+@dataclass(frozen=True)
+class Scene:
+    """The physical scene of :func:`scene_acquisition`: a target and its background in a band.
+
+    The inputs of :func:`scene_signature`, as one record; all array fields broadcast together.
+
+    Attributes
+    ----------
+    band : (float, float) or str
+        Sensor band (λ1, λ2) [m] or a name ("mwir", "lwir", "visible").
+    target_temperature, background_temperature : array_like
+        [K], >= 0.
+    target_emissivity, background_emissivity : array_like
+        In [0, 1]; default blackbodies.
+    target_exitance, background_exitance : array_like, optional
+        [W/m²], >= 0; given, they replace ``ε · M_band(T)`` (e.g. reflected sunlight ``r·E`` in
+        the visible band, :func:`targetacq.radiometry.reflected_exitance`).
+    clutter_std : array_like, optional
+        The background's temperature spread σ_T [K], >= 0, as in scenarios and the CLI (not with
+        ``background_exitance``); the clutter is ``ε_b · dM/dT · σ_T`` in the band
+        (:func:`targetacq.clutter.temperature_spread_clutter`).
+    clutter_exitance_std : array_like, optional
+        The clutter as the standard deviation of the background exitance [W/m²], >= 0, instead
+        of ``clutter_std``.
+
+    Examples
+    --------
+    >>> seen = Scene("lwir", 305.0, 295.0, clutter_std=2.0).signature()
+    >>> bool(seen.scr > 1)
+    True
+    """
+
+    band: str | tuple[float, float]
+    target_temperature: Array
+    background_temperature: Array
+    target_emissivity: Array = 1.0
+    background_emissivity: Array = 1.0
+    target_exitance: Array | None = None
+    background_exitance: Array | None = None
+    clutter_std: Array | None = None
+    clutter_exitance_std: Array | None = None
+
+    def signature(self) -> SceneSignature:
+        """The scene's signals, contrast, clutter and SCR (:func:`scene_signature`)."""
+        return scene_signature(
+            self.band,
+            self.target_temperature,
+            self.background_temperature,
+            target_emissivity=self.target_emissivity,
+            background_emissivity=self.background_emissivity,
+            target_exitance=self.target_exitance,
+            background_exitance=self.background_exitance,
+            clutter_std=self.clutter_std,
+            clutter_exitance_std=self.clutter_exitance_std,
+        )
 
 
 def scene_signature(
@@ -180,90 +239,45 @@ class SceneAcquisition(Acquisition):
 
 
 def scene_acquisition(
-    range: Any,
-    critical_dimension: Any,
-    ifov: Any,
-    band: Any,
-    target_temperature: Any,
-    background_temperature: Any,
+    range: Array,
+    case: RangeCase,
+    scene: Scene,
     *,
-    target_emissivity: Any = 1.0,
-    background_emissivity: Any = 1.0,
-    target_exitance: Any = None,
-    background_exitance: Any = None,
-    clutter_std: Any = None,
-    clutter_exitance_std: Any = None,
-    scr: Any = None,
-    clutter_region: str | None = None,
-    extinction: Any = 0.0,
-    foliage: Any = 1.0,
-    quantisation_step: Any = None,
-    criterion: Any = "johnson",
-    transform: str = "ttpf",
-    noise_model: Any = "variance-sum",
-    hot_spot: bool = False,
-    moving: bool = False,
-    wavelength: Any = None,
-    aperture: Any = None,
-    blur_sigma: Any = None,
-    netd: Any = None,
-    netd_temperature: Any = 300.0,
-    target_area: Any = None,
-    motion: str = "low-clutter",
-    semantics: str = "nested",
-    **options: Any,
+    netd: Array | None = None,
+    netd_temperature: Array = 300.0,
+    quantisation_step: Array | None = None,
 ) -> SceneAcquisition:
     """Probabilities of detection, recognition and identification from the physical scene.
 
-    The signature of :func:`scene_signature` and the range case of
-    :func:`targetacq.core.cases.case_acquisition`. All array inputs broadcast together.
+    The signature of the scene (:func:`scene_signature`) gives the case its SCR and, with the
+    sensor's NETD, its contrast against the sensor's noise; then
+    :func:`targetacq.core.cases.case_acquisition` of the case. All array inputs broadcast
+    together.
 
     Parameters
     ----------
     range : array_like
         Slant range [m], > 0.
-    critical_dimension : array_like
-        Critical dimension of the target as seen [m], > 0.
-    ifov : array_like
-        Pixel IFOV [rad], > 0.
-    band, target_temperature, background_temperature : as in :func:`scene_signature`
-        Band limits [m] or name; temperatures [K].
-    target_emissivity, background_emissivity, target_exitance, background_exitance
-        As in :func:`scene_signature`: emissivities in [0, 1], or the exitances [W/m²].
-    clutter_std : array_like, optional
-        The background's temperature spread σ_T [K], >= 0, as in scenarios and the CLI; the
-        clutter is ``ε_b · dM/dT · σ_T`` in the band
-        (:func:`targetacq.clutter.temperature_spread_clutter`).
-    clutter_exitance_std : array_like, optional
-        The clutter as an exitance spread [W/m²], >= 0 (e.g. with ``background_exitance``).
-    scr : array_like, optional
-        The SCR directly, instead of a clutter.
-    clutter_region : {"low", "medium", "high"}, optional
-        The Table 3.5 region, when only that is known.
-    extinction : array_like
-        γ of the path [Np/m], >= 0; 0 for no atmosphere.
-    foliage : array_like
-        Transmittance of foliage in front of the target, in [0, 1]
-        (:func:`targetacq.atmosphere.foliage_transmittance`); 1 for none.
+    case : RangeCase
+        The sensor, the target's critical dimension, the path and the model choices
+        (:class:`targetacq.core.cases.RangeCase`: critical dimension [m], IFOV [rad], optics
+        limits, criterion, transform and its options, extinction [Np/m] (None: no atmosphere),
+        foliage, hot spot, moving, noise model, target area [m²], motion and semantics). Its
+        ``scr`` or ``region`` gives the clutter directly, instead of the scene's clutter; its
+        contrast and noise-equivalent contrast come from the scene and ``netd``, so it gives
+        neither (nor an MRTD curve).
+    scene : Scene
+        Target and background: band, temperatures [K], emissivities or exitances [W/m²], and
+        the clutter as a temperature spread [K] or an exitance spread [W/m²].
+    netd : array_like, optional
+        The sensor's NETD [K], >= 0, quoted at ``netd_temperature`` [K]: the sensor's own noise
+        against the exitance contrast (:mod:`targetacq.sensor_noise`); None for none.
+    netd_temperature : array_like
+        [K], the temperature at which ``netd`` is quoted.
     quantisation_step : array_like, optional
         Smallest contrast the detector resolves [W/m²]
         (:func:`targetacq.radiometry.quantisation_step`); a smaller contrast gives probability 0
         (§6.8).
-    criterion, transform, noise_model
-        As in :func:`targetacq.acquisition_probabilities`.
-    hot_spot, moving : bool
-        As in :func:`targetacq.transforms.schmieder_weathersby`.
-    wavelength, aperture, blur_sigma : array_like, optional
-        Optics limits on the cycle (:func:`targetacq.optics.resolvable_cycle_angle`).
-    netd : array_like, optional
-        The sensor's NETD [K], >= 0, quoted at ``netd_temperature`` [K]: the sensor's own noise
-        against the exitance contrast (:mod:`targetacq.sensor_noise`); None for none.
-    target_area : array_like, optional
-        Area of the target as seen [m²] for its pixels; default the critical dimension squared.
-    motion, semantics : str
-        As in :func:`targetacq.acquisition_probabilities`.
-    **options
-        Options of ``transform``.
 
     Returns
     -------
@@ -271,60 +285,41 @@ def scene_acquisition(
 
     Examples
     --------
-    >>> res = scene_acquisition(1150.0, 2.3, 2e-4, "lwir", 305.0, 295.0, clutter_std=2.0)
+    >>> case = RangeCase(2.3, 2e-4)
+    >>> res = scene_acquisition(1150.0, case, Scene("lwir", 305.0, 295.0, clutter_std=2.0))
     >>> round(float(res.cycles), 12), bool(res.scr > 1), float(res.transmittance)
     (5.0, True, 1.0)
     """
-    if clutter_region is not None and clutter_region not in CLUTTER_REGIONS:
-        raise unknown_name(str(clutter_region), CLUTTER_REGIONS, "clutter_region")
-    given = [v is not None for v in (clutter_std, clutter_exitance_std, scr, clutter_region)]
+    if not isinstance(case, RangeCase):
+        raise TypeError(f"case must be a RangeCase; got {type(case).__name__}")
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene; got {type(scene).__name__}")
+    given = [
+        v is not None
+        for v in (scene.clutter_std, scene.clutter_exitance_std, case.scr, case.region)
+    ]
     if sum(given) > 1:
         raise ValueError(
-            "give at most one of clutter_std, clutter_exitance_std, scr and clutter_region"
+            "give at most one of the scene's clutter_std and clutter_exitance_std and the "
+            "case's scr and region"
         )
-    seen = scene_signature(
-        band,
-        target_temperature,
-        background_temperature,
-        target_emissivity=target_emissivity,
-        background_emissivity=background_emissivity,
-        target_exitance=target_exitance,
-        background_exitance=background_exitance,
-        clutter_std=clutter_std,
-        clutter_exitance_std=clutter_exitance_std,
-    )
-    scr_value = seen.scr if seen.scr is not None else scr
-    noise: dict[str, Any] = {}
+    for name in ("contrast", "noise_equivalent_contrast", "mrtd"):
+        if getattr(case, name) is not None:
+            raise ValueError(
+                f"the case's {name} is not for scene_acquisition: the scene gives the contrast "
+                "(an exitance difference) and netd the sensor's noise"
+            )
+    seen = scene.signature()
+    scr_value = seen.scr if seen.scr is not None else case.scr
+    changes: dict[str, Any] = {"scr": scr_value}
     if netd is not None:
         from targetacq.sensor_noise import netd_exitance
 
-        noise = {
-            "contrast": seen.contrast,
-            "noise_equivalent_contrast": netd_exitance(netd, band, netd_temperature),
-            "target_area": target_area,
-        }
-    elif target_area is not None:
+        changes["contrast"] = seen.contrast
+        changes["noise_equivalent_contrast"] = netd_exitance(netd, scene.band, netd_temperature)
+    elif case.target_area is not None:
         raise ValueError("target_area is used with the sensor's noise (netd)")
-    case = RangeCase(
-        critical_dimension,
-        ifov,
-        wavelength=wavelength,
-        aperture=aperture,
-        blur_sigma=blur_sigma,
-        criterion=criterion,
-        transform=transform,
-        options=options,
-        extinction=extinction,
-        foliage=foliage,
-        scr=scr_value,
-        region=clutter_region,
-        hot_spot=hot_spot,
-        moving=moving,
-        noise_model=noise_model,
-        motion=motion,
-        semantics=semantics,
-        **noise,
-    )
+    case = dataclasses.replace(case, **changes)
     found = case_acquisition(case, range)
     xp, (det, rec, ide, contrast) = _arrays.arrays(
         found.detection, found.recognition, found.identification, seen.contrast

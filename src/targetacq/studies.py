@@ -1,11 +1,13 @@
 """Trade studies: DRI ranges (or probabilities at ranges) over the product of option lists.
 
 :func:`sweep` takes the options of ``targetacq dri`` (:func:`targetacq.services.range_case.
-range_setup`), any of which may be a list, and computes every combination by the code path of
-a single ``dri`` run (``range_setup`` then :func:`targetacq.ranges.case_ranges` per
-probability), so each number equals the one ``targetacq dri`` prints for that combination.
-Large sweeps run on ``dask.distributed``, in blocks of points, each block computed by the same
-pure function as the serial path: the results are identical.
+range_setup`), any of which may be a list, and computes every combination as a single ``dri``
+run computes it (``range_setup`` then :func:`targetacq.ranges.case_ranges` per probability), so
+each number equals the one ``targetacq dri`` prints for that combination. The points are
+computed in blocks: each point's options are read and checked on their own, then the points
+whose cases differ only in numbers are stacked into arrays and solved together (one bisection
+for thousands of points). Large sweeps run on ``dask.distributed``, a block per task, each block
+computed by the same pure function as the serial path: the results are identical.
 
 Limits, checked before any work: at most :data:`MAX_SWEEP_POINTS` points, and the sweep's
 estimated memory (:func:`sweep_bytes`: points × outputs × bytes) within what this machine has;
@@ -17,16 +19,20 @@ during the sweep (its scheduler, or a worker that died) is :class:`ClusterLostEr
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import logging
 import math
 import os
 import warnings
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Hashable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from targetacq.core.cases import RangeCase, case_acquisition
+from targetacq.criteria import Criterion
 from targetacq.limits import check_size
+from targetacq.ranges import case_ranges
 from targetacq.services.options import (
     LIST_SEPARATORS,
     RANGE_CASE_OPTIONS,
@@ -34,7 +40,7 @@ from targetacq.services.options import (
     option_product,
     split_list,
 )
-from targetacq.services.range_case import option_probabilities
+from targetacq.services.range_case import RangeSetup, option_probabilities, range_setup
 
 __all__ = [
     "BYTES_PER_SWEEP_POINT",
@@ -54,8 +60,9 @@ SERIAL_LIMIT = 1000
 for; a larger one runs on a Dask cluster."""
 
 MAX_SWEEP_POINTS = 1_000_000
-"""Most points (combinations of the listed values) one sweep computes: at 10 to 30 ms a point,
-hours on one core and tens of minutes on a 16-core cluster. A larger study is several sweeps."""
+"""Most points (combinations of the listed values) one sweep computes: at 0.15 to 1 ms a point
+(reading a point's options, and its share of a block's solve), minutes on one core. A larger
+study is several sweeps."""
 
 BYTES_PER_SWEEP_POINT = 2048
 """Memory [bytes] one point of a sweep takes until the sweep returns: its options (about 430 B
@@ -72,7 +79,13 @@ class ClusterLostError(ConnectionError):
 
 
 _DRI_TASKS = ("detection", "recognition", "identification")
-_MAX_CHUNK = 250
+_SERIAL_CHUNK = 250
+"""Points per block of a serial sweep (so its progress bar moves every 250 points)."""
+_MIN_CHUNK = 100
+_MAX_CHUNK = 10_000
+"""Points per block on Dask: about four blocks per worker, at least :data:`_MIN_CHUNK` (a
+block's solve costs a fixed number of array passes, cheap per point only for many points) and
+at most :data:`_MAX_CHUNK` (a block's memory, about 20 MB at most)."""
 
 _QUANTITIES = {
     # option → (kind for parse_quantity, CF units of its SI value)
@@ -123,28 +136,37 @@ def _text_options(options: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _setup(options: Mapping[str, Any], default_probability: str) -> RangeSetup:
+    """One point's range setup: its options read as ``targetacq dri`` reads them."""
+    return range_setup(options, default_probability)
+
+
+def _check_grid(setup: RangeSetup, grid: np.ndarray | None) -> None:
+    """Refuse probabilities at ranges for a criterion that gives no probabilities."""
+    if grid is not None and not setup.criterion.gives_probabilities:
+        raise ValueError(
+            f"--criterion {setup.criterion.name} gives pixel-density thresholds, not "
+            "probabilities at ranges"
+        )
+
+
 def _point(
     options: dict[str, Any], grid: np.ndarray | None, default_probability: str
 ) -> tuple[tuple[str, ...], np.ndarray]:
-    """One point: its tasks and, per task, the ranges at each probability [m] (or, with
-    ``grid``, the probabilities at each range); computed as ``targetacq dri`` computes them."""
-    from targetacq.core.cases import case_acquisition
-    from targetacq.ranges import case_ranges
-    from targetacq.services.range_case import range_setup
+    """One point on its own: its tasks and, per task, the ranges at each probability [m] (or,
+    with ``grid``, the probabilities at each range), as ``targetacq dri`` computes them.
 
-    setup = range_setup(**options, default_probability=default_probability)
+    The reference of :func:`_block`, which computes many points at once to the same numbers
+    (the tests and ``benchmarks/bench_sweep.py`` compare the two)."""
+    setup = _setup(options, default_probability)
+    _check_grid(setup, grid)
     if grid is not None:
-        if not setup.criterion.gives_probabilities:
-            raise ValueError(
-                f"--criterion {setup.criterion.name} gives pixel-density thresholds, not "
-                "probabilities at ranges"
-            )
         found = case_acquisition(setup.case, grid)
         values = [np.broadcast_to(getattr(found, task), grid.shape) for task in _DRI_TASKS]
         return _DRI_TASKS, np.asarray(values, dtype=float)
     columns: list[dict[str, Any]] = []
     for p in setup.probabilities:
-        columns.append(case_ranges(setup.case, p))  # as dri_report: one probability at a time
+        columns.append(case_ranges(setup.case, p))
         if not setup.criterion.gives_probabilities:
             columns *= len(setup.probabilities)  # thresholds: the same at every probability
             break
@@ -152,11 +174,117 @@ def _point(
     return tasks, np.array([[float(c[task]) for c in columns] for task in tasks])
 
 
+_ARRAY_FIELDS = (
+    "critical_dimension",
+    "ifov",
+    "wavelength",
+    "aperture",
+    "blur_sigma",
+    "cycle",
+    "extinction",
+    "foliage",
+    "scr",
+    "contrast",
+    "noise_equivalent_contrast",
+    "target_area",
+)
+"""The fields of :class:`targetacq.core.cases.RangeCase` that broadcast: a block's points that
+agree on everything else are stacked along them into one case."""
+
+
 def _block(
     points: Sequence[dict[str, Any]], grid: np.ndarray | None, default_probability: str
 ) -> list[tuple[tuple[str, ...], np.ndarray]]:
-    """A block of points, computed one by one (the unit of work of the serial and Dask paths)."""
-    return [_point(dict(options), grid, default_probability) for options in points]
+    """A block of points (the unit of work of the serial and Dask paths), as :func:`_point`
+    computes each.
+
+    Each point is set up on its own (its options read and checked as ``targetacq dri`` reads
+    them); the points whose cases differ only in array fields (:data:`_ARRAY_FIELDS`) form a
+    group, whose cases are stacked into one case of 1-D arrays and solved by one call of
+    :func:`targetacq.ranges.case_ranges` per probability (or one of
+    :func:`targetacq.core.cases.case_acquisition` on a points × ranges grid). The bisection
+    of ``case_ranges`` narrows every element's bracket by the same factor at each step, so the
+    stacked solve stops at the step where each point alone stops: the same numbers."""
+    setups = [_setup(options, default_probability) for options in points]
+    groups: dict[Hashable, list[int]] = {}
+    for i, setup in enumerate(setups):
+        _check_grid(setup, grid)
+        groups.setdefault(_group_key(setup, i), []).append(i)
+    results: list[tuple[tuple[str, ...], np.ndarray]] = [((), np.empty(0))] * len(setups)
+    for members in groups.values():
+        tasks, values = _group_values([setups[i] for i in members], grid)
+        for k, i in enumerate(members):
+            results[i] = (tasks, values[k])
+    return results
+
+
+_KEY_FIELDS = tuple(
+    field.name for field in dataclasses.fields(RangeCase) if field.name not in _ARRAY_FIELDS
+)
+_SCALARS = (float, int, np.float64)
+
+
+def _group_key(setup: RangeSetup, index: int) -> Hashable:
+    """What the points of one stacked case share: their probabilities, which array fields are
+    given, and every other field of the case. A field that is an array already (never from
+    the options of ``dri``) keeps its point alone."""
+    case = setup.case
+    given = []
+    for name in _ARRAY_FIELDS:
+        value = getattr(case, name)
+        if value is not None and type(value) not in _SCALARS and np.ndim(value) != 0:
+            return ("alone", index)
+        given.append(value is not None)
+    others = (_hashable(getattr(case, name)) for name in _KEY_FIELDS)
+    return (tuple(setup.probabilities), tuple(given), *others)
+
+
+def _hashable(value: Any) -> Hashable:
+    """A value that compares equal where the setting does: criteria by their thresholds,
+    mappings by their items, anything unhashable by its identity."""
+    if value is None or type(value) in (str, bool):
+        return value
+    if isinstance(value, Criterion):
+        return ("criterion", value.name, value.kind, tuple(value.thresholds.items()))
+    if isinstance(value, Mapping):
+        return ("mapping", tuple(sorted((k, _hashable(v)) for k, v in value.items())))
+    try:
+        hash(value)
+    except TypeError:
+        return ("object", id(value))
+    return value
+
+
+def _group_values(
+    setups: Sequence[RangeSetup], grid: np.ndarray | None
+) -> tuple[tuple[str, ...], np.ndarray]:
+    """The tasks and values of a group of points (:func:`_block`), stacked into one case:
+    ``(points, tasks, probabilities)`` (or ``(points, tasks, ranges)`` with ``grid``)."""
+    first = setups[0]
+    shape = (len(setups), 1) if grid is not None else (len(setups),)
+    stacked: dict[str, Any] = {
+        name: np.asarray([getattr(s.case, name) for s in setups], dtype=float).reshape(shape)
+        for name in _ARRAY_FIELDS
+        if getattr(first.case, name) is not None
+    }
+    case = dataclasses.replace(first.case, **stacked)
+    n = len(setups)
+    if grid is not None:
+        found = case_acquisition(case, grid)
+        values = [np.broadcast_to(getattr(found, task), (n, grid.size)) for task in _DRI_TASKS]
+        return _DRI_TASKS, np.stack(values, axis=1).astype(float)
+    columns: list[dict[str, Any]] = []
+    for p in first.probabilities:
+        columns.append(case_ranges(case, p))
+        if not first.criterion.gives_probabilities:
+            columns *= len(first.probabilities)  # thresholds: the same at every probability
+            break
+    tasks = tuple(columns[0])
+    per_task = [
+        np.stack([np.broadcast_to(np.asarray(c[task], dtype=float), (n,)) for c in columns], -1)
+        for task in tasks
+    ]
+    return tasks, np.stack(per_task, axis=1)
 
 
 def sweep(
@@ -188,7 +316,8 @@ def sweep(
     workers : int, optional
         Workers of a new local Dask cluster (one process, one thread each).
     chunk_size : int, optional
-        Points per block of work (default: about four blocks per worker, at most 250 points).
+        Points per block of work (default: serially 250; on Dask about four blocks per worker,
+        from 100 to 10,000 points).
     progress : bool
         Show a progress bar on standard error.
     default_probability : str
@@ -229,9 +358,18 @@ def sweep(
     :data:`SERIAL_LIMIT` (1,000) points and neither ``scheduler`` nor ``workers`` is given;
     otherwise on Dask: on ``scheduler`` if given, else on a new local cluster
     (:func:`local_cluster`) of ``workers`` processes, at most one per CPU (default: the CPUs
-    this process may use), closed afterwards. The grid is cut into
-    blocks of ``chunk_size`` points, each computed by the same function as the serial path, so
-    the numbers are identical.
+    this process may use), closed afterwards.
+
+    **Blocks.** The grid is cut into blocks of ``chunk_size`` points, a Dask task each, each
+    computed by the same function as the serial path, so the numbers are identical. In a block
+    every point's options are read and checked as ``targetacq dri`` reads them; the points whose
+    cases agree on everything but the numbers of :class:`targetacq.core.cases.RangeCase`'s
+    array fields (the same criterion, transform, noise model, semantics, MRTD curve, the same
+    fields given...) are stacked into one case of arrays, solved by one call of
+    :func:`targetacq.ranges.case_ranges` per probability (or one of
+    :func:`targetacq.core.cases.case_acquisition` with ``ranges``). Each point's numbers equal
+    those of the point computed alone: the bisection narrows every point's bracket by the same
+    factor at each step, and stops at the same step.
 
     Examples
     --------
@@ -267,10 +405,12 @@ def sweep(
     _check_sweep_size(lists, per_point * (len(grid) if grid is not None else len(probabilities)))
     product = option_product(text)
     points = [full for _, full in product]
-    # The first point checked here, before any cluster starts: most mistakes show at once.
-    _point(dict(points[0]), grid, default_probability)
-    blocks = _blocks(points, chunk_size, scheduler, workers)
-    if scheduler is None and workers is None and len(points) <= SERIAL_LIMIT:
+    # The first point's options checked here, before any work or cluster starts: most mistakes
+    # show at once.
+    _check_grid(_setup(points[0], default_probability), grid)
+    serial = scheduler is None and workers is None and len(points) <= SERIAL_LIMIT
+    blocks = _blocks(points, chunk_size, scheduler, workers, serial)
+    if serial:
         results = _serial(blocks, grid, default_probability, progress)
     else:
         results = _distributed(blocks, grid, default_probability, scheduler, workers, progress)
@@ -484,11 +624,18 @@ def _cluster_size(scheduler: Any, workers: int | None) -> int:
 
 
 def _blocks(
-    points: list[dict[str, Any]], chunk_size: int | None, scheduler: Any, workers: int | None
+    points: list[dict[str, Any]],
+    chunk_size: int | None,
+    scheduler: Any,
+    workers: int | None,
+    serial: bool,
 ) -> list[list[dict[str, Any]]]:
     if chunk_size is None:
-        size = math.ceil(len(points) / (4 * _cluster_size(scheduler, workers)))
-        chunk_size = min(_MAX_CHUNK, max(1, size))
+        if serial:
+            chunk_size = _SERIAL_CHUNK
+        else:
+            size = math.ceil(len(points) / (4 * _cluster_size(scheduler, workers)))
+            chunk_size = min(_MAX_CHUNK, max(_MIN_CHUNK, size))
     elif chunk_size < 1:
         raise ValueError(f"chunk_size must be >= 1; got {chunk_size}")
     if workers is not None and workers < 1:

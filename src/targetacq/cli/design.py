@@ -112,7 +112,7 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
         sensor = {"pitch": f"{f * 1e-3!r}m", "focal_length": focal_length, "ifov": None}
     else:
         sensor = {"pitch": None, "focal_length": None, "ifov": "1mrad"}
-    setup = range_setup(**{**options, **sensor, "pixels": None}, default_probability="0.5")
+    setup = range_setup({**options, **sensor, "pixels": None}, "0.5")
     case, crit = setup.case, setup.criterion
     if crit.gives_probabilities:
         chosen = get_transform(case.transform)

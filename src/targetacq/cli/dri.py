@@ -63,7 +63,7 @@ def dri(
         ds = run_sweep(case_options, progress=False)
         typer.echo(render_sweep(ds, output_format), nl=False)
         return
-    setup = range_setup(**typed_options(case_options, "dri"), default_probability="0.5")
+    setup = range_setup(typed_options(case_options, "dri"), "0.5")
     typer.echo(_render(dri_report(setup), output_format), nl=False)
 
 

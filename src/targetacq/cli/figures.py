@@ -199,7 +199,7 @@ def plot(
     if max_range is not None and kind == "transforms":
         raise ValueError("plot transforms does not use --max-range (its axis is cycles)")
     if kind == "curves":
-        setup = range_setup(**params, default_probability=REPORT_PROBABILITIES)
+        setup = range_setup(params, REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
                 f"plot curves needs a criterion with probabilities (not {setup.criterion.name})"
@@ -304,7 +304,7 @@ def _range_case_report(
     bands: list[tuple[float, float]] = []
     swept_names: list[str] = []
     for swept, options in option_product(case_options):
-        setup = range_setup(**options, default_probability=REPORT_PROBABILITIES)
+        setup = range_setup(options, REPORT_PROBABILITIES)
         if not setup.criterion.gives_probabilities:
             raise ValueError(
                 f"the report needs a criterion with probabilities (not {setup.criterion.name})"

@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 import typer.main
 
+from targetacq.acquisition import Clutter
 from targetacq.acquisition import probability as probability_of
 from targetacq.cli import (
     FORMATS,
@@ -160,7 +161,7 @@ def clutter_command(
         scr_value = float(result.scr[k])
         features = target_features(pixels, (x, y, w, h), cell_factor=cell_factor)
         p_det = (
-            float(probability_of(n, "detection", crit, scr=scr_value))
+            float(probability_of(n, "detection", crit, clutter=Clutter(scr=scr_value)))
             if not math.isnan(scr_value)
             else math.nan
         )

@@ -33,6 +33,7 @@ from targetacq import _arrays, atmosphere, optics, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import (
     Acquisition,
+    Clutter,
     acquisition_probabilities,
     get_motion_rule,
     get_semantics,
@@ -294,14 +295,10 @@ class RangeCase:
         return self.scr is not None or self.region is not None or self.hot_spot or self.moving
 
     @property
-    def clutter(self) -> dict[str, Any]:
-        """``scr``, ``region``, ``hot_spot`` and ``moving``, as keyword arguments."""
-        return {
-            "scr": self.scr,
-            "region": self.region,
-            "hot_spot": self.hot_spot,
-            "moving": self.moving,
-        }
+    def clutter(self) -> Clutter:
+        """``scr``, ``region``, ``hot_spot`` and ``moving``, as a
+        :class:`targetacq.acquisition.Clutter`."""
+        return Clutter(scr=self.scr, region=self.region, hot_spot=self.hot_spot, moving=self.moving)
 
     def resolution(self) -> dict[str, Any]:
         """Keyword arguments of :func:`targetacq.optics.cycles_on_target` and
@@ -490,7 +487,7 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
         noise_model=case.noise_model,
         motion=case.motion,
         semantics=case.semantics,
-        **case.clutter,
+        clutter=case.clutter,
         **case.options,
     )
     return CaseAcquisition(
@@ -538,6 +535,6 @@ def case_probability(case: RangeCase, range: Any, task: str) -> Any:
         snr=snr if case.noisy else None,
         noise_model=case.noise_model,
         motion=case.motion,
-        **case.clutter,
+        clutter=case.clutter,
         **case.options,
     )

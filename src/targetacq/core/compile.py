@@ -3,8 +3,8 @@
 Everything that does not change with the positions is computed here: resolution per sensor
 (through its sensor type), field of view, the path's extinction in each sensor's band, the
 signature of each sensor-target pair (contrast, SCR from a clutter measure, an image or nothing)
-and each target's criterion. File reads (a background image, a terrain map) happen here and
-nowhere else. The scripted paths of a scenario are turned into positions by
+and each target's criterion. File reads (a background image, a terrain map, a sensor's MRTD
+curve) happen here and nowhere else. The scripted paths of a scenario are turned into positions by
 :func:`scenario_positions`.
 
 Before anything is computed, every problem that would stop the scenario from running is
@@ -16,6 +16,7 @@ They are raised together, each located, as one :class:`targetacq.scenario.Scenar
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,6 +28,7 @@ from targetacq.constants import SPEED_OF_LIGHT
 from targetacq.core.records import (
     LaserArrays,
     ModelChoices,
+    MrtdArrays,
     PathArrays,
     RadarArrays,
     SceneArrays,
@@ -420,6 +422,44 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
     return grid
 
 
+def _mrtd_curves(scenario: Any, problems: list[str]) -> dict[str, Any]:
+    """The sensors' MRTD curves read from their files, by sensor name; a file that cannot be
+    read, or is not a curve, is a problem located at ``sensors[i].mrtd``."""
+    from targetacq.mrtd import MrtdCurve
+
+    curves = {}
+    for k, sensor in enumerate(scenario.sensors):
+        if sensor.mrtd is None:
+            continue
+        try:
+            curves[sensor.name] = MrtdCurve.from_csv(sensor.mrtd)
+        except ValueError as error:
+            problems.append(f"sensors[{k}].mrtd: {error}")
+    return curves
+
+
+def _mrtd(owned: list[tuple[str, Any]], curves: dict[str, Any]) -> MrtdArrays | None:
+    """The MRTD-limited rows: each thermal row whose sensor has a curve, with the slope
+    ``∂M_bb,band/∂T`` at its ``netd_temperature`` that turns its contrast into a ΔT (as the
+    CLI's ``--mrtd`` does with the temperatures)."""
+    from targetacq.radiometry import band_exitance_derivative
+
+    rows = tuple(k for k, (owner, _) in enumerate(owned) if owner in curves)
+    if not rows:
+        return None
+    return MrtdArrays(
+        exitance_slope=np.array(
+            [
+                float(band_exitance_derivative(owned[k][1].netd_temperature, owned[k][1].limits))
+                for k in rows
+            ],
+            dtype=float,
+        ),
+        rows=rows,
+        curves=tuple(curves[owned[k][0]] for k in rows),
+    )
+
+
 def _size_problems(scenario: Any) -> list[str]:
     """The scenario's own time grid against the memory a chunked evaluation of it needs: all
     the times of one target at once (:meth:`targetacq.model.ModelChain.evaluate_chunks`, which
@@ -483,6 +523,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     problems: list[str] = []
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)
+    curves = _mrtd_curves(scenario, problems)
     problems += _size_problems(scenario)
     if problems:
         raise ScenarioError(problems)
@@ -509,7 +550,10 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         semantics=model.semantics,
     )
     scene = SceneArrays(
-        sensors=_sensors(scenario, sensors, tuple(owner for owner, _ in owned), signatures),
+        sensors=dataclasses.replace(
+            _sensors(scenario, sensors, tuple(owner for owner, _ in owned), signatures),
+            mrtd=_mrtd(owned, curves),
+        ),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
         signature=_signature(scenario, sensors, signatures, pixels),

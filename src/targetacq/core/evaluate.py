@@ -10,7 +10,9 @@ module wires them together:
 1. geometry: line of sight, slant range, the outline seen and the critical dimension
    (:func:`targetacq.geometry.box_outline`, :func:`targetacq.geometry.critical_dimension_seen`),
    the field of view (:func:`targetacq.geometry.view_offsets`);
-2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type);
+2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type),
+   or MRTD-limited ``N = f*(τ ΔT) · d / R`` for a thermal sensor with an MRTD curve
+   (:mod:`targetacq.core.mrtd_rows`);
 3. path: optical depth with segments and local clouds
    (:func:`targetacq.atmosphere.segmented_optical_depth`,
    :func:`targetacq.atmosphere.sphere_chord_length`), transmittance and the SNR of Eq. (7.7);
@@ -75,6 +77,7 @@ import numpy as np
 from targetacq import _arrays, atmosphere, geometry, sensor_noise
 from targetacq import transforms as _transforms
 from targetacq.acquisition import (
+    Clutter,
     MotionRule,
     Semantics,
     get_motion_rule,
@@ -82,7 +85,7 @@ from targetacq.acquisition import (
     ordered_probabilities,
 )
 from targetacq.clutter import signal_to_clutter_ratio
-from targetacq.core import active
+from targetacq.core import active, mrtd_rows
 from targetacq.core.records import (
     ModelChoices,
     SceneArrays,
@@ -987,10 +990,12 @@ def _in_view_tasks(
                 list(row),
                 chosen.transform,
                 chosen.options,
-                scr=part(scr),
-                region=scene.choices.region,
-                hot_spot=groups.flag("hot", k, at),
-                moving=groups.flag("moving", k, at),
+                clutter=Clutter(
+                    scr=part(scr),
+                    region=scene.choices.region,
+                    hot_spot=groups.flag("hot", k, at),
+                    moving=groups.flag("moving", k, at),
+                ),
                 snr=part(snr),
                 noise=noise,
                 motion=chosen.motion,
@@ -1070,6 +1075,8 @@ def factors(
         found = _factors_numpy(scene, s_pos, t_pos, headings, pointing, scr, visible)
     else:
         found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp, visible)
+    if scene.sensors.mrtd is not None:  # MRTD-limited thermal rows: their cycles from the curve
+        found = mrtd_rows.mrtd_factors(scene, found)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
         return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
@@ -1237,10 +1244,12 @@ def task_probabilities(
             n50,
             resolved.transform,
             resolved.options,
-            scr=pick(scr),
-            region=choices.region,
-            hot_spot=flag("hot"),
-            moving=flag("moving"),
+            clutter=Clutter(
+                scr=pick(scr),
+                region=choices.region,
+                hot_spot=flag("hot"),
+                moving=flag("moving"),
+            ),
             snr=pick(snr),
             noise=noise,
             motion=resolved.motion,
@@ -1416,6 +1425,7 @@ def evaluate_step(
             )
     if (
         not active.has_active(scene)
+        and scene.sensors.mrtd is None  # MRTD-limited rows: the cycles of factors()
         and _numpy_path(scene, s_pos, t_pos, headings, pointing, scr)
         and (visible_fraction is None or isinstance(visible_fraction, np.ndarray))
         and (moving is None or isinstance(moving, (np.ndarray, list, tuple)))

@@ -35,6 +35,7 @@ _V = TypeVar("_V")
 __all__ = [
     "LaserArrays",
     "ModelChoices",
+    "MrtdArrays",
     "PathArrays",
     "RadarArrays",
     "SceneArrays",
@@ -152,6 +153,9 @@ class SensorArrays:
         sensor-level fusion takes the best of them (:func:`targetacq.fusion.fuse_groups`) and the
         step API draws their outcomes from the same random stream. Empty: every row is its own
         group.
+    mrtd : MrtdArrays or None
+        The rows whose resolution is MRTD-limited (thermal sensors with an ``mrtd`` curve);
+        None where no sensor has one.
     """
 
     cycle: Any
@@ -167,11 +171,37 @@ class SensorArrays:
     pointed: tuple[bool, ...] = _static()
     has_noise: bool = _static(False)
     groups: tuple[str, ...] = _static(())
+    mrtd: MrtdArrays | None = None
 
     @property
     def group_names(self) -> tuple[str, ...]:
         """The group of every row: :attr:`groups`, or the row's own name where it is empty."""
         return self.groups or self.names
+
+
+@pytree_record
+@dataclass(frozen=True)
+class MrtdArrays:
+    """The sensor rows whose resolution is MRTD-limited (:mod:`targetacq.mrtd`), one entry each.
+
+    The cycles on target of these rows are ``f*(τ ΔT) · d / R`` (:func:`targetacq.mrtd.mrtd_cycles`)
+    instead of the geometric ``d / (R · cycle)``, with ΔT the pair's exitance contrast turned into
+    the blackbody temperature difference that gives it at the reference temperature.
+
+    Attributes
+    ----------
+    exitance_slope : array (n_m,)
+        ``∂M_bb,band/∂T`` of each row's band at its reference temperature (the sensor's
+        ``netd_temperature``) [W/(m²·K)]: the contrast [W/m²] over it is ΔT [K].
+    rows : tuple of int
+        The rows among the scene's sensors.
+    curves : tuple of targetacq.mrtd.MrtdCurve
+        Each row's curve (static: the kernel's tables are constants under ``jax.jit``).
+    """
+
+    exitance_slope: Any
+    rows: tuple[int, ...] = _static()
+    curves: tuple[Any, ...] = _static()
 
 
 @pytree_record

@@ -19,7 +19,9 @@ that evaluate (``--engine``):
     NumPy arrays in and out; equal to the NumPy engine to about 1e-12. ``pip install
     'targetacq[jax]'``.
 ``auto``
-    ``numba`` where it is installed and compiles the scene's choices, else ``numpy``; the step
+    ``numba`` where it is installed and compiles the scene (its choices; no radars, laser
+    radars or MRTD-limited sensors: :func:`targetacq.engines.numba_engine.supported`), else
+    ``numpy``; the step
     API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a time's pairs go through the
     numba engine's pair kernels in one call each (``benchmarks/bench_step.py``).
 

@@ -67,12 +67,18 @@ def supported(scene: SceneArrays) -> str | None:
 
     It compiles the built-in choices: the transforms ``ttpf`` and ``c2nveo``, every noise model,
     motion rule and semantics of the registries. A transform, noise model, motion rule or
-    semantics given as an object of one's own runs on the NumPy engine only.
+    semantics given as an object of one's own runs on the NumPy engine only; a scene with
+    radars, laser radars or MRTD-limited sensors (a sensor's ``mrtd`` curve) on NumPy or JAX.
     """
     if scene.radar is not None or scene.laser is not None:
         return (
             "the numba engine compiles the imaging sensors; radars and laser radars run on "
             "engine='numpy' (or 'jax')"
+        )
+    if scene.sensors.mrtd is not None:
+        return (
+            "the numba engine compiles the geometric resolution; MRTD-limited sensors (a "
+            "sensor's mrtd curve) run on engine='numpy' (or 'jax')"
         )
     choices = scene.choices
     for what, value, codes in (

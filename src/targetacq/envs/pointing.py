@@ -1,9 +1,10 @@
 """Sensor pointing control: point gimballed cameras so that targets are acquired early.
 
-The environment steps a :class:`targetacq.Simulation`: one or more thermal cameras on one
-platform that flies a straight line over an area with targets, some standing, some driving. The
-agent chooses each camera's pointing every step; the model decides, with its search law and its
-nested detection → recognition → identification draws, what the cameras acquire.
+The environment steps a :class:`targetacq.Simulation`: one or more thermal cameras (or, with
+``camera_type``, TV or SWIR cameras) on one platform that flies a straight line over an area with
+targets, some standing, some driving. The agent chooses each camera's pointing every step; the
+model decides, with its search law and its nested detection → recognition → identification
+draws, what the cameras acquire.
 
 Observation (float32, one flat vector)
     the platform's position over the area's half-width; each camera's pointing (azimuth / π,
@@ -47,14 +48,22 @@ from gymnasium.error import ResetNeeded
 
 from targetacq.scenario import Atmosphere, Background, Scenario, Sensor, Target
 from targetacq.search import ShortVisitWarning
+from targetacq.sensors import SENSOR_TYPES, get_sensor_type
 
-__all__ = ["MAX_CAMERAS", "MAX_TARGETS", "SensorPointingEnv"]
+__all__ = ["CAMERA_TYPES", "MAX_CAMERAS", "MAX_TARGETS", "SensorPointingEnv"]
 
 MAX_CAMERAS = 64
 """Most cameras an environment takes (each adds its pointing to the observation)."""
 MAX_TARGETS = 10_000
 """Most targets an environment takes (each adds six numbers to the observation and a record
 to the model; 10⁹ ran out of memory)."""
+CAMERA_TYPES: tuple[str, ...] = tuple(
+    name for name, t in SENSOR_TYPES.items() if t.kind == "imaging" and t.table is None
+)
+"""The sensor types an environment's cameras can be: the imaging types of
+:data:`targetacq.sensors.SENSOR_TYPES` that need no table of their own (thermal, tv, swir). The
+scene gives every target a temperature and (but for thermal cameras) a reflectance, and the
+background an in-band irradiance: what those types need."""
 
 _TASKS = ("detected", "recognised", "identified")
 """The cumulative fused flags of :class:`targetacq.simulation.StepResult` (``fused_<flag>``), in
@@ -84,6 +93,11 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         The cameras' focal length [m] (17 µm pixels, 640 × 512).
     render_mode : None
         No rendering.
+    camera_type : str
+        The cameras' sensor type, one of :data:`CAMERA_TYPES`: "thermal" (8-12 µm, clutter as
+        a 2 K temperature spread), or "tv" or "swir" (the type's default band; targets of
+        reflectance 0.1 on a background of 0.3 under 300 W/m², clutter a medium Table 3.5
+        region).
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's convention
@@ -99,7 +113,14 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         half_width: float = 3000.0,
         focal_length: float = 0.1,
         render_mode: str | None = None,
+        camera_type: str = "thermal",
     ) -> None:
+        if camera_type not in CAMERA_TYPES:
+            raise ValueError(
+                f"camera_type must be one of {', '.join(CAMERA_TYPES)} (the sensor types whose "
+                f"scene the environment builds), got {camera_type!r}"
+            )
+        self.camera_type = camera_type
         for label, count, most in (
             ("cameras", cameras, MAX_CAMERAS),
             ("targets", targets, MAX_TARGETS),
@@ -146,8 +167,8 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         sensors = [
             Sensor(
                 name=f"camera-{k}",
-                type="thermal",
-                band="lwir",
+                type=self.camera_type,
+                band="lwir" if get_sensor_type(self.camera_type).band_required else None,
                 pixels=(640, 512),
                 pitch=17e-6,
                 focal_length=self.focal_length,
@@ -163,6 +184,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
                 dimensions=(float(rng.uniform(4.0, 7.5)), 2.5, 2.5),
                 heading=float(rng.uniform(0.0, 2 * math.pi)),
                 temperature=float(rng.uniform(300.0, 315.0)),
+                reflectance=None if self.camera_type == "thermal" else 0.1,
                 position=(
                     float(rng.uniform(-self.half_width, self.half_width)),
                     float(rng.uniform(-self.half_width, self.half_width)),
@@ -174,7 +196,9 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         return Scenario(
             sensors=sensors,
             targets=targets,
-            background=Background(temperature=293.0, clutter_std=2.0),
+            background=Background(temperature=293.0, clutter_std=2.0)
+            if self.camera_type == "thermal"
+            else Background(temperature=293.0, reflectance=0.3, irradiance=300.0, clutter="medium"),
             atmosphere=Atmosphere(obscurant="haze"),
         )
 

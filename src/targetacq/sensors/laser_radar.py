@@ -77,11 +77,10 @@ def requirements(scenario: Any) -> list[str]:
         if atm.obscurant is not None:
             try:
                 atmosphere.extinction_for_band(s.limits, obscurant=atm.obscurant)
-            except ValueError:
+            except ValueError as error:
                 problems.append(
-                    f"atmosphere.obscurant: the Table 7.1 obscurants are given for the visible, "
-                    f"mwir and lwir bands; for the laser radar sensors[{k}] (band {s.band}) give "
-                    "atmosphere.extinction"
+                    f"atmosphere.obscurant: {error}; for the laser radar sensors[{k}] (band "
+                    f"{s.band}) give atmosphere.extinction"
                 )
     problems += [
         f"sensors[{k}].band: a laser radar needs its band (the laser's wavelength, e.g. "

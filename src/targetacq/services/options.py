@@ -1,7 +1,8 @@
 """The options of a range case, defined once for every front end, and lists of them.
 
-:data:`RANGE_CASE_OPTIONS` names every keyword of
-:func:`targetacq.services.range_case.range_setup` with its type, help text and group: the CLI
+:data:`RANGE_CASE_OPTIONS` names every field of
+:class:`targetacq.services.range_case.RangeOptions` (the input of
+:func:`~targetacq.services.range_case.range_setup`) with its type, help text and group: the CLI
 builds its options from it (:mod:`targetacq.cli.options`), and a web form can too.
 
 Any option may take a list of values separated by commas (``focal_length="35mm,50mm,75mm"``);
@@ -13,10 +14,9 @@ several sets are separated by ``;``).
 
 from __future__ import annotations
 
-import inspect
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 from targetacq.acquisition import ACQUISITION_SEMANTICS
@@ -25,7 +25,7 @@ from targetacq.bands import BANDS
 from targetacq.criteria import CRITERIA
 from targetacq.noise import NOISE_MODELS
 from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
-from targetacq.services.range_case import PIXEL_DENSITY_DEFINITIONS, range_setup
+from targetacq.services.range_case import PIXEL_DENSITY_DEFINITIONS, RangeOptions
 from targetacq.targets import TARGETS
 from targetacq.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 
@@ -269,10 +269,10 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         MODEL,
     ),
 )
-"""Every option of :func:`~targetacq.services.range_case.range_setup` but ``example`` (a flag,
-added by :func:`range_case_options`) and ``default_probability`` (the command's own)."""
+"""Every field of :class:`~targetacq.services.range_case.RangeOptions` but ``example`` (a flag,
+added by :func:`targetacq.cli.options.range_case_options`)."""
 
-_NOT_OPTIONS = {"example", "default_probability"}
+_NOT_OPTIONS = {"example"}
 
 LIST_SEPARATORS = {"n50": ";", "probability": None}
 """How an option separates a list of values: ``,`` unless named here (None: never a list)."""
@@ -281,9 +281,9 @@ _SPECS = {spec.name: spec for spec in RANGE_CASE_OPTIONS}
 
 
 def option_coverage() -> tuple[set[str], set[str]]:
-    """The keywords of ``range_setup`` that have no option here, and the options here that
-    ``range_setup`` does not take (both empty: a test keeps them so)."""
-    wanted = set(inspect.signature(range_setup).parameters) - _NOT_OPTIONS
+    """The fields of ``RangeOptions`` that have no option here, and the options here that
+    ``RangeOptions`` does not have (both empty: a test keeps them so)."""
+    wanted = {f.name for f in fields(RangeOptions)} - _NOT_OPTIONS
     have = set(_SPECS)
     return wanted - have, have - wanted
 

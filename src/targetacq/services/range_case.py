@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -40,6 +41,7 @@ _SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
 
 __all__ = [
     "PIXEL_DENSITY_DEFINITIONS",
+    "RangeOptions",
     "RangeSetup",
     "dri_report",
     "option_band",
@@ -316,7 +318,8 @@ def option_path(
         level = level or "nominal"
         option_choice(level, EXTINCTION_LEVELS, "--obscurant level")
         weather["obscurant"] = f"{name}:{level}"
-        source = f"Table 7.1: {name}, {level}, {band_name(band)}"
+        named = band_name_or_none(band) or f"{band[0] * 1e6:g}-{band[1] * 1e6:g} um"
+        source = f"Table 7.1: {name}, {level}, {named}"
     elif visibility is not None:
         if band is not None and band_name_or_none(band) != "visible":
             raise ValueError(
@@ -435,6 +438,147 @@ def _clutter(
 
 
 @dataclass(frozen=True)
+class RangeOptions:
+    """The options of a range case as typed: the input of :func:`range_setup`.
+
+    Every field is the text of one option of ``targetacq dri`` (``--focal-length`` is
+    ``focal_length``), with its unit where it is a quantity (``"17um"``), or None where the option
+    is not given; a few are numbers already (``pixels``, ``f_number``, ``scr``, ``emissivity``,
+    ``background_emissivity``, ``nec``, ``contrast``). :func:`range_setup` checks them all. The
+    help text of each option is :data:`targetacq.services.options.RANGE_CASE_OPTIONS`.
+
+    Attributes
+    ----------
+    pitch, focal_length : str, optional
+        Pixel pitch and focal length [length], e.g. ``"17um"``, ``"75mm"``.
+    ifov, hfov : str, optional
+        Pixel IFOV, or the horizontal field of view across ``pixels`` [angle], e.g.
+        ``"0.227mrad"``, ``"12deg"``.
+    pixels : int, optional
+        Pixels across ``hfov``.
+    projection, pixel_density : str, optional
+        How ``hfov`` over ``pixels`` gives the IFOV
+        (:data:`targetacq.optics.FIELD_OF_VIEW_PROJECTIONS`), and how EN 62676-4 counts pixel
+        density (:data:`PIXEL_DENSITY_DEFINITIONS`).
+    aperture, wavelength : str, optional
+        Aperture diameter and wavelength of the diffraction limit [length].
+    f_number : float, optional
+        Lens F-number, instead of ``aperture`` (aperture = focal length / F#) [1].
+    blur : str, optional
+        Angular standard deviation of a Gaussian optics blur [angle].
+    critical_dimension : str, optional
+        The target's critical dimension [length], e.g. ``"2.3m"``.
+    target : str, optional
+        A named target (:data:`targetacq.targets.TARGETS`), instead of ``critical_dimension``.
+    criterion, n50 : str, optional
+        A criteria set by name, or user-defined N50s ``"D,R,I"`` [cycles].
+    transform, bound : str, optional
+        The transform and the c2nveo bound.
+    scr : float, optional
+        Signal-to-clutter ratio [1].
+    clutter : str, optional
+        Table 3.5 clutter region (low, medium, high).
+    band : str, optional
+        Sensor band, by name or as limits, e.g. ``"8-12um"``.
+    target_temperature, background_temperature : str, optional
+        [temperature], e.g. ``"305K"`` or ``"32degC"``.
+    emissivity, background_emissivity : float, optional
+        In [0, 1] [1].
+    clutter_std : str, optional
+        The background's temperature spread [temperature difference], e.g. ``"2K"``.
+    extinction : str, optional
+        Path extinction [extinction], e.g. ``"0.4/km"`` or ``"1.7dB/km"``.
+    obscurant, visibility, visibility_convention : str, optional
+        A Table 7.1 obscurant ``name[:level]``, or a visibility [length] and its convention.
+    noise_model : str, optional
+        :data:`targetacq.noise.NOISE_MODELS`.
+    netd, netd_temperature, delta_t : str, optional
+        The NETD [temperature difference], the temperature it is quoted at [temperature], and
+        the target's ΔT [temperature difference].
+    nec, contrast : float, optional
+        A TV camera's noise-equivalent contrast and the target's contrast [1].
+    target_area : str, optional
+        Area of the target as seen [area].
+    mrtd : str, optional
+        Path of an MRTD curve CSV (frequency [cycles/mrad], mrtd [K]).
+    semantics : str, optional
+        :data:`targetacq.acquisition.ACQUISITION_SEMANTICS`.
+    probability : str, optional
+        One probability or several separated by commas, e.g. ``"0.5,0.8"``.
+    example : bool
+        Fill the sensor and target not given from the bundled example camera.
+
+    Examples
+    --------
+    >>> RangeOptions.from_mapping({"pitch": "17um", "focal_length": "75mm"}).pitch
+    '17um'
+    >>> RangeOptions.from_mapping({"focal": "75mm"})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown range-case option(s) 'focal'; valid options: pitch, focal_length, ...
+    """
+
+    pitch: str | None = None
+    focal_length: str | None = None
+    ifov: str | None = None
+    hfov: str | None = None
+    pixels: int | None = None
+    projection: str | None = None
+    pixel_density: str | None = None
+    aperture: str | None = None
+    f_number: float | None = None
+    wavelength: str | None = None
+    blur: str | None = None
+    critical_dimension: str | None = None
+    target: str | None = None
+    criterion: str | None = None
+    n50: str | None = None
+    transform: str | None = None
+    bound: str | None = None
+    scr: float | None = None
+    clutter: str | None = None
+    band: str | None = None
+    target_temperature: str | None = None
+    background_temperature: str | None = None
+    emissivity: float | None = None
+    background_emissivity: float | None = None
+    clutter_std: str | None = None
+    extinction: str | None = None
+    obscurant: str | None = None
+    visibility: str | None = None
+    visibility_convention: str | None = None
+    noise_model: str | None = None
+    netd: str | None = None
+    netd_temperature: str | None = None
+    delta_t: str | None = None
+    nec: float | None = None
+    contrast: float | None = None
+    target_area: str | None = None
+    mrtd: str | None = None
+    semantics: str | None = None
+    probability: str | None = None
+    example: bool = False
+
+    @classmethod
+    def from_mapping(cls, options: Mapping[str, Any]) -> RangeOptions:
+        """The options of a mapping of option name to value (None: not given).
+
+        Raises
+        ------
+        ValueError
+            If a key is not an option, naming it and the valid options.
+        """
+        valid = [f.name for f in fields(cls)]
+        unknown = [key for key in options if key not in valid]
+        if unknown:
+            raise ValueError(
+                f"unknown range-case option(s) {', '.join(repr(k) for k in unknown)}; valid "
+                f"options: {', '.join(valid)}"
+            )
+        return cls(**options)
+
+
+@dataclass(frozen=True)
 class RangeSetup:
     """Everything the dri, plot and report commands read from the sensor/target/path options:
     the range case, and for the output how the sensor, the path and the scene were given."""
@@ -463,70 +607,51 @@ class RangeSetup:
 
 
 def range_setup(
-    *,
-    pitch: str | None,
-    focal_length: str | None,
-    ifov: str | None,
-    hfov: str | None,
-    pixels: int | None,
-    projection: str | None,
-    pixel_density: str | None,
-    aperture: str | None,
-    f_number: float | None,
-    wavelength: str | None,
-    blur: str | None,
-    critical_dimension: str | None,
-    target: str | None,
-    criterion: str | None,
-    n50: str | None,
-    transform: str | None,
-    bound: str | None,
-    scr: float | None,
-    clutter: str | None,
-    band: str | None,
-    target_temperature: str | None,
-    background_temperature: str | None,
-    emissivity: float | None,
-    background_emissivity: float | None,
-    clutter_std: str | None,
-    extinction: str | None,
-    obscurant: str | None,
-    visibility: str | None,
-    visibility_convention: str | None,
-    noise_model: str | None,
-    netd: str | None,
-    netd_temperature: str | None,
-    delta_t: str | None,
-    nec: float | None,
-    contrast: float | None,
-    target_area: str | None,
-    mrtd: str | None,
-    semantics: str | None,
-    probability: str | None,
-    example: bool,
-    default_probability: str,
+    options: RangeOptions | Mapping[str, Any], default_probability: str = "0.5"
 ) -> RangeSetup:
     """The range case and its description from the options of `dri` (also `plot curves` and
     `report`, whose ``default_probability`` differs); every option checked finite and in its
-    domain, and every option that would be ignored refused, naming it."""
-    if transform is not None:
-        option_choice(transform, TRANSFORMS, "--transform")
-    if target is not None:
+    domain, and every option that would be ignored refused, naming it.
+
+    Parameters
+    ----------
+    options : RangeOptions or mapping
+        The options as typed (text with units), or a mapping of option name to value (None: not
+        given), read by :meth:`RangeOptions.from_mapping` (an unknown name raises).
+    default_probability : str
+        The probabilities asked for when ``options.probability`` is not given, e.g. ``"0.5"``.
+
+    Returns
+    -------
+    RangeSetup
+
+    Examples
+    --------
+    >>> setup = range_setup(RangeOptions(ifov="0.2mrad", critical_dimension="2.3m"))
+    >>> setup.case.transform, setup.probabilities
+    ('ttpf', [0.5])
+    """
+    o = options if isinstance(options, RangeOptions) else RangeOptions.from_mapping(options)
+    pitch, focal_length, aperture = o.pitch, o.focal_length, o.aperture
+    wavelength, critical_dimension = o.wavelength, o.critical_dimension
+    if o.transform is not None:
+        option_choice(o.transform, TRANSFORMS, "--transform")
+    if o.target is not None:
         if critical_dimension is not None:
             raise ValueError("give --target or --critical-dimension, not both")
         # a named target sets the critical dimension (and replaces --example's own target)
-        named = TARGETS[option_choice(target, TARGETS, "--target")]
+        named = TARGETS[option_choice(o.target, TARGETS, "--target")]
         critical_dimension = f"{named.critical_dimension!r}m"
-    if example:
+    if o.example:
         camera = example_camera()
-        if ifov is None and hfov is None and pixels is None:
+        if o.ifov is None and o.hfov is None and o.pixels is None:
             pitch = pitch or camera["pitch"]
             focal_length = focal_length or camera["focal_length"]
-        if blur is None:
+        if o.blur is None:
             aperture = aperture or camera["aperture"]
             wavelength = wavelength or camera["wavelength"]
         critical_dimension = critical_dimension or camera["critical_dimension"]
-    sized = not _pixel_density(criterion, n50)
+    sized = not _pixel_density(o.criterion, o.n50)
     if critical_dimension is None:
         if sized:
             raise ValueError(
@@ -536,86 +661,90 @@ def range_setup(
         # target's size: a placeholder the case needs and no output reports.
         critical_dimension = "1m"
     d = option_quantity(critical_dimension, "length", "--critical-dimension")
-    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, ifov, hfov, pixels, projection)
+    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, o.ifov, o.hfov, o.pixels, o.projection)
     optics_kw: dict[str, Any] = {}
-    if f_number is not None:
+    if o.f_number is not None:
         if aperture is not None:
             raise ValueError("give --aperture or --f-number, not both")
         if "focal_length_m" not in sensor:
             raise ValueError("--f-number needs --focal-length (aperture = focal length / F#)")
-        sensor["f_number"] = _number(f_number, "--f-number", "> 0")
+        sensor["f_number"] = _number(o.f_number, "--f-number", "> 0")
         if wavelength is None:
             raise ValueError("--f-number gives the aperture for diffraction: give --wavelength")
-    if (aperture is None and f_number is None) != (wavelength is None):
+    if (aperture is None and o.f_number is None) != (wavelength is None):
         raise ValueError("--aperture and --wavelength go together (diffraction limit)")
     if wavelength is not None:
         optics_kw["aperture"] = (
-            sensor["focal_length_m"] / f_number
-            if f_number is not None
+            sensor["focal_length_m"] / o.f_number
+            if o.f_number is not None
             else option_quantity(str(aperture), "length", "--aperture")
         )
         optics_kw["wavelength"] = option_quantity(wavelength, "length", "--wavelength")
-    if blur is not None:
-        optics_kw["blur_sigma"] = parse_quantity(blur, "angle", "--blur")
+    if o.blur is not None:
+        optics_kw["blur_sigma"] = parse_quantity(o.blur, "angle", "--blur")
         if not 0 <= optics_kw["blur_sigma"] < math.pi:
-            raise ValueError(f"--blur must be in [0, 180) deg; got {blur!r}")
-    if n50 is not None and criterion is not None:
+            raise ValueError(f"--blur must be in [0, 180) deg; got {o.blur!r}")
+    if o.n50 is not None and o.criterion is not None:
         raise ValueError("give either --criterion or --n50, not both")
     crit = (
-        option_criterion(n50)
-        if n50 is not None
+        option_criterion(o.n50)
+        if o.n50 is not None
         else get_criterion(
-            option_choice("johnson" if criterion is None else criterion, CRITERIA, "--criterion")
+            option_choice(
+                "johnson" if o.criterion is None else o.criterion, CRITERIA, "--criterion"
+            )
         )
     )
     if not crit.gives_probabilities:
         # A pixel-density criterion gives thresholds, one range each: no probability, no
         # transform, no semantics, and pixel density counted its own way (--pixel-density).
         for option, value in (
-            ("--probability", probability),
-            ("--transform", transform),
-            ("--semantics", semantics),
-            ("--projection", projection),
+            ("--probability", o.probability),
+            ("--transform", o.transform),
+            ("--semantics", o.semantics),
+            ("--projection", o.projection),
         ):
             if value is not None:
                 raise ValueError(
                     f"--criterion {crit.name} gives pixel-density thresholds; {option} does "
                     "not apply"
                 )
-    options: dict[str, Any] = {}
-    if bound is not None:
-        options["bound"] = option_choice(bound, C2NVEO_BOUNDS, "--bound")
-    band_limits_m = option_band(band) if band is not None else None
-    path = option_path(extinction, obscurant, visibility, visibility_convention, band_limits_m)
+    transform_options: dict[str, Any] = {}
+    if o.bound is not None:
+        transform_options["bound"] = option_choice(o.bound, C2NVEO_BOUNDS, "--bound")
+    band_limits_m = option_band(o.band) if o.band is not None else None
+    path = option_path(
+        o.extinction, o.obscurant, o.visibility, o.visibility_convention, band_limits_m
+    )
     scene = _clutter(
-        scr,
-        clutter,
-        clutter_std,
-        target_temperature,
-        background_temperature,
-        emissivity,
-        background_emissivity,
+        o.scr,
+        o.clutter,
+        o.clutter_std,
+        o.target_temperature,
+        o.background_temperature,
+        o.emissivity,
+        o.background_emissivity,
         band_limits_m,
     )
-    if noise_model is not None:
-        option_choice(noise_model, NOISE_MODELS, "--noise-model")
-    if semantics is not None:
-        option_choice(semantics, ACQUISITION_SEMANTICS, "--semantics")
-    if pixel_density is not None:
-        option_choice(pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
+    if o.noise_model is not None:
+        option_choice(o.noise_model, NOISE_MODELS, "--noise-model")
+    if o.semantics is not None:
+        option_choice(o.semantics, ACQUISITION_SEMANTICS, "--semantics")
+    if o.pixel_density is not None:
+        option_choice(o.pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
     if not crit.gives_probabilities and "hfov_rad" in sensor:
         # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
-        density = pixel_density or "plane"
+        density = o.pixel_density or "plane"
         ifov_rad = float(
             optics.ifov_from_field_of_view(
-                sensor["hfov_rad"], pixels, PIXEL_DENSITY_DEFINITIONS[density]
+                sensor["hfov_rad"], o.pixels, PIXEL_DENSITY_DEFINITIONS[density]
             )
         )
         sensor["pixel_density"] = density
-    elif pixel_density is not None:
+    elif o.pixel_density is not None:
         raise ValueError("--pixel-density applies to a pixel-density criterion with --hfov")
     noise_kw = _sensor_noise(
-        netd, netd_temperature, delta_t, nec, contrast, mrtd, scene, band_limits_m
+        o.netd, o.netd_temperature, o.delta_t, o.nec, o.contrast, o.mrtd, scene, band_limits_m
     )
     if (
         scene.get("contrast_w_per_m2") == 0.0
@@ -631,26 +760,26 @@ def range_setup(
             UserWarning,
             stacklevel=2,
         )
-    if target_area is not None:
+    if o.target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
-        noise_kw["target_area"] = option_quantity(target_area, "area", "--target-area")
+        noise_kw["target_area"] = option_quantity(o.target_area, "area", "--target-area")
     case = RangeCase(
         d,
         ifov_rad,
         **optics_kw,
         **noise_kw,
-        semantics=semantics or "nested",
+        semantics=o.semantics or "nested",
         criterion=crit,
-        transform=transform or "ttpf",
-        options=options,
+        transform=o.transform or "ttpf",
+        options=transform_options,
         # a zero extinction (--extinction 0/km) is a clear path: no noise from it
         extinction=path.get("extinction_np_per_m") or None,
         scr=scene.get("scr"),
         region=scene.get("region"),
-        noise_model=noise_model or "variance-sum",
+        noise_model=o.noise_model or "variance-sum",
     )
-    if noise_model is not None and not case.noisy:
+    if o.noise_model is not None and not case.noisy:
         raise ValueError(
             "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
             "--visibility, --netd or --nec"
@@ -661,7 +790,7 @@ def range_setup(
         path=path,
         scene=scene,
         probabilities=option_probabilities(
-            default_probability if probability is None else probability
+            default_probability if o.probability is None else o.probability
         ),
         sized=sized,
     )

@@ -61,7 +61,7 @@ _PRINTED: dict[str, tuple[tuple[str, ...], dict[tuple[str, str], tuple[str, ...]
 
 def _model_ranges(pitch_m: float, focal_m: Any, critical_dimension: float) -> dict[str, Any]:
     ifov = optics.ifov(pitch_m, focal_m)
-    return ranges.dri_ranges(critical_dimension, ifov, criterion=_CRITERION, probability=0.5)
+    return ranges.dri_ranges(ranges.RangeCase(critical_dimension, ifov, criterion=_CRITERION), 0.5)
 
 
 def vendor_section() -> Section:
@@ -98,8 +98,8 @@ def vendor_section() -> Section:
         title="A vendor's DRI ranges (thermal camera datasheet)",
         source=VENDOR_SOURCE + ". The guide states P = 50 %, a vehicle of 2.3 m and a person "
         "whose width 'cannot exceed 0.75 m'.",
-        method="targetacq.ranges.dri_ranges(d, targetacq.optics.ifov(pitch, focal length), "
-        f"criterion='{_CRITERION}', probability=0.5) (the TTPF's 50 % point, 1.5 / 6 / 12 "
+        method="targetacq.ranges.dri_ranges(RangeCase(d, targetacq.optics.ifov(pitch, focal "
+        f"length), criterion='{_CRITERION}'), 0.5) (the TTPF's 50 % point, 1.5 / 6 / 12 "
         "pixels = 0.75 / 3 / 6 cycles), d = 2.3 m (vehicle) or 0.75 m (person).",
         checks=tuple(checks),
         notes="No atmosphere, clutter or optics limit: the datasheet assumes fine weather and "

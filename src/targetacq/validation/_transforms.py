@@ -107,7 +107,9 @@ def johnson_section() -> Section:
         for method, options in methods:
             p = acquisition.probability(n50, task, "johnson", method, **options)
             checks.append(_half_check(f"P at the Table 3.2 N50 = {printed}: {task}, {method}", p))
-    p = acquisition.probability(1.0, "detection", "johnson", region="medium")
+    p = acquisition.probability(
+        1.0, "detection", "johnson", clutter=acquisition.Clutter(region="medium")
+    )
     checks.append(
         _half_check("P at the Table 3.2 N50 = 1.0: detection, schmieder-weathersby medium", p)
     )

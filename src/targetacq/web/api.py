@@ -67,7 +67,7 @@ from contextlib import asynccontextmanager, contextmanager
 from dataclasses import dataclass
 from difflib import get_close_matches
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -86,6 +86,7 @@ from pydantic import (
 from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from targetacq.datasets import DOWNLOAD_FORMATS, MEDIA_TYPES
 from targetacq.outputs import json_text
 from targetacq.plausibility import collected
 from targetacq.scenario import Scenario, ScenarioError, parse_scenario
@@ -306,12 +307,23 @@ CurvesRequest = create_model(
 )
 
 
+_FILE_FORMATS = tuple(name for name in DOWNLOAD_FORMATS if name != "json")
+"""The formats of ``POST /evaluate`` answered as a file, from the writers' registry (json is the
+arrays themselves)."""
+
+if TYPE_CHECKING:
+    EvaluateFormat = str
+else:
+    EvaluateFormat = Literal[("json", *_FILE_FORMATS)]
+
+
 class EvaluateRequest(_Body):
     """A scenario to evaluate, and the form of the results."""
 
     scenario: str = Field(description="The scenario, as the text of a TOML file.")
-    format: Literal["json", "csv", "parquet"] = Field(
-        default="json", description="json: the arrays; csv or parquet: the table as a file."
+    format: EvaluateFormat = Field(
+        default="json",
+        description=f"json: the arrays; {' or '.join(_FILE_FORMATS)}: the table as a file.",
     )
 
 
@@ -602,7 +614,7 @@ def _setup(body: BaseModel) -> Any:
             [(["body", "probability"], f"at most {MAX_PROBABILITIES} probabilities; got {listed}")],
         )
     with _library_errors(_OPTION_NAMES):
-        return range_setup(**typed_options(options, "dri"), default_probability="0.5")
+        return range_setup(typed_options(options, "dri"), "0.5")
 
 
 def _no_curves(setup: Any) -> str | None:
@@ -661,8 +673,8 @@ def _curves(body: BaseModel) -> dict[str, Any]:
 
 
 def _scenario(text: str) -> tuple[Scenario, list[str]]:
-    """A scenario from TOML text, and its plausibility warnings; one that names a file is
-    refused."""
+    """A scenario from TOML text, and its plausibility warnings; one that names a file (an
+    image, a terrain map, an MRTD curve) is refused."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -683,6 +695,19 @@ def _scenario(text: str) -> tuple[Scenario, list[str]]:
                         )
                     ],
                 )
+    sensors = data.get("sensors")
+    for k, sensor in enumerate(sensors if isinstance(sensors, list) else []):
+        if isinstance(sensor, dict) and sensor.get("mrtd") is not None:
+            raise ApiError(
+                422,
+                [
+                    (
+                        ["scenario", f"sensors[{k}].mrtd"],
+                        f"{_FILES_REFUSED}: give a scenario without sensors[{k}].mrtd (run it "
+                        "with targetacq evaluate FILE instead)",
+                    )
+                ],
+            )
     with _library_errors(), collected() as found:
         scenario = parse_scenario(data, source="scenario")
     return scenario, [message.removeprefix("scenario: ") for message in found]
@@ -782,10 +807,9 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
                 name = f"results.{body.format}"
                 written = results.write(Path(folder) / name)
                 content = written.read_bytes()
-            media = "text/csv" if body.format == "csv" else "application/vnd.apache.parquet"
             return Response(
                 content,
-                media_type=media,
+                media_type=MEDIA_TYPES[body.format],
                 headers={
                     "Content-Disposition": f"attachment; filename={name}",
                     **_warnings_header(found),

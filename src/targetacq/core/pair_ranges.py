@@ -178,6 +178,16 @@ def pair_performance(
     -------
     targetacq.ranges.RangePerformance
         Cases labelled ``"sensor → target"``, with no :class:`RangeCase` behind them.
+
+    Examples
+    --------
+    >>> from targetacq.model import ModelChain
+    >>> from targetacq.scenario import load_scenario
+    >>> chain = ModelChain(load_scenario("examples/two_sensors_fused.toml"))
+    >>> dri = pair_performance(chain, [1], [0.5]).dri  # row 1: the thermal sensor
+    >>> row = dri[(dri["case"] == "thermal → soldier") & (dri["task"] == "detection")]
+    >>> bool(row["reached"].iloc[0]), bool(row["range_m"].iloc[0] > 1e3)
+    (True, True)
     """
     import pandas as pd
     import xarray as xr

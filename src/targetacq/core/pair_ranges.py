@@ -1,13 +1,14 @@
 """Range performance of a scenario's sensor-target pairs through the array core.
 
-The one evaluator of a scenario's DRI ranges (``targetacq dri SCENARIO``, ``plot curves`` and
-``report`` of a scenario), for every sensor type: :func:`pair_performance` moves each target
-along the ground, away from the sensor along the bearing it has at the scenario's start (its
-height and heading kept), evaluates the core at every slant range of a grid, and finds each
-task's range for each probability by bisection on the core itself. So everything the core knows
-is in the ranges: the outline seen from each position, MRTD curves, a sensor's own noise over
-the target's outline, path segments and local clouds where the target would stand, the radar
-equation and resolution cell, a laser radar's two-way path.
+The one evaluator of a scenario's DRI ranges (``targetacq dri SCENARIO`` and a scenario's
+report, on the command line and the web), for every sensor type: :func:`pair_performance`
+moves each target along the ground, away from the sensor along the bearing it has at the
+scenario's start (its height and heading kept), evaluates the core at every slant range of a
+grid, and finds each task's range for each probability by bisection on the core itself. So
+everything the core knows is in the ranges: the outline seen from each position, MRTD curves, a
+sensor's own noise over the target's outline, path segments and local clouds where the target
+would stand, the radar equation and resolution cell, a laser radar's two-way path. A slant
+range shorter than the height between sensor and target has no place on the line (NaN).
 
 What the line of ranges does with the rest of a scenario:
 

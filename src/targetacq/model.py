@@ -341,8 +341,10 @@ class ModelChain:
         with an MRTD curve gives MRTD-limited cases: its curve, with the contrast and the NETD
         as temperature differences (over the band's ``∂M_bb/∂T`` at ``netd_temperature``, as
         the core has them: :mod:`targetacq.core.mrtd_rows`). Imaging
-        sensors only: a radar's or laser radar's range performance comes from the core
-        (:func:`targetacq.core.pair_ranges.pair_performance`).
+        sensors only. A scenario's ranges in ``targetacq dri`` and its report (command
+        line and web) do not use these cases: they come from the core for every sensor type
+        (:func:`targetacq.core.pair_ranges.pair_performance`), with the outline seen from each
+        range and the path where the target would stand.
 
         Examples
         --------

@@ -16,10 +16,10 @@ from typing import Any
 
 from targetacq import ranges
 from targetacq.core.cases import RangeCase
-from targetacq.criteria import get_criterion
 from targetacq.model import ModelChain
 from targetacq.noise import NOISE_MODELS
 from targetacq.scenario import load_scenario
+from targetacq.sensors import get_sensor_type
 from targetacq.services.range_case import RangeSetup, option_quantity
 from targetacq.transforms import TRANSFORMS
 
@@ -144,6 +144,15 @@ def performance_and_note(
         limit = f"the automatic limit of {MAX_AUTO_RANGE / 1e3:g} km"
     grid = [r_max * (k + 1) / 600 for k in range(600)]
     performance = ranges.range_performance(grid, cases, probabilities)
+    note = stop_note(performance, r_max, limit)
+    if requirement is not None:
+        p_text = "" if requirement[1] is None else f"P ≥ {requirement[1]:g} "
+        note += f" Star and dashed line: the requirement, {p_text}at {requirement[0]:,.0f} m."
+    return performance, note + " Dots: the DRI ranges of the table."
+
+
+def stop_note(performance: Any, r_max: float, limit: str) -> str:
+    """Where the curves stop and why, naming the pairs still at or above :data:`FLOOR`."""
     last = performance.curves.isel(range=-1)
     above = [
         f"P({task}) {float(last[task].sel(case=case)):.2f} for {case}"
@@ -153,21 +162,16 @@ def performance_and_note(
         if float(last[task].sel(case=case)) >= FLOOR
     ]
     if above:
-        note = (
+        return (
             f"The curves stop at {r_max / 1e3:.4g} km ({limit}), where "
             + ", ".join(above[:6])
             + (" and more" if len(above) > 6 else "")
             + f" (still at or above {FLOOR:.0%})."
         )
-    else:
-        note = (
-            f"The curves are drawn out to {r_max / 1e3:.4g} km, where every task's probability "
-            f"is below {FLOOR:.0%}."
-        )
-    if requirement is not None:
-        p_text = "" if requirement[1] is None else f"P ≥ {requirement[1]:g} "
-        note += f" Star and dashed line: the requirement, {p_text}at {requirement[0]:,.0f} m."
-    return performance, note + " Dots: the DRI ranges of the table."
+    return (
+        f"The curves are drawn out to {r_max / 1e3:.4g} km, where every task's probability "
+        f"is below {FLOOR:.0%}."
+    )
 
 
 def atmosphere_figures(
@@ -197,31 +201,36 @@ def atmosphere_figures(
 
 
 def scenario_performance(
-    chain: Any, cases: Mapping[str, RangeCase], max_range: str | None, probabilities: list[float]
+    chain: Any, max_range: str | None, probabilities: list[float], axis: bool = True
 ) -> tuple[Any, str]:
-    """Range performance of a scenario's pairs: the imagers' range cases, and the radars' and
-    laser radars' pairs through the core (:func:`targetacq.core.pair_ranges.pair_performance`),
-    on one range axis."""
-    import pandas as pd
-    import xarray as xr
+    """Range performance of every sensor-target pair of a scenario, any sensor type, through
+    the core (:func:`targetacq.core.pair_ranges.pair_performance`), and a caption saying where
+    the curves stop.
 
+    The range axis goes out to --max-range; by default (with ``axis``) to a quarter beyond the
+    farthest DRI range, as the analyst's curves have it (a second pass of the core on that
+    grid), else to where every task of every pair is below 0.02 (1, 2, 4, … km).
+    """
     from targetacq.core.pair_ranges import pair_performance
-    from targetacq.ranges import RangePerformance
-    from targetacq.sensors import get_sensor_type
 
-    types = chain.compiled.scene.sensors.types
-    rows = [k for k, kind in enumerate(types) if get_sensor_type(kind).kind != "imaging"]
-    if not rows:
-        return performance_and_note(cases, max_range, probabilities)
-    limit = None if max_range is None else option_quantity(max_range, "length", "--max-range")
-    active = pair_performance(chain, rows, probabilities, max_range=limit)
-    if not cases:
-        r_max = float(active.curves["range"].values[-1])
-        return active, f"Curves to {r_max / 1e3:g} km (radars and laser radars: the core)."
-    performance, note = performance_and_note(cases, max_range, probabilities)
-    curves = xr.concat([performance.curves, active.curves], dim="case", join="outer")
-    dri = pd.concat([performance.dri, active.dri], ignore_index=True)
-    return RangePerformance(curves=curves, dri=dri, cases=performance.cases), note
+    rows = list(range(len(chain.compiled.scene.sensors.names)))
+    how = (
+        " Every pair through the core, each target moved away from the sensor along its start "
+        "bearing. Dots: the DRI ranges of the table."
+    )
+    if max_range is not None:
+        r_max = option_quantity(max_range, "length", "--max-range")
+        performance = pair_performance(chain, rows, probabilities, max_range=r_max)
+        return performance, stop_note(performance, r_max, f"--max-range {max_range}") + how
+    performance = pair_performance(chain, rows, probabilities, limit=MAX_AUTO_RANGE)
+    found = [float(r) for r in performance.dri["range_m"] if math.isfinite(r) and r > 0]
+    if axis and found:
+        r_max = min(1.25 * max(found), MAX_AUTO_RANGE)
+        performance = pair_performance(chain, rows, probabilities, max_range=r_max)
+        limit = "a quarter beyond the farthest DRI range of the table"
+        return performance, stop_note(performance, r_max, limit) + how
+    r_max = float(performance.curves["range"].values[-1])
+    return performance, stop_note(performance, r_max, "the automatic limit") + how
 
 
 def scenario_report(
@@ -238,8 +247,7 @@ def scenario_report(
 
     scenario = load_scenario(path)
     chain = ModelChain(scenario)
-    cases = chain.range_cases()
-    performance, note = scenario_performance(chain, cases, max_range, probabilities)
+    performance, note = scenario_performance(chain, max_range, probabilities)
     heading = title or (scenario.name or path)
     model = scenario.model
     atm = scenario.atmosphere
@@ -278,16 +286,21 @@ def scenario_report(
         + (", hot spot" if t.hot_spot else "")
         for g, t in enumerate(scenario.targets)
     }
+    scene = chain.compiled.scene
+    seen = chain.compute([scenario.time.start])["critical_dimension"][..., 0]
     case_items = {
-        label: f"critical dimension {case.critical_dimension:.3g} m (as seen at the start), "
-        f"IFOV {case.ifov * 1e3:.4g} mrad, criterion {get_criterion(case.criterion).name}"
-        for label, case in cases.items()
+        f"{sensor} → {target}": f"critical dimension {seen[s, g]:.3g} m at the start, IFOV "
+        f"{scene.sensors.ifov[s] * 1e3:.4g} mrad, criterion {chain.criteria[g].name}"
+        for s, sensor in enumerate(scene.sensors.names)
+        if get_sensor_type(scene.sensors.types[s]).kind == "imaging"
+        for g, target in enumerate(scene.targets.names)
     }
     sections = {
         "Scenario": {
             "file": path,
             "name": scenario.name or "(unnamed)",
-            "cases": "every sensor–target pair, critical dimension as seen at the start",
+            "cases": "every sensor–target pair through the core, each target moved away from "
+            "the sensor along its start bearing (its outline seen from each range)",
         },
         "Sensors": sensors,
         "Targets": targets,

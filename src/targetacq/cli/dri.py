@@ -69,7 +69,8 @@ def dri(
 
 def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -> str:
     """The DRI ranges of every sensor-target pair of a scenario, as ``targetacq report`` has
-    them (range cases for imagers, the core for radars and laser radars)."""
+    them: every sensor type through the core (:func:`targetacq.core.pair_ranges.pair_performance`:
+    each target moved away from the sensor along its start bearing, the sensor looking at it)."""
     from targetacq.cli.figures import _check_scenario_options
     from targetacq.model import ModelChain
     from targetacq.report_content import scenario_performance
@@ -79,7 +80,7 @@ def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -
     _check_scenario_options(case_options, "a scenario's dri", "--probability and --format")
     probabilities = option_probabilities(case_options.get("probability") or "0.5")
     chain = ModelChain(load_scenario(path))
-    performance, _ = scenario_performance(chain, chain.range_cases(), None, probabilities)
+    performance, _ = scenario_performance(chain, None, probabilities, axis=False)
     rows = [
         {
             "pair": str(r["case"]),
@@ -97,6 +98,12 @@ def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -
     for r in rows:
         reach = "not reached" if r["range_m"] is None else f"{r['range_m']:,.0f}"
         lines.append(f"  {r['pair']:<28} {r['task']:<15} P={r['probability']:<5g} {reach}")
+    if any(r["range_m"] is None for r in rows):
+        lines.append(
+            "(each target moved away from the sensor along its start bearing, its height kept: "
+            "'not reached' where the probability stays below P at every slant range from the "
+            "height between them outwards)"
+        )
     return "\n".join(lines) + "\n"
 
 

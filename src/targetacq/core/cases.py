@@ -3,7 +3,8 @@
 A :class:`RangeCase` is the typed record that every range front-end describes: the range
 solver (:func:`targetacq.ranges.dri_ranges`), the range-performance curves
 (:func:`targetacq.ranges.range_performance`), :func:`targetacq.scene_acquisition`, the CLI's
-``dri``, ``plot`` and ``report`` commands and :meth:`targetacq.model.ModelChain.range_cases`.
+``dri``, ``plot`` and ``report`` commands of the analyst's options (a scenario's ranges come from
+the core: :mod:`targetacq.core.pair_ranges`) and :meth:`targetacq.model.ModelChain.range_cases`.
 Its inputs are checked once, when it is made. :func:`case_acquisition` is the one place where
 a case becomes cycles on target, transmittance, SNR and the ordered probabilities at ranges
 (:func:`case_probability` gives one task's own curve, for the range solver); the physics is in

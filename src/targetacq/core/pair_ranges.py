@@ -1,14 +1,32 @@
 """Range performance of a scenario's sensor-target pairs through the array core.
 
-A range case (:class:`targetacq.core.cases.RangeCase`) describes an imager by its cycle and a
-path by its extinction; a radar's or a laser radar's probabilities depend on range through laws
-of their own (the radar equation, the resolution cell, the two-way path), which only the core
-computes. :func:`pair_performance` therefore moves each target along the ground, away from the
-sensor along the bearing it has at the scenario's start (its height kept), evaluates the core at
-every slant range of a grid (the field of view ignored: the curves are what the sensor can do
-where it looks), and finds each task's range for each probability by bisection on the core
-itself. Its result is a :class:`targetacq.core.cases.RangePerformance`, the same as the imagers'
-range cases give, so the report and the figures take both side by side.
+The one evaluator of a scenario's DRI ranges (``targetacq dri SCENARIO`` and a scenario's
+report, on the command line and the web), for every sensor type: :func:`pair_performance`
+moves each target along the ground, away from the sensor along the bearing it has at the
+scenario's start (its height and heading kept), evaluates the core at every slant range of a
+grid, and finds each task's range for each probability by bisection on the core itself. So
+everything the core knows is in the ranges: the outline seen from each position, MRTD curves, a
+sensor's own noise over the target's outline, path segments and local clouds where the target
+would stand, the radar equation and resolution cell, a laser radar's two-way path. A slant
+range shorter than the height between sensor and target has no place on the line (NaN).
+
+What the line of ranges does with the rest of a scenario:
+
+- **field of view**: ignored (``in_view`` true): the ranges are what the sensor can do where
+  it looks at the target. A scenario's pointing and field of view decide *when* a target is in
+  view (``evaluate``, ``simulate``), not how far it is seen: wherever the target is in view at
+  a DRI range, ``evaluate`` gives the asked probability there.
+- **terrain map**: used, around the target where it stands at the start: the SCR is the map's
+  window at the target's start position, its classes seen at the footprint ``R · IFOV`` of
+  each range (:func:`targetacq.core.evaluate.footprint_scr`). The target keeps its own
+  surroundings: moved along the line, it would cross other cells of the map (or leave it),
+  and a range curve would jump at their edges, so that a DRI range would be an edge of the
+  map rather than a range of the sensor.
+- **false targets** (``[false_targets]``): not in a pair's probabilities (they are a
+  simulation's false detections, as ``evaluate`` leaves them out too), so not in its ranges.
+
+Its result is a :class:`targetacq.core.cases.RangePerformance`, as the analyst's range cases give,
+so the report and the figures take it as they take those.
 """
 
 from __future__ import annotations
@@ -22,7 +40,7 @@ import numpy as np
 
 from targetacq.core.cases import RangePerformance
 from targetacq.core.compile import scenario_positions
-from targetacq.core.evaluate import factors, probabilities
+from targetacq.core.evaluate import factors, footprint_scr, probabilities
 
 __all__ = ["pair_performance"]
 
@@ -73,6 +91,17 @@ class _Pairs:
         headings = np.ascontiguousarray(np.broadcast_to(self.heading[:, None], targets.shape[:-1]))
         found = factors(scene, sensors, targets, headings)
         found = dataclasses.replace(found, in_view=np.ones(found.range.shape, dtype=bool))
+        terrain = self.chain.compiled.terrain
+        if terrain is not None:  # the map around the target where it stands, at each footprint
+            start = np.broadcast_to(self.targets[:, None, :], targets.shape)
+            scr = footprint_scr(
+                terrain,
+                found.range,
+                np.ascontiguousarray(start),
+                scene.signature.target,
+                np.asarray(scene.sensors.ifov),
+            )
+            found = dataclasses.replace(found, scr=scr)
         p = probabilities(scene, found)
         return np.stack([getattr(p, task)[row] for task in TASKS])
 
@@ -129,6 +158,11 @@ def pair_performance(
 ) -> Any:
     """Range curves and DRI ranges of sensor rows against every target, through the core.
 
+    Each target moves away from the sensor along its start bearing (see the module's notes on
+    the field of view, terrain maps and false targets); a DRI range is the farthest range of
+    the grid at which the task reaches the probability, refined by 48 bisections on the core
+    against the next range of the grid (to well below a millimetre).
+
     Parameters
     ----------
     chain : targetacq.model.ModelChain
@@ -146,6 +180,16 @@ def pair_performance(
     -------
     targetacq.core.cases.RangePerformance
         Cases labelled ``"sensor → target"``, with no :class:`RangeCase` behind them.
+
+    Examples
+    --------
+    >>> from targetacq.model import ModelChain
+    >>> from targetacq.scenario import load_scenario
+    >>> chain = ModelChain(load_scenario("examples/two_sensors_fused.toml"))
+    >>> dri = pair_performance(chain, [1], [0.5]).dri  # row 1: the thermal sensor
+    >>> row = dri[(dri["case"] == "thermal → soldier") & (dri["task"] == "detection")]
+    >>> bool(row["reached"].iloc[0]), bool(row["range_m"].iloc[0] > 1e3)
+    (True, True)
     """
     import pandas as pd
     import xarray as xr

@@ -2,12 +2,15 @@
 
 1. A 600-point sweep (30 focal lengths × 20 critical dimensions, probability 0.5) in clear air
    and in fog (``--band lwir --obscurant fog:low``: a bisection per point), through
-   :func:`targetacq.studies.sweep`: the block path (each block's points set up one by one, then
-   stacked into arrays and solved together) against the per-point path (each point set up and
-   solved alone, as the previous version did: ``studies._point`` per point) in the same run,
-   with the same assembly of the dataset. The numbers of both are checked equal (≤ 1e-12
-   relative, NaN where NaN). Also timed: the set-up of the 600 points alone (reading and
-   checking their options), the part of the block path that stays per point.
+   :func:`targetacq.studies.sweep`: the block path (each block's points read one by one into
+   SI numbers and choices, then stacked into arrays, made into one case per group and solved
+   together) against the per-point path (each point set up and solved alone, as the previous
+   version did: ``studies._point`` per point) in the same run, with the same assembly of the
+   dataset. The numbers of both are checked equal (≤ 1e-12 relative, NaN where NaN). Also
+   timed: the reading of the 600 points' options alone
+   (:func:`targetacq.services.range_case.read_range_options`, the part of the block path that
+   stays per point), and their whole set-up one at a time (``range_setup``: reading, the optics
+   kernels and the case's checks, per point as the per-point path does).
 2. ``targetacq sweep`` as a subprocess (``python -m targetacq``): 400 points (20 × 20) against 1
    point of the same options, CPU time of the child (user + system; one untimed run first to
    warm the file cache). The aim: 400 points cost at most 20× the CPU of 1 point.
@@ -42,6 +45,7 @@ import numpy as np
 
 from targetacq import studies
 from targetacq.services.options import option_product
+from targetacq.services.range_case import read_range_options
 from targetacq.studies import sweep
 
 FOG = {"band": "lwir", "obscurant": "fog:low"}
@@ -91,6 +95,7 @@ def same(a: np.ndarray, b: np.ndarray) -> None:
 def blocks_against_points(weather: bool, runs: int) -> dict[str, Any]:
     chosen = options(30, 20, weather)
     points = [full for _, full in option_product(studies._text_options(chosen))]
+    _, _, read_cpus = timed(lambda: [read_range_options(p, "0.5") for p in points], runs)
     _, _, setup_cpus = timed(lambda: [studies._setup(p, "0.5") for p in points], runs)
     new, walls, cpus = timed(lambda: sweep(chosen), runs)
     with per_point():
@@ -106,10 +111,12 @@ def blocks_against_points(weather: bool, runs: int) -> dict[str, Any]:
         "blocks_cpu_seconds": [round(t, 4) for t in cpus],
         "per_point_wall_seconds": [round(t, 4) for t in old_walls],
         "per_point_cpu_seconds": [round(t, 4) for t in old_cpus],
+        "read_cpu_seconds": [round(t, 4) for t in read_cpus],
         "setup_cpu_seconds": [round(t, 4) for t in setup_cpus],
         "blocks_points_per_second": round(n / min(cpus), 1),
         "per_point_points_per_second": round(n / min(old_cpus), 1),
         "blocks_us_per_point": round(min(cpus) / n * 1e6, 1),
+        "read_us_per_point": round(min(read_cpus) / n * 1e6, 1),
         "setup_us_per_point": round(min(setup_cpus) / n * 1e6, 1),
         "per_point_us_per_point": round(min(old_cpus) / n * 1e6, 1),
         "speedup_cpu": round(min(old_cpus) / min(cpus), 1),

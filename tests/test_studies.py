@@ -9,6 +9,7 @@ import itertools
 import json
 import math
 import os
+import re
 import socket
 import sys
 import time
@@ -456,9 +457,30 @@ def _mixed_points():
             semantics=["nested", "conditional"],
         ),
         _points(pitch="12um", focal_length=focal, criterion="en62676-4", probability=None),
+        _points(
+            hfov=["10deg", "24deg"],
+            pixels=["640", "1280"],
+            projection=["angular", "rectilinear"],
+            critical_dimension="2.3m",
+        ),
+        _points(
+            pitch="12um",
+            focal_length=focal,
+            pixels="640",
+            criterion="en62676-4",
+            pixel_density=["plane", "arc"],
+            probability=None,
+        ),
+        _points(
+            pitch="17um",
+            focal_length=focal,
+            f_number=["1", "1.4"],
+            wavelength="10um",
+            critical_dimension="2.3m",
+        ),
     ]
     mixed = [p for chunk in itertools.zip_longest(*groups) for p in chunk if p is not None]
-    assert len(mixed) == 36 + 16 + 16 + 3
+    assert len(mixed) == 36 + 16 + 16 + 3 + 8 + 6 + 6
     return mixed
 
 
@@ -487,6 +509,41 @@ def test_a_block_of_mixed_points_equals_each_point_alone():
         ("detection", "recognition", "identification"),
         ("monitoring", "detection", "observation", "recognition", "identification", "inspection"),
     }
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"focal_length": ["50mm", "-3mm", "75mm"]}, "--focal-length must be > 0"),
+        ({"critical_dimension": ["2.3m", "nanm"]}, "--critical-dimension"),
+        # 1e-320 m over 1e9 m underflows to an IFOV of 0: the kernel's check, on the arrays
+        ({"pitch": ["12um", "1e-320m"], "focal_length": "1e9m"}, "--pitch 1e-320m over"),
+        ({"pitch": ["12um", "1e9m"], "focal_length": ["1mm", "2mm"]}, "--pitch 1e9m over"),
+        (
+            {"hfov": ["10deg", "190deg"], "pixels": "640", "pitch": None, "focal_length": None},
+            "--hfov must be in",
+        ),
+        ({"noise_model": "variance-sum", "obscurant": ["fog:low", "none"]}, "--noise-model"),
+    ],
+)
+def test_a_bad_value_in_a_block_is_the_error_of_its_point_alone(options, message):
+    """A bad value among good ones: the block raises the ValueError of that point computed
+    alone (naming the option and the value), whichever group it falls in."""
+    from targetacq.services.range_case import range_setup
+
+    chosen = {"pitch": "12um", "focal_length": "50mm", "critical_dimension": "2.3m"}
+    chosen |= {"band": "lwir"} | options
+    points = _points(**{k: v for k, v in chosen.items() if v is not None})
+    errors = []
+    for point in points:
+        try:
+            range_setup(point, "0.5")
+        except ValueError as error:
+            errors.append(str(error))
+    assert len(errors) >= 1 and message in errors[0]
+    with pytest.raises(ValueError, match=re.escape(message)) as raised:
+        studies._block(points, None, "0.5")
+    assert str(raised.value) == errors[0]
 
 
 def test_a_block_at_ranges_equals_each_point_alone():

@@ -5,9 +5,10 @@ range_setup`), any of which may be a list, and computes every combination as a s
 run computes it (``range_setup`` then :func:`targetacq.ranges.case_ranges` per probability), so
 each number equals the one ``targetacq dri`` prints for that combination. The points are
 computed in blocks: each point's options are read and checked on their own, then the points
-whose cases differ only in numbers are stacked into arrays and solved together (one bisection
-for thousands of points). Large sweeps run on ``dask.distributed``, a block per task, each block
-computed by the same pure function as the serial path: the results are identical.
+that differ only in numbers are stacked into arrays, made into one case and solved together
+(one bisection for thousands of points). Large sweeps run on ``dask.distributed``, a block per
+task, each block computed by the same pure function as the serial path: the results are
+identical.
 
 Limits, checked before any work: at most :data:`MAX_SWEEP_POINTS` points, and the sweep's
 estimated memory (:func:`sweep_bytes`: points × outputs × bytes) within what this machine has;
@@ -19,7 +20,6 @@ during the sweep (its scheduler, or a worker that died) is :class:`ClusterLostEr
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import logging
 import math
 import os
@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq.core.cases import RangeCase, case_acquisition
+from targetacq.core.cases import case_acquisition
 from targetacq.criteria import Criterion
 from targetacq.limits import check_size
 from targetacq.ranges import case_ranges
@@ -40,7 +40,15 @@ from targetacq.services.options import (
     option_product,
     split_list,
 )
-from targetacq.services.range_case import RangeSetup, option_probabilities, range_setup
+from targetacq.services.range_case import (
+    RangeReading,
+    RangeSetup,
+    option_probabilities,
+    range_case,
+    range_setup,
+    read_range_options,
+    stack_readings,
+)
 
 __all__ = [
     "BYTES_PER_SWEEP_POINT",
@@ -141,11 +149,11 @@ def _setup(options: Mapping[str, Any], default_probability: str) -> RangeSetup:
     return range_setup(options, default_probability)
 
 
-def _check_grid(setup: RangeSetup, grid: np.ndarray | None) -> None:
+def _check_grid(criterion: Criterion, grid: np.ndarray | None) -> None:
     """Refuse probabilities at ranges for a criterion that gives no probabilities."""
-    if grid is not None and not setup.criterion.gives_probabilities:
+    if grid is not None and not criterion.gives_probabilities:
         raise ValueError(
-            f"--criterion {setup.criterion.name} gives pixel-density thresholds, not "
+            f"--criterion {criterion.name} gives pixel-density thresholds, not "
             "probabilities at ranges"
         )
 
@@ -159,7 +167,7 @@ def _point(
     The reference of :func:`_block`, which computes many points at once to the same numbers
     (the tests and ``benchmarks/bench_sweep.py`` compare the two)."""
     setup = _setup(options, default_probability)
-    _check_grid(setup, grid)
+    _check_grid(setup.criterion, grid)
     if grid is not None:
         found = case_acquisition(setup.case, grid)
         values = [np.broadcast_to(getattr(found, task), grid.shape) for task in _DRI_TASKS]
@@ -174,69 +182,49 @@ def _point(
     return tasks, np.array([[float(c[task]) for c in columns] for task in tasks])
 
 
-_ARRAY_FIELDS = (
-    "critical_dimension",
-    "ifov",
-    "wavelength",
-    "aperture",
-    "blur_sigma",
-    "cycle",
-    "extinction",
-    "foliage",
-    "scr",
-    "contrast",
-    "noise_equivalent_contrast",
-    "target_area",
-)
-"""The fields of :class:`targetacq.core.cases.RangeCase` that broadcast: a block's points that
-agree on everything else are stacked along them into one case."""
-
-
 def _block(
     points: Sequence[dict[str, Any]], grid: np.ndarray | None, default_probability: str
 ) -> list[tuple[tuple[str, ...], np.ndarray]]:
     """A block of points (the unit of work of the serial and Dask paths), as :func:`_point`
     computes each.
 
-    Each point is set up on its own (its options read and checked as ``targetacq dri`` reads
-    them); the points whose cases differ only in array fields (:data:`_ARRAY_FIELDS`) form a
-    group, whose cases are stacked into one case of 1-D arrays and solved by one call of
-    :func:`targetacq.ranges.case_ranges` per probability (or one of
-    :func:`targetacq.core.cases.case_acquisition` on a points × ranges grid). The bisection
-    of ``case_ranges`` narrows every element's bracket by the same factor at each step, so the
-    stacked solve stops at the step where each point alone stops: the same numbers."""
-    setups = [_setup(options, default_probability) for options in points]
+    Each point's options are read and checked on their own, as ``targetacq dri`` reads them
+    (:func:`targetacq.services.range_case.read_range_options`: SI numbers and choices); the
+    points that agree on everything but the numbers form a group, whose numbers are stacked
+    into arrays (:func:`targetacq.services.range_case.stack_readings`) and made into one case
+    of 1-D arrays (:func:`targetacq.services.range_case.range_case`: the optics kernels and the
+    case's checks once per group), solved by one call of :func:`targetacq.ranges.case_ranges`
+    per probability (or one of :func:`targetacq.core.cases.case_acquisition` on a points ×
+    ranges grid). The bisection of ``case_ranges`` narrows every element's bracket by the same
+    factor at each step, so the stacked solve stops at the step where each point alone stops:
+    the same numbers."""
+    readings = [read_range_options(options, default_probability) for options in points]
     groups: dict[Hashable, list[int]] = {}
-    for i, setup in enumerate(setups):
-        _check_grid(setup, grid)
-        groups.setdefault(_group_key(setup, i), []).append(i)
-    results: list[tuple[tuple[str, ...], np.ndarray]] = [((), np.empty(0))] * len(setups)
+    seen: dict[int, Hashable] = {}
+    for i, reading in enumerate(readings):
+        _check_grid(reading.settings["criterion"], grid)
+        groups.setdefault(_group_key(reading, seen), []).append(i)
+    results: list[tuple[tuple[str, ...], np.ndarray]] = [((), np.empty(0))] * len(readings)
     for members in groups.values():
-        tasks, values = _group_values([setups[i] for i in members], grid)
+        tasks, values = _group_values([readings[i] for i in members], grid)
         for k, i in enumerate(members):
             results[i] = (tasks, values[k])
     return results
 
 
-_KEY_FIELDS = tuple(
-    field.name for field in dataclasses.fields(RangeCase) if field.name not in _ARRAY_FIELDS
-)
-_SCALARS = (float, int, np.float64)
-
-
-def _group_key(setup: RangeSetup, index: int) -> Hashable:
-    """What the points of one stacked case share: their probabilities, which array fields are
-    given, and every other field of the case. A field that is an array already (never from
-    the options of ``dri``) keeps its point alone."""
-    case = setup.case
-    given = []
-    for name in _ARRAY_FIELDS:
-        value = getattr(case, name)
-        if value is not None and type(value) not in _SCALARS and np.ndim(value) != 0:
-            return ("alone", index)
-        given.append(value is not None)
-    others = (_hashable(getattr(case, name)) for name in _KEY_FIELDS)
-    return (tuple(setup.probabilities), tuple(given), *others)
+def _group_key(reading: RangeReading, seen: dict[int, Hashable]) -> Hashable:
+    """What the points of one stacked case share: their probabilities, which numbers are given,
+    and every setting (criterion, transform, noise model...); ``seen`` keeps the
+    :func:`_hashable` of each object met in the block (by its identity: the readings hold
+    them), e.g. a named criterion, the same object at every point."""
+    settings = tuple(
+        value
+        if value is None or type(value) is str
+        else seen.get(id(value)) or seen.setdefault(id(value), _hashable(value))
+        for value in reading.settings.values()
+    )
+    given = (tuple(reading.numbers), tuple(reading.texts), tuple(reading.settings))
+    return (tuple(reading.probabilities), given, settings)
 
 
 def _hashable(value: Any) -> Hashable:
@@ -256,27 +244,22 @@ def _hashable(value: Any) -> Hashable:
 
 
 def _group_values(
-    setups: Sequence[RangeSetup], grid: np.ndarray | None
+    readings: Sequence[RangeReading], grid: np.ndarray | None
 ) -> tuple[tuple[str, ...], np.ndarray]:
     """The tasks and values of a group of points (:func:`_block`), stacked into one case:
     ``(points, tasks, probabilities)`` (or ``(points, tasks, ranges)`` with ``grid``)."""
-    first = setups[0]
-    shape = (len(setups), 1) if grid is not None else (len(setups),)
-    stacked: dict[str, Any] = {
-        name: np.asarray([getattr(s.case, name) for s in setups], dtype=float).reshape(shape)
-        for name in _ARRAY_FIELDS
-        if getattr(first.case, name) is not None
-    }
-    case = dataclasses.replace(first.case, **stacked)
-    n = len(setups)
+    first = readings[0]
+    n = len(readings)
+    case, _ = range_case(stack_readings(readings, (n, 1) if grid is not None else (n,)))
     if grid is not None:
         found = case_acquisition(case, grid)
         values = [np.broadcast_to(getattr(found, task), (n, grid.size)) for task in _DRI_TASKS]
         return _DRI_TASKS, np.stack(values, axis=1).astype(float)
     columns: list[dict[str, Any]] = []
+    gives_probabilities = first.settings["criterion"].gives_probabilities
     for p in first.probabilities:
         columns.append(case_ranges(case, p))
-        if not first.criterion.gives_probabilities:
+        if not gives_probabilities:
             columns *= len(first.probabilities)  # thresholds: the same at every probability
             break
     tasks = tuple(columns[0])
@@ -362,10 +345,11 @@ def sweep(
 
     **Blocks.** The grid is cut into blocks of ``chunk_size`` points, a Dask task each, each
     computed by the same function as the serial path, so the numbers are identical. In a block
-    every point's options are read and checked as ``targetacq dri`` reads them; the points whose
-    cases agree on everything but the numbers of :class:`targetacq.core.cases.RangeCase`'s
-    array fields (the same criterion, transform, noise model, semantics, MRTD curve, the same
-    fields given...) are stacked into one case of arrays, solved by one call of
+    every point's options are read and checked as ``targetacq dri`` reads them, into SI numbers
+    and choices; the points that agree on everything but the numbers (the same criterion,
+    transform, noise model, semantics, MRTD curve, the same options given...) are stacked into
+    arrays and made into one case (the optics kernels and the case's checks run once on the
+    arrays), solved by one call of
     :func:`targetacq.ranges.case_ranges` per probability (or one of
     :func:`targetacq.core.cases.case_acquisition` with ``ranges``). Each point's numbers equal
     those of the point computed alone: the bisection narrows every point's bracket by the same
@@ -407,7 +391,7 @@ def sweep(
     points = [full for _, full in product]
     # The first point's options checked here, before any work or cluster starts: most mistakes
     # show at once.
-    _check_grid(_setup(points[0], default_probability), grid)
+    _check_grid(_setup(points[0], default_probability).criterion, grid)
     serial = scheduler is None and workers is None and len(points) <= SERIAL_LIMIT
     blocks = _blocks(points, chunk_size, scheduler, workers, serial)
     if serial:

@@ -9,9 +9,10 @@ domain, no option silently ignored. The physics is in the kernels this calls.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields
 from typing import Any
 
@@ -30,6 +31,7 @@ from targetacq.limits import (
     check_temperature_difference,
 )
 from targetacq.noise import NOISE_MODELS
+from targetacq.radiometry import band_exitance_derivative
 from targetacq.scene import scene_signature
 from targetacq.tables import load_table
 from targetacq.targets import TARGETS
@@ -42,6 +44,7 @@ _SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
 __all__ = [
     "PIXEL_DENSITY_DEFINITIONS",
     "RangeOptions",
+    "RangeReading",
     "RangeSetup",
     "dri_report",
     "option_band",
@@ -50,7 +53,10 @@ __all__ = [
     "option_path",
     "option_probabilities",
     "option_quantity",
+    "range_case",
     "range_setup",
+    "read_range_options",
+    "stack_readings",
 ]
 
 
@@ -157,14 +163,17 @@ def option_criterion(text: str) -> Criterion:
     )
 
 
-def _sensor_ifov(
+def _sensor_reading(
     pitch: str | None,
     focal_length: str | None,
     ifov: str | None,
     hfov: str | None,
     pixels: int | None,
     projection: str | None,
-) -> tuple[float, dict[str, Any]]:
+) -> tuple[str, dict[str, float], dict[str, Any]]:
+    """How the sensor's resolution is given ("lens", "ifov" or "fov"), its numbers [SI] and its
+    description so far, every option checked on its own; the kernels run in
+    :func:`_sensor_resolution`."""
     by_lens = pitch is not None or focal_length is not None
     ways = [by_lens, ifov is not None, hfov is not None or (pixels is not None and not by_lens)]
     if sum(ways) != 1:
@@ -182,35 +191,82 @@ def _sensor_ifov(
             raise ValueError("--pitch and --focal-length go together")
         p = option_quantity(pitch, "length", "--pitch")
         f = option_quantity(focal_length, "length", "--focal-length")
-        value = float(optics.ifov(p, f))
-        if not 0 < value < math.pi:  # 1e-300 m over 1e300 m underflows to 0
-            raise ValueError(
-                f"--pitch {pitch} over --focal-length {focal_length} gives an IFOV of "
-                f"{value:g} rad, outside (0, π)"
-            )
         if pixels is None:
-            return value, {"pitch_m": p, "focal_length_m": f}
-        # The datasheet's way: the field of view of the detector's width behind the lens,
-        # Eq. (5.1), reported beside the IFOV (which the pitch and focal length fix).
+            return "lens", {"pitch": p, "focal_length": f}, {"pitch_m": p, "focal_length_m": f}
         check_count("--pixels", pixels)
-        fov = float(optics.field_of_view(pixels * p, f))
-        return value, {
-            "pitch_m": p,
-            "focal_length_m": f,
-            "hfov_rad": fov,
-            "pixels": float(pixels),
-            "projection": "rectilinear",
-        }
+        numbers = {"pitch": p, "focal_length": f, "pixels": float(pixels)}
+        return "lens", numbers, {"pitch_m": p, "focal_length_m": f}
     if ways[1]:
         assert ifov is not None
-        return _half_turn_angle(ifov, "--ifov"), {}
+        return "ifov", {"ifov": _half_turn_angle(ifov, "--ifov")}, {}
     if hfov is None or pixels is None:
         raise ValueError("--hfov and --pixels go together")
     fov = _half_turn_angle(hfov, "--hfov")
     check_count("--pixels", pixels)
-    projection = projection or "angular"
-    value = float(optics.ifov_from_field_of_view(fov, pixels, projection))
-    return value, {"hfov_rad": fov, "pixels": float(pixels), "projection": projection}
+    return "fov", {"hfov": fov, "pixels": float(pixels)}, {"hfov_rad": fov}
+
+
+def _first_bad(bad: Any) -> int | None:
+    """The flat index of the first true element of ``bad`` (one point's bool, or the points'
+    array), or None if none is."""
+    flat = np.ravel(bad)
+    return int(np.argmax(flat)) if flat.any() else None
+
+
+def _element(value: Any, index: int) -> Any:
+    """Element ``index`` of a stacked value (the points' array), or the value of one point."""
+    return np.ravel(value)[index] if isinstance(value, np.ndarray) else value
+
+
+def _sensor_resolution(reading: RangeReading) -> tuple[Any, dict[str, Any]]:
+    """The IFOV [rad] of read options and the sensor's description that comes with it (the
+    field of view, the pixel density), from the optics kernels: once on the points' arrays
+    where the reading is stacked. An IFOV outside (0, π) is refused naming the first point's
+    options that give it."""
+    numbers, settings = reading.numbers, reading.settings
+    sensor: dict[str, Any] = {}
+    way = settings["resolution"]
+    if way == "ifov":
+        value = numbers["ifov"]
+    elif way == "lens":
+        p, f = numbers["pitch"], numbers["focal_length"]
+        value = optics.ifov(p, f)
+        index = _first_bad(~((value > 0) & (value < math.pi)))
+        if index is not None:  # 1e-300 m over 1e300 m underflows to 0
+            texts = reading.texts
+            raise ValueError(
+                f"--pitch {_element(texts['pitch'], index)} over --focal-length "
+                f"{_element(texts['focal_length'], index)} gives an IFOV of "
+                f"{float(_element(value, index)):g} rad, outside (0, π)"
+            )
+        if "pixels" in numbers:
+            # The datasheet's way: the field of view of the detector's width behind the lens,
+            # Eq. (5.1), reported beside the IFOV (which the pitch and focal length fix).
+            sensor["hfov_rad"] = optics.field_of_view(numbers["pixels"] * p, f)
+            sensor["pixels"] = numbers["pixels"]
+            sensor["projection"] = "rectilinear"
+    else:
+        sensor["pixels"] = numbers["pixels"]
+        sensor["projection"] = settings["projection"]
+        value = optics.ifov_from_field_of_view(
+            numbers["hfov"], numbers["pixels"], settings["projection"]
+        )
+    if "f_number" in numbers:
+        sensor["f_number"] = numbers["f_number"]
+    density = settings["pixel_density"]
+    if density is not None:
+        # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
+        fov = sensor.get("hfov_rad", numbers.get("hfov"))
+        value = optics.ifov_from_field_of_view(
+            fov, numbers["pixels"], PIXEL_DENSITY_DEFINITIONS[density]
+        )
+        sensor["pixel_density"] = density
+    return _one_or_many(value), {k: _one_or_many(v) for k, v in sensor.items()}
+
+
+def _one_or_many(value: Any) -> Any:
+    """A float for one point (a NumPy scalar or 0-d array), the array for stacked points."""
+    return float(value) if np.ndim(value) == 0 and not isinstance(value, str) else value
 
 
 PIXEL_DENSITY_DEFINITIONS = {
@@ -232,8 +288,6 @@ def _sensor_noise(
 ) -> dict[str, Any]:
     """RangeCase keywords of the sensor's noise and MRTD, from --netd/--delta-t, --nec/--contrast
     and --mrtd; a ΔT from the temperatures where --delta-t is not given."""
-    from targetacq.radiometry import band_exitance_derivative
-
     if (nec is None) != (contrast is None):
         raise ValueError("--nec and --contrast go together (a TV camera's noise)")
     if nec is not None and (netd is not None or mrtd is not None):
@@ -568,14 +622,23 @@ class RangeOptions:
         ValueError
             If a key is not an option, naming it and the valid options.
         """
-        valid = [f.name for f in fields(cls)]
-        unknown = [key for key in options if key not in valid]
+        unknown = [key for key in options if key not in _OPTION_DEFAULTS]
         if unknown:
             raise ValueError(
                 f"unknown range-case option(s) {', '.join(repr(k) for k in unknown)}; valid "
-                f"options: {', '.join(valid)}"
+                f"options: {', '.join(_OPTION_DEFAULTS)}"
             )
-        return cls(**options)
+        # The fields set at once, as the generated __init__ sets them (it has no checks): it
+        # sets each of the 40 through object.__setattr__, a quarter of the time a sweep's
+        # point takes to read.
+        read = object.__new__(cls)
+        read.__dict__.update(_OPTION_DEFAULTS)
+        read.__dict__.update(options)
+        return read
+
+
+_OPTION_DEFAULTS = {f.name: f.default for f in fields(RangeOptions)}
+"""The fields of :class:`RangeOptions` and their defaults, in order."""
 
 
 @dataclass(frozen=True)
@@ -606,12 +669,66 @@ class RangeSetup:
         return float(self.case.cycle_angle)
 
 
+@dataclass(frozen=True)
+class RangeReading:
+    """The options of a range case read (:func:`read_range_options`): every option checked on
+    its own and turned into SI numbers and choices, before the optics kernels and the case's
+    checks (:func:`range_case`), which run once on the arrays of many points stacked
+    (:func:`stack_readings`).
+
+    Attributes
+    ----------
+    numbers : mapping
+        The point's numbers [SI] by name: ``critical_dimension``, the sensor's (``pitch``,
+        ``focal_length``, ``ifov``, ``hfov``, ``pixels``, ``f_number``, as given) and the other
+        array fields of :class:`targetacq.core.cases.RangeCase` given; floats, or arrays of one
+        shape for stacked points.
+    texts : mapping
+        The option texts the kernels' errors name (``pitch``, ``focal_length``), stacked alike.
+    settings : mapping
+        Everything else the case is made of: how the resolution is given, the projection and
+        pixel density, the criterion, transform and its options, clutter region, noise model,
+        semantics and MRTD curve. Points with equal settings and the same numbers given stack.
+    sensor, path, scene : dict
+        The description of how the sensor (so far: the kernels add theirs), the path and the
+        scene were given; empty for stacked points.
+    probabilities : list of float
+    sized : bool
+        Whether the target's critical dimension enters (not for a pixel-density criterion).
+    """
+
+    numbers: Mapping[str, Any]
+    texts: Mapping[str, Any]
+    settings: Mapping[str, Any]
+    sensor: dict[str, Any]
+    path: dict[str, Any]
+    scene: dict[str, Any]
+    probabilities: list[float]
+    sized: bool = True
+
+
+_CASE_NUMBERS = (
+    "wavelength",
+    "aperture",
+    "blur_sigma",
+    "extinction",
+    "scr",
+    "contrast",
+    "noise_equivalent_contrast",
+    "target_area",
+)
+"""The numbers of a reading that are :class:`targetacq.core.cases.RangeCase` fields as they
+are (beside ``critical_dimension``; the IFOV comes from the sensor's numbers)."""
+
+
 def range_setup(
     options: RangeOptions | Mapping[str, Any], default_probability: str = "0.5"
 ) -> RangeSetup:
     """The range case and its description from the options of `dri` (also `plot curves` and
     `report`, whose ``default_probability`` differs); every option checked finite and in its
     domain, and every option that would be ignored refused, naming it.
+
+    :func:`read_range_options` then :func:`range_case`, for one point.
 
     Parameters
     ----------
@@ -630,6 +747,102 @@ def range_setup(
     >>> setup = range_setup(RangeOptions(ifov="0.2mrad", critical_dimension="2.3m"))
     >>> setup.case.transform, setup.probabilities
     ('ttpf', [0.5])
+    """
+    reading = read_range_options(options, default_probability)
+    case, sensor = range_case(reading)
+    return RangeSetup(
+        case=case,
+        sensor={**reading.sensor, **sensor},
+        path=reading.path,
+        scene=reading.scene,
+        probabilities=reading.probabilities,
+        sized=reading.sized,
+    )
+
+
+def stack_readings(readings: Sequence[RangeReading], shape: tuple[int, ...]) -> RangeReading:
+    """Readings of equal settings and the same numbers given as one reading of arrays of
+    ``shape`` (one element per reading, in order), for :func:`range_case` to make one case of
+    them all; the descriptions (sensor, path, scene) are each point's own, not stacked.
+
+    Examples
+    --------
+    >>> readings = [read_range_options(RangeOptions(ifov=f"{i}mrad", critical_dimension="2m"),
+    ...     "0.5") for i in (0.1, 0.2)]
+    >>> range_case(stack_readings(readings, (2,)))[0].ifov.tolist()
+    [0.0001, 0.0002]
+    """
+    first = readings[0]
+    return dataclasses.replace(
+        first,
+        numbers={
+            name: np.asarray([r.numbers[name] for r in readings], dtype=float).reshape(shape)
+            for name in first.numbers
+        },
+        texts={
+            name: np.asarray([r.texts[name] for r in readings], dtype=object).reshape(shape)
+            for name in first.texts
+        },
+        sensor={},
+        path={},
+        scene={},
+    )
+
+
+def range_case(reading: RangeReading) -> tuple[RangeCase, dict[str, Any]]:
+    """The range case of read options, and the sensor's description the optics kernels add
+    (its field of view, pixel density, F-number): the IFOV from
+    :func:`targetacq.optics.ifov` (or from the field of view), then the case's checks, once
+    on the arrays of a stacked reading (:func:`stack_readings`).
+
+    Raises
+    ------
+    ValueError
+        For an IFOV outside (0, π) (naming the options of the first point that gives one), or
+        ``--noise-model`` where no noise acts.
+
+    Examples
+    --------
+    >>> case, sensor = range_case(read_range_options(
+    ...     RangeOptions(pitch="17um", focal_length="75mm", critical_dimension="2.3m"), "0.5"))
+    >>> round(case.ifov * 1e3, 4), sensor
+    (0.2267, {})
+    """
+    numbers, settings = reading.numbers, reading.settings
+    ifov_rad, sensor = _sensor_resolution(reading)
+    case = RangeCase(
+        numbers["critical_dimension"],
+        ifov_rad,
+        **{name: numbers[name] for name in _CASE_NUMBERS if name in numbers},
+        semantics=settings["semantics"],
+        criterion=settings["criterion"],
+        transform=settings["transform"],
+        options=settings["options"],
+        region=settings["region"],
+        mrtd=settings["mrtd"],
+        noise_model=settings["noise_model"] or "variance-sum",
+    )
+    if settings["noise_model"] is not None and not case.noisy:
+        raise ValueError(
+            "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
+            "--visibility, --netd or --nec"
+        )
+    return case, sensor
+
+
+def read_range_options(
+    options: RangeOptions | Mapping[str, Any], default_probability: str
+) -> RangeReading:
+    """The options of a range case read into SI numbers and choices, each checked on its own
+    (finite, in its domain, no option ignored), naming the option: all of
+    :func:`range_setup` but the optics kernels and the case's checks (:func:`range_case`).
+
+    Examples
+    --------
+    >>> reading = read_range_options(RangeOptions(pitch="17um", focal_length="75mm",
+    ...     critical_dimension="2.3m"), "0.5")
+    >>> reading.numbers
+    {'pitch': 1.7e-05, 'focal_length': 0.075, 'critical_dimension': 2.3}
     """
     o = options if isinstance(options, RangeOptions) else RangeOptions.from_mapping(options)
     pitch, focal_length, aperture = o.pitch, o.focal_length, o.aperture
@@ -661,14 +874,17 @@ def range_setup(
         # target's size: a placeholder the case needs and no output reports.
         critical_dimension = "1m"
     d = option_quantity(critical_dimension, "length", "--critical-dimension")
-    ifov_rad, sensor = _sensor_ifov(pitch, focal_length, o.ifov, o.hfov, o.pixels, o.projection)
+    way, numbers, sensor = _sensor_reading(
+        pitch, focal_length, o.ifov, o.hfov, o.pixels, o.projection
+    )
+    numbers["critical_dimension"] = d
     optics_kw: dict[str, Any] = {}
     if o.f_number is not None:
         if aperture is not None:
             raise ValueError("give --aperture or --f-number, not both")
         if "focal_length_m" not in sensor:
             raise ValueError("--f-number needs --focal-length (aperture = focal length / F#)")
-        sensor["f_number"] = _number(o.f_number, "--f-number", "> 0")
+        numbers["f_number"] = _number(o.f_number, "--f-number", "> 0")
         if wavelength is None:
             raise ValueError("--f-number gives the aperture for diffraction: give --wavelength")
     if (aperture is None and o.f_number is None) != (wavelength is None):
@@ -732,15 +948,9 @@ def range_setup(
         option_choice(o.semantics, ACQUISITION_SEMANTICS, "--semantics")
     if o.pixel_density is not None:
         option_choice(o.pixel_density, PIXEL_DENSITY_DEFINITIONS, "--pixel-density")
-    if not crit.gives_probabilities and "hfov_rad" in sensor:
-        # EN 62676-4 counts pixels across the scene, whatever the lens's own projection.
-        density = o.pixel_density or "plane"
-        ifov_rad = float(
-            optics.ifov_from_field_of_view(
-                sensor["hfov_rad"], o.pixels, PIXEL_DENSITY_DEFINITIONS[density]
-            )
-        )
-        sensor["pixel_density"] = density
+    density = None
+    if not crit.gives_probabilities and "pixels" in numbers:  # a field of view is given
+        density = o.pixel_density or "plane"  # EN 62676-4's pixel density (_sensor_resolution)
     elif o.pixel_density is not None:
         raise ValueError("--pixel-density applies to a pixel-density criterion with --hfov")
     noise_kw = _sensor_noise(
@@ -758,34 +968,34 @@ def range_setup(
             "the geometric ones (cycles on target only); give --netd or --nec for the contrast "
             "to count",
             UserWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
     if o.target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
         noise_kw["target_area"] = option_quantity(o.target_area, "area", "--target-area")
-    case = RangeCase(
-        d,
-        ifov_rad,
-        **optics_kw,
-        **noise_kw,
-        semantics=o.semantics or "nested",
-        criterion=crit,
-        transform=o.transform or "ttpf",
-        options=transform_options,
-        # a zero extinction (--extinction 0/km) is a clear path: no noise from it
-        extinction=path.get("extinction_np_per_m") or None,
-        scr=scene.get("scr"),
-        region=scene.get("region"),
-        noise_model=o.noise_model or "variance-sum",
-    )
-    if o.noise_model is not None and not case.noisy:
-        raise ValueError(
-            "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
-            "--visibility, --netd or --nec"
-        )
-    return RangeSetup(
-        case=case,
+    # a zero extinction (--extinction 0/km) is a clear path: no noise from it
+    extinction = path.get("extinction_np_per_m") or None
+    numbers |= optics_kw | {name: value for name, value in noise_kw.items() if name != "mrtd"}
+    if extinction is not None:
+        numbers["extinction"] = extinction
+    if scene.get("scr") is not None:
+        numbers["scr"] = scene["scr"]
+    return RangeReading(
+        numbers=numbers,
+        texts={"pitch": pitch, "focal_length": focal_length} if way == "lens" else {},
+        settings={
+            "resolution": way,
+            "projection": (o.projection or "angular") if way == "fov" else None,
+            "pixel_density": density,
+            "semantics": o.semantics or "nested",
+            "criterion": crit,
+            "transform": o.transform or "ttpf",
+            "options": transform_options,
+            "region": scene.get("region"),
+            "mrtd": noise_kw.get("mrtd"),
+            "noise_model": o.noise_model,
+        },
         sensor=sensor,
         path=path,
         scene=scene,

@@ -401,7 +401,10 @@ def _clutter_text(background: Any) -> str:
     if background.image is not None:
         return f"measured in {background.image} around each target (Eqs. (3.12)–(3.15))"
     if background.terrain is not None:
-        return "terrain map (Eqs. (6.10)–(6.11)); not in the range curves, which need one SCR"
+        return (
+            "terrain map (Eqs. (6.10)–(6.11)); in the range curves, the map around each target "
+            "where it stands at the start"
+        )
     return "none given: detection uses the transform"
 
 

@@ -39,3 +39,46 @@ def no_noise(sensor: Any, seen: Any) -> float:
 def one_row(sensor: Any) -> list[Any]:
     """A sensor that is one row of the array core: itself."""
     return [sensor]
+
+
+def reflective_requirements(
+    scenario: Any, label: str, article: str, emitting: bool = False
+) -> list[str]:
+    """What a scenario lacks for sensors that see reflected light (TV, SWIR), each problem
+    located (``table.key: what``).
+
+    ``label`` names the type in the messages ("TV", "SWIR") and ``article`` the sensor ("a TV
+    camera"); an ``emitting`` type (SWIR: reflected plus emitted) also needs the temperatures.
+    """
+    bg = scenario.background
+    temperature = ("temperature",) if emitting else ()
+    problems = [
+        f"background.{key}: required with {label} sensors"
+        for key in ("irradiance", "reflectance", *temperature)
+        if getattr(bg, key) is None
+    ]
+    problems += [
+        f"targets[{k}].{key}: {label} sensors need a {key} for every target"
+        for k, t in enumerate(scenario.targets)
+        for key in ("reflectance", *temperature)
+        if getattr(t, key) is None
+    ]
+    problems += [
+        f"{where}: a table of bands is for colour cameras; {article} takes one value"
+        for where, value in [
+            ("background.reflectance", bg.reflectance),
+            ("background.irradiance", bg.irradiance),
+            *[(f"targets[{k}].reflectance", t.reflectance) for k, t in enumerate(scenario.targets)],
+        ]
+        if isinstance(value, dict)
+    ]
+    if bg.clutter_std is not None:
+        problems.append(
+            f"background.clutter_std: a temperature spread; for {label} sensors give clutter or scr"
+        )
+    if bg.terrain is not None:
+        problems.append(
+            "background.terrain: terrain clutter is given by class temperatures: thermal "
+            "sensors only"
+        )
+    return problems

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import radiometry
+from targetacq.sensors.imaging import reflective_requirements
 from targetacq.sensors.signature import Signature
 
 SWIR_BAND: tuple[float, float] = (0.9e-6, 2.5e-6)
@@ -91,36 +92,7 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
 
 def requirements(scenario: Any) -> list[str]:
     """What a scenario lacks for SWIR sensors, each problem located (``table.key: what``)."""
-    bg = scenario.background
-    problems = [
-        f"background.{key}: required with SWIR sensors"
-        for key in ("irradiance", "reflectance", "temperature")
-        if getattr(bg, key) is None
-    ]
-    problems += [
-        f"targets[{k}].{key}: SWIR sensors need a {key} for every target"
-        for k, t in enumerate(scenario.targets)
-        for key in ("reflectance", "temperature")
-        if getattr(t, key) is None
-    ]
-    problems += [
-        f"{where}: a table of bands is for colour cameras; a SWIR sensor takes one value"
-        for where, value in [
-            ("background.reflectance", bg.reflectance),
-            ("background.irradiance", bg.irradiance),
-            *[(f"targets[{k}].reflectance", t.reflectance) for k, t in enumerate(scenario.targets)],
-        ]
-        if isinstance(value, dict)
-    ]
-    if bg.clutter_std is not None:
-        problems.append(
-            "background.clutter_std: a temperature spread; for SWIR sensors give clutter or scr"
-        )
-    if bg.terrain is not None:
-        problems.append(
-            "background.terrain: terrain clutter is given by class temperatures: thermal "
-            "sensors only"
-        )
+    problems = reflective_requirements(scenario, "SWIR", "a SWIR sensor", emitting=True)
     if scenario.atmosphere.visibility is not None:
         problems.append(
             "atmosphere.visibility: gives the visible-band extinction; with SWIR sensors give "

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from targetacq import radiometry
+from targetacq.sensors.imaging import reflective_requirements
 from targetacq.sensors.signature import Signature
 
 
@@ -35,33 +36,4 @@ def noise_equivalent(sensor: Any, seen: Any) -> float:
 
 def requirements(scenario: Any) -> list[str]:
     """What a scenario lacks for TV sensors, each problem located (``table.key: what``)."""
-    bg = scenario.background
-    problems = [
-        f"background.{key}: required with TV sensors"
-        for key in ("irradiance", "reflectance")
-        if getattr(bg, key) is None
-    ]
-    problems += [
-        f"targets[{k}].reflectance: TV sensors need a reflectance for every target"
-        for k, t in enumerate(scenario.targets)
-        if t.reflectance is None
-    ]
-    problems += [
-        f"{where}: a table of bands is for colour cameras; a TV camera takes one value"
-        for where, value in [
-            ("background.reflectance", bg.reflectance),
-            ("background.irradiance", bg.irradiance),
-            *[(f"targets[{k}].reflectance", t.reflectance) for k, t in enumerate(scenario.targets)],
-        ]
-        if isinstance(value, dict)
-    ]
-    if bg.clutter_std is not None:
-        problems.append(
-            "background.clutter_std: a temperature spread; for TV sensors give clutter or scr"
-        )
-    if bg.terrain is not None:
-        problems.append(
-            "background.terrain: terrain clutter is given by class temperatures: thermal "
-            "sensors only"
-        )
-    return problems
+    return reflective_requirements(scenario, "TV", "a TV camera")

@@ -74,3 +74,11 @@ def test_bad_acquisition_requests():
         ta.acquisition_probabilities(1.0, criterion="en62676-4")
     with pytest.raises(ValueError, match="cycles must be >= 0"):
         ta.acquisition_probabilities(np.array([1.0, -1.0]))
+
+
+def test_an_old_clutter_keyword_points_to_the_clutter_record():
+    # scr=, region=, hot_spot=, moving= became clutter=Clutter(...): the error says so.
+    from targetacq.acquisition import probability
+
+    with pytest.raises(ValueError, match=r"scr: give clutter=Clutter\(\.\.\.\) instead"):
+        probability(5.0, "detection", scr=2.0)

@@ -158,3 +158,95 @@ def test_a_terrain_map_is_used_around_the_target_where_it_stands(capsys, tmp_pat
         plain = float(getattr(probabilities(scene, found), entry["task"])[s, g, 0])
         moved += abs(plain - entry["probability"]) > 1e-3
     assert moved >= 3, moved
+
+
+NEAR_AND_FAR = f"""
+[[sensors]]
+name = "wide"
+type = "tv"
+pixels = [640, 480]
+hfov = "90 deg"
+position = ["0 m", "0 m", "{HEIGHT} m"]
+
+[[sensors]]
+name = "tele"
+type = "thermal"
+band = "lwir"
+pixels = [640, 512]
+pitch = "12 um"
+focal_length = "500 mm"
+position = ["0 m", "0 m", "{HEIGHT} m"]
+
+[[targets]]
+name = "soldier"
+criterion = "johnson-soldier-standing"
+dimensions = ["0.5 m", "0.5 m", "1.8 m"]
+temperature = "304 K"
+reflectance = 0.3
+position = ["{3e3 * math.sin(BEARING)} m", "{3e3 * math.cos(BEARING)} m", "{HEIGHT} m"]
+
+[background]
+temperature = "293 K"
+reflectance = 0.1
+irradiance = "300 W/m^2"
+
+[atmosphere]
+extinction = "0.01 /km"
+"""
+
+
+def _table(performance) -> dict[tuple[str, str, float], float]:
+    return {
+        (r["case"], r["task"], r["probability"]): r["range_m"]
+        for r in performance.dri.to_dict("records")
+    }
+
+
+def test_a_dri_range_shorter_than_the_curves_first_range_is_found(tmp_path):
+    """The curves' grid starts at r_max / 600; a wide TV camera's ranges below it are still
+    found (not "not reached"), and equal the analyst's range solve of the same level pair (the
+    outline is the same from every range of a level line), an independent bisection."""
+    from targetacq.core.pair_ranges import pair_performance
+    from targetacq.ranges import case_ranges
+
+    path = tmp_path / "near_far.toml"
+    path.write_text(NEAR_AND_FAR)
+    chain = ModelChain(load_scenario(path))
+    r_max = 30e3  # first range of the curves: 50 m
+    table = _table(pair_performance(chain, [0, 1], [0.5, 0.9], max_range=r_max))
+    case = chain.range_cases()["wide → soldier"]
+    below = 0
+    for p in (0.5, 0.9):
+        expected = case_ranges(case, p)
+        for task in ("detection", "recognition", "identification"):
+            got = table[("wide → soldier", task, p)]
+            assert got == pytest.approx(float(expected[task]), rel=1e-6), (task, p)
+            below += got < r_max / 600
+    assert below >= 2  # the test reaches below the grid
+
+
+def test_dri_ranges_do_not_depend_on_how_far_the_curves_go(tmp_path):
+    """--max-range sets the curves' axis only: ranges beyond it are still found (were the
+    axis's end, "reached"), and the table is the same for any axis."""
+    from targetacq.core.pair_ranges import pair_performance
+
+    path = tmp_path / "near_far.toml"
+    path.write_text(NEAR_AND_FAR)
+    chain = ModelChain(load_scenario(path))
+    short = _table(pair_performance(chain, [0, 1], [0.5], max_range=500.0))
+    long = _table(pair_performance(chain, [0, 1], [0.5], max_range=40e3))
+    assert short.keys() == long.keys()
+    for key, value in long.items():
+        assert short[key] == pytest.approx(value, rel=1e-9, nan_ok=True), key
+    assert max(v for v in long.values() if math.isfinite(v)) > 5e3
+
+
+def test_an_aircraft_above_the_first_probe_range_warns_nothing():
+    """A target higher above the sensor than the first automatic probe (1 km) has no place on
+    the line there (NaN): no RuntimeWarning (all-NaN max), and the grid goes on out."""
+    from targetacq.core.pair_ranges import pair_performance
+
+    example = Path(__file__).resolve().parents[1] / "examples" / "ground_observer_aircraft.toml"
+    chain = ModelChain(load_scenario(example))
+    performance = pair_performance(chain, [0], [0.5])  # -W error: a warning fails
+    assert float(performance.curves["range"][-1]) > 1e3

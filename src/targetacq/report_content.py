@@ -220,13 +220,17 @@ def scenario_performance(
     )
     if max_range is not None:
         r_max = option_quantity(max_range, "length", "--max-range")
-        performance = pair_performance(chain, rows, probabilities, max_range=r_max)
+        performance = pair_performance(
+            chain, rows, probabilities, max_range=r_max, limit=MAX_AUTO_RANGE
+        )
         return performance, stop_note(performance, r_max, f"--max-range {max_range}") + how
     performance = pair_performance(chain, rows, probabilities, limit=MAX_AUTO_RANGE)
     found = [float(r) for r in performance.dri["range_m"] if math.isfinite(r) and r > 0]
     if axis and found:
         r_max = min(1.25 * max(found), MAX_AUTO_RANGE)
-        performance = pair_performance(chain, rows, probabilities, max_range=r_max)
+        performance = pair_performance(
+            chain, rows, probabilities, max_range=r_max, limit=MAX_AUTO_RANGE
+        )
         limit = "a quarter beyond the farthest DRI range of the table"
         return performance, stop_note(performance, r_max, limit) + how
     r_max = float(performance.curves["range"].values[-1])

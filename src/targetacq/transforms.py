@@ -754,9 +754,11 @@ class Transform:
         unknown = sorted(set(options) - set(self.options))
         if unknown:
             valid = ", ".join(self.options) or "none"
+            clutter = sorted(set(unknown) & {"scr", "region", "hot_spot", "moving"})
+            hint = f" ({', '.join(clutter)}: give clutter=Clutter(...) instead)" if clutter else ""
             raise ValueError(
                 f"transform {self.name!r} takes no option(s) {', '.join(unknown)}; "
-                f"its options: {valid}"
+                f"its options: {valid}{hint}"
             )
 
 

@@ -107,39 +107,75 @@ class _Pairs:
 
 
 def _max_range(pairs: _Pairs, limit: float) -> float:
-    """The first of 1, 2, 4, … km at which every task of every pair is below the floor."""
+    """The first of 1, 2, 4, … km at which every task of every pair is below the floor (a
+    range with no place on the line for any target, NaN everywhere, does not count)."""
     r = 1e3
     while r < limit:
-        if all(np.nanmax(pairs.probabilities(row, np.array([r]))) < _FLOOR for row in pairs.rows):
+        found = [pairs.probabilities(row, np.array([r])) for row in pairs.rows]
+        if all(not np.any(p >= _FLOOR) for p in found) and not all(
+            np.isnan(p).all() for p in found
+        ):
             return r
         r *= 2.0
     return limit
 
 
-def _ranges(
-    pairs: _Pairs, row: int, grid: np.ndarray, curve: np.ndarray, probs: np.ndarray
-) -> np.ndarray:
-    """(3, n_g, n_p) range at which each task reaches each probability: the farthest grid
-    range with ``P >= p``, refined by bisection on the core against the next grid range; NaN
-    where never reached."""
-    n_g = curve.shape[1]
+_BELOW = 96  # search ranges below the curves' first range, spaced evenly in log range
+_BEYOND = 1.1  # ratio of the search ranges beyond the curves' last one, up to the limit
+
+
+def _search_ranges(pairs: _Pairs, row: int, grid: np.ndarray, limit: float) -> np.ndarray:
+    """(n_g, n) slant ranges [m] on which each target's DRI ranges are bracketed: from just
+    above the height between sensor and target (the shortest slant range the line has) up to
+    the first range of ``grid``, evenly in log range; ``grid`` itself; and beyond its last
+    range up to ``limit`` in steps of 10 %. So a DRI range does not depend on how far the
+    curves are drawn."""
+    dz = np.abs(pairs.targets[:, 2] - pairs.sensors[row, 2])
+    lowest = np.maximum(dz * (1.0 + 1e-9), grid[0] * 1e-6)
+    # per target, from its lowest range (or the first grid range, if that is lower) upwards
+    fractions = np.linspace(0.0, 1.0, _BELOW, endpoint=False)
+    start = np.minimum(lowest, grid[0])[:, None]
+    below = start * (grid[0] / start) ** fractions
+    steps = max(0, math.ceil(math.log(max(limit, grid[-1]) / grid[-1]) / math.log(_BEYOND)))
+    beyond = np.minimum(grid[-1] * _BEYOND ** np.arange(1, steps + 1), max(limit, grid[-1]))
+    ranges = np.concatenate(
+        [
+            below,
+            np.broadcast_to(grid, (len(dz), grid.size)),
+            np.broadcast_to(beyond, (len(dz), steps)),
+        ],
+        axis=1,
+    )
+    return np.ascontiguousarray(ranges)
+
+
+def _ranges(pairs: _Pairs, row: int, search: np.ndarray, probs: np.ndarray) -> np.ndarray:
+    """(3, n_g, n_p) range at which each task reaches each probability: the farthest of a
+    target's search ranges (:func:`_search_ranges`) with ``P >= p``, refined by bisection on the
+    core against the next one; NaN where never reached, +inf where still reached at the last
+    (the search limit)."""
+    curve = pairs.probabilities(row, search)  # (3, n_g, n)
+    n_g, n = search.shape
+    targets = np.arange(n_g)[None, :]
     low = np.full((3, n_g, probs.size), np.nan)
     high = np.full_like(low, np.nan)
     for k, p in enumerate(probs):
-        above = curve >= p  # (3, n_g, n_r)
-        last = np.where(above.any(axis=-1), grid.size - 1 - np.argmax(above[..., ::-1], -1), -1)
+        above = curve >= p  # (3, n_g, n)
+        last = np.where(above.any(axis=-1), n - 1 - np.argmax(above[..., ::-1], -1), -1)
         reached = last >= 0
-        beyond = last == grid.size - 1
-        low[..., k] = np.where(reached, grid[np.maximum(last, 0)], np.nan)
+        beyond = last == n - 1
+        low[..., k] = np.where(
+            beyond, np.inf, np.where(reached, search[targets, np.maximum(last, 0)], np.nan)
+        )
         high[..., k] = np.where(
-            reached & ~beyond, grid[np.minimum(last + 1, grid.size - 1)], np.nan
+            reached & ~beyond, search[targets, np.minimum(last + 1, n - 1)], np.nan
         )
     refine = ~np.isnan(high)
     n_p = probs.size
     for _ in range(_BISECTIONS):
         if not refine.any():
             break
-        mid = np.where(refine, np.sqrt(np.where(refine, low * high, 1.0)), grid[0])
+        mid = np.where(refine, np.sqrt(np.where(refine, low * high, 1.0)), search[0, -1])
         # Every (task, probability) bracket of a target as one batch column of the core.
         found = pairs.probabilities(row, mid.transpose(1, 0, 2).reshape(n_g, 3 * n_p))
         p_mid = np.stack([found[t][:, t * n_p : (t + 1) * n_p] for t in range(3)])
@@ -159,9 +195,13 @@ def pair_performance(
     """Range curves and DRI ranges of sensor rows against every target, through the core.
 
     Each target moves away from the sensor along its start bearing (see the module's notes on
-    the field of view, terrain maps and false targets); a DRI range is the farthest range of
-    the grid at which the task reaches the probability, refined by 48 bisections on the core
-    against the next range of the grid (to well below a millimetre).
+    the field of view, terrain maps and false targets); a DRI range is the farthest of the
+    search ranges at which the task reaches the probability, refined by 48 bisections on the
+    core against the next one (to well below a millimetre). The search ranges are the curves'
+    grid, 96 ranges below it down to the shortest slant range the line has (the height between
+    sensor and target), and ranges beyond it up to ``limit`` in steps of 10 %: so a DRI range
+    does not depend on how far the curves are drawn. NaN where a task never reaches the
+    probability; +inf where it still does at ``limit``.
 
     Parameters
     ----------
@@ -174,7 +214,7 @@ def pair_performance(
         The grid's last slant range [m]; default the first of 1, 2, 4, … km where every
         task of every pair is below 0.02 (at most ``limit``).
     limit : float
-        [m].
+        The farthest range [m] searched for a DRI range, and of the automatic grid.
 
     Returns
     -------
@@ -206,7 +246,7 @@ def pair_performance(
     curves, labels, dri = [], [], []
     for row in pairs.rows:
         curve = pairs.probabilities(row, grid)  # (3, n_g, n_r)
-        reached = _ranges(pairs, row, grid, curve, probs)
+        reached = _ranges(pairs, row, _search_ranges(pairs, row, grid, limit), probs)
         for g, target in enumerate(scene.targets.names):
             label = f"{scene.sensors.names[row]} → {target}"
             labels.append(label)

@@ -21,6 +21,11 @@ tests/test_active_sensors.py check them against the published equations. Rewritt
 before their first release: laser_radar.npz for a wider field of view in the example (the crate
 was never in view), fused_tv_thermal_radar.npz for the SCR of imagers without clutter in a
 scene with a radar, reported as +inf (no clutter measure) instead of NaN.
+
+Added, not regenerated: swir_mast_haze (the SWIR example of the sensor-type protocol), first
+written when the example was, with the loop above for that file alone; tests/test_swir.py checks
+its physics (the emitted part against a quadrature of Planck's law, the reflected part against
+r·E).
 """
 
 from pathlib import Path

@@ -13,9 +13,9 @@ Methods, one JSON line each at the end (``method``):
     The closed-form series evaluated on whole arrays, as ``band_exitance`` did before the
     tables (a copy below, so that the comparison does not move when the library does).
 ``numpy``
-    ``targetacq.band_exitance``: the tables (module docstring of ``targetacq.radiometry``).
+    ``targetacq.band_exitance``: the tables (module docstring of ``targetacq.physics.radiometry``).
 ``numba``
-    ``targetacq.engines.numba_radiometry.band_exitance_numba``, where numba is installed
+    ``targetacq.core.engines.numba_radiometry.band_exitance_numba``, where numba is installed
     (compiled before timing).
 
 Each line has ``speedup_vs_previous`` (wall and CPU) and ``roofline_ratio``, and the largest
@@ -38,12 +38,12 @@ import numpy as np
 
 import targetacq as ta
 from _timing import REPEATS, roofline
-from targetacq.bands import band_limits
-from targetacq.constants import BOLTZMANN, PLANCK, SECOND_RADIATION_CONSTANT, SPEED_OF_LIGHT
+from targetacq.base.constants import BOLTZMANN, PLANCK, SECOND_RADIATION_CONSTANT, SPEED_OF_LIGHT
+from targetacq.physics.bands import band_limits
 
 # ---------------------------------------------------------------------------------------------
-# The previous implementation (targetacq.radiometry before the tables), NumPy only, verbatim in
-# its arithmetic: two series on whole arrays in chunks of 16384, see its module docstring then.
+# The previous implementation (targetacq.physics.radiometry before the tables), NumPy only, verbatim
+# in its arithmetic: two series on whole arrays in chunks of 16384, see its module docstring then.
 # ---------------------------------------------------------------------------------------------
 
 BAND_CONSTANT = 2.0 * math.pi * BOLTZMANN**4 / (PLANCK**3 * SPEED_OF_LIGHT**2)
@@ -177,7 +177,7 @@ def main() -> None:
         "numpy": lambda: ta.band_exitance(temperatures, band),
     }
     if importlib.util.find_spec("numba") is not None:
-        from targetacq.engines.numba_radiometry import band_exitance_numba
+        from targetacq.core.engines.numba_radiometry import band_exitance_numba
 
         methods["numba"] = lambda: band_exitance_numba(temperatures, low, high)
     values = {name: np.asarray(run()) for name, run in methods.items()}  # warm-up, compiles

@@ -14,7 +14,7 @@ import sys
 import numpy as np
 
 from _timing import best_of, roofline
-from targetacq.clutter import image_clutter
+from targetacq.physics.clutter import image_clutter
 
 SIDE = int(sys.argv[1]) if len(sys.argv) > 1 else 4096
 BOXES = 10_000

@@ -5,7 +5,7 @@ over ``PAIRS`` sensor–target pairs (one cycles value each, three probabilities
 is the time NumPy needs to read the same input array and write the same number (3) of freshly
 allocated output arrays with the cheapest elementwise operation (one add per output). Both are
 timed in this run, best of ``REPEATS``, single-threaded. The line ends with the numba engine's
-kernel (``targetacq.engines.numba_kernels.ttpf_three``: one fused loop with the vectorisable
+kernel (``targetacq.core.engines.numba_kernels.ttpf_three``: one fused loop with the vectorisable
 exp/log), where numba is installed, as a second JSON line with ``speedup_vs_numpy``.
 """
 
@@ -57,11 +57,11 @@ def main() -> None:
         f"{t_generic / t_kernel:.2f} x faster than three generic per-task calls"
     )
     print(json.dumps(result), flush=True)
-    from targetacq.engines import ENGINES
+    from targetacq.core.engines import ENGINES
 
     if not ENGINES["numba"].available():
         return
-    from targetacq.engines.numba_kernels import ttpf_three
+    from targetacq.core.engines.numba_kernels import ttpf_three
 
     n50 = np.array([1.0, 4.0, 6.4])  # Johnson's N50s, as acquisition_probabilities uses
 

@@ -1,7 +1,7 @@
 """Batched evaluation of a large scenario: 100 sensors × 10,000 targets × 100 time steps (10⁸
 sensor–target–time triples) through the whole pipeline (geometry, field of view, optics,
 radiometry, clutter, atmosphere with noise, transforms, fusion), chunked so memory stays bounded,
-with each available compute engine (numpy, numba; ``targetacq.engines``).
+with each available compute engine (numpy, numba; ``targetacq.core.engines``).
 
 Each engine runs in a child process of its own (so that its peak resident memory is its own),
 one after the other in this run; one JSON line per engine with ``engine``, ``triples``,
@@ -24,8 +24,8 @@ import numpy as np
 
 import targetacq as ta
 from _timing import best_of
-from targetacq.model import ModelChain
-from targetacq.scenario import parse_scenario
+from targetacq.run.model_chain import ModelChain
+from targetacq.scenario.schema import parse_scenario
 
 
 def scenario(n_sensors: int, n_targets: int, n_steps: int, engine: str = "numpy") -> ModelChain:
@@ -127,7 +127,7 @@ def main() -> None:
         print(json.dumps(measure(args[1], *(int(a) for a in args[2:5]))))
         return
     size = (args + ["100", "10000", "100"][len(args) :])[:3]
-    from targetacq.engines import ENGINES
+    from targetacq.core.engines import ENGINES
 
     default = ",".join(e for e in ("numpy", "numba") if ENGINES[e].available())
     engines = (args[3] if len(args) > 3 else default).split(",")

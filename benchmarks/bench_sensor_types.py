@@ -16,8 +16,8 @@ import json
 import numpy as np
 
 from _timing import best_of
-from targetacq.model import ModelChain
-from targetacq.scenario import parse_scenario
+from targetacq.run.model_chain import ModelChain
+from targetacq.scenario.schema import parse_scenario
 
 N_SENSORS, N_TARGETS, N_STEPS = 20, 1000, 50
 

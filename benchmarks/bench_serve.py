@@ -194,7 +194,7 @@ def _generated(n_sensors: int, n_targets: int) -> tuple[str, np.ndarray, np.ndar
 def _cases() -> list[tuple[str, str, list[tuple[np.ndarray, np.ndarray]]]]:
     """(label, scenario text, positions (sensors, targets) per step) of each size."""
     from targetacq.core import scenario_positions
-    from targetacq.scenario import load_scenario
+    from targetacq.scenario.schema import load_scenario
 
     times = np.arange(STEPS + 2) / RATE
     text = EXAMPLE.read_text(encoding="utf-8")
@@ -223,7 +223,7 @@ def _over(post: Any, text: str, steps: list[tuple[np.ndarray, np.ndarray]]) -> d
     import tomllib
 
     from targetacq import Simulation
-    from targetacq.scenario import parse_scenario
+    from targetacq.scenario.schema import parse_scenario
 
     sim = Simulation.from_scenario(parse_scenario(tomllib.loads(text)))
     sim.step(0.0, 1 / RATE, *steps[0])

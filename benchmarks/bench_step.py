@@ -5,7 +5,7 @@ A scenario built in Python (thermal cameras pointed down at random azimuths over
 random places, haze, clutter from a temperature spread) is stepped at 10 Hz while the targets
 drive. Each timed ``Simulation.step(time, dt, sensor_positions, target_positions)`` is followed
 by the core alone on the same positions: the engine bound to the scene
-(``targetacq.engines.bind``), ``factors`` then ``probabilities`` (the evaluation a step makes),
+(``targetacq.core.engines.bind``), ``factors`` then ``probabilities`` (the evaluation a step makes),
 and, where the version has it, the bound engine's one-call ``step``. CPU time is
 ``time.process_time`` (one process, one thread: what the step costs the core it runs on), wall
 time ``time.perf_counter``; each figure is the median over the steps of a run.
@@ -42,8 +42,9 @@ from pathlib import Path
 import numpy as np
 
 from _timing import REPEATS
-from targetacq import Simulation, engines
-from targetacq.scenario import Atmosphere, Background, Sensor, Target
+from targetacq import Simulation
+from targetacq.core import engines
+from targetacq.scenario.schema import Atmosphere, Background, Sensor, Target
 
 HERE = Path(__file__).parent
 ROOT = HERE.parent

@@ -2,13 +2,13 @@
 
 1. A 600-point sweep (30 focal lengths × 20 critical dimensions, probability 0.5) in clear air
    and in fog (``--band lwir --obscurant fog:low``: a bisection per point), through
-   :func:`targetacq.studies.sweep`: the block path (each block's points read one by one into
+   :func:`targetacq.run.studies.sweep`: the block path (each block's points read one by one into
    SI numbers and choices, then stacked into arrays, made into one case per group and solved
    together) against the per-point path (each point set up and solved alone, as the previous
    version did: ``studies._point`` per point) in the same run, with the same assembly of the
    dataset. The numbers of both are checked equal (≤ 1e-12 relative, NaN where NaN). Also
    timed: the reading of the 600 points' options alone
-   (:func:`targetacq.services.range_case.read_range_options`, the part of the block path that
+   (:func:`targetacq.run.range_options.read_range_options`, the part of the block path that
    stays per point), and their whole set-up one at a time (``range_setup``: reading, the optics
    kernels and the case's checks, per point as the per-point path does).
 2. ``targetacq sweep`` as a subprocess (``python -m targetacq``): 400 points (20 × 20) against 1
@@ -43,10 +43,10 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import studies
-from targetacq.services.options import option_product
-from targetacq.services.range_case import read_range_options
-from targetacq.studies import sweep
+from targetacq.run import studies
+from targetacq.run.option_table import option_product
+from targetacq.run.range_options import read_range_options
+from targetacq.run.studies import sweep
 
 FOG = {"band": "lwir", "obscurant": "fog:low"}
 

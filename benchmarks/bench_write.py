@@ -1,6 +1,6 @@
 """Streamed output of a large scenario: 100 sensors × 10,000 targets × 100 time steps (10⁸
 sensor–target–time triples) evaluated chunk by chunk and written to Parquet as it comes
-(:func:`targetacq.streaming.write_chunks`), in bounded memory.
+(:func:`targetacq.run.streaming.write_chunks`), in bounded memory.
 
 Prints the triples, the seconds, the triples per second, the peak resident memory and the size
 of the file; the last line printed is one JSON object. Arguments: sensors targets steps
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from bench_evaluate import scenario
-from targetacq.streaming import chunk_sizes, write_chunks
+from targetacq.run.streaming import chunk_sizes, write_chunks
 
 
 def _size(path: Path) -> int:

@@ -6,7 +6,7 @@ import subprocess
 import numpy as np
 from PIL import Image
 
-from targetacq.report import HEADLESS_CHROMIUM_FLAGS
+from targetacq.io.html_report import HEADLESS_CHROMIUM_FLAGS
 
 BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
 

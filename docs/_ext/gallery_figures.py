@@ -1,9 +1,9 @@
 """A sphinx-gallery image scraper for matplotlib figures made without pyplot.
 
-:mod:`targetacq.plots` returns :class:`matplotlib.figure.Figure` objects that pyplot does not
-manage (so a library call never opens a window), which the built-in scraper cannot see. This
-scraper saves every such figure the example's code block has bound to a name, once; it must
-come before the ``matplotlib`` scraper, which closes pyplot's figures.
+:mod:`targetacq.reports.plots` returns :class:`matplotlib.figure.Figure` objects that pyplot does
+not manage (so a library call never opens a window), which the built-in scraper cannot see. This
+scraper saves every such figure the example's code block has bound to a name, once; it must come
+before the ``matplotlib`` scraper, which closes pyplot's figures.
 """
 
 from __future__ import annotations

@@ -46,7 +46,7 @@ def _number(value: float) -> str:
 
 
 def _criteria() -> RegistryTable:
-    from targetacq.criteria import CRITERIA, TASKS
+    from targetacq.acquisition.criteria import CRITERIA, TASKS
 
     rows = []
     for name, c in CRITERIA.items():
@@ -60,15 +60,15 @@ def _criteria() -> RegistryTable:
     return RegistryTable(
         "criteria",
         "Criteria sets",
-        "targetacq.criteria.CRITERIA",
+        "targetacq.acquisition.criteria.CRITERIA",
         ("name", "thresholds in", "values", "source"),
         tuple(rows),
-        _attr_doc("targetacq.criteria", "CRITERIA"),
+        _attr_doc("targetacq.acquisition.criteria", "CRITERIA"),
     )
 
 
 def _transforms() -> RegistryTable:
-    from targetacq.transforms import TRANSFORMS
+    from targetacq.acquisition.transforms import TRANSFORMS
 
     rows = []
     for name, t in TRANSFORMS.items():
@@ -78,15 +78,15 @@ def _transforms() -> RegistryTable:
     return RegistryTable(
         "transforms",
         "Transforms",
-        "targetacq.transforms.TRANSFORMS",
+        "targetacq.acquisition.transforms.TRANSFORMS",
         ("name", "tasks", "options (defaults)", "source"),
         tuple(rows),
-        _attr_doc("targetacq.transforms", "TRANSFORMS"),
+        _attr_doc("targetacq.acquisition.transforms", "TRANSFORMS"),
     )
 
 
 def _noise_models() -> RegistryTable:
-    from targetacq.noise import NOISE_MODELS
+    from targetacq.acquisition.path_noise import NOISE_MODELS
 
     rows = tuple(
         (name, "yes" if m.combines_with_clutter else "no", m.source)
@@ -95,10 +95,10 @@ def _noise_models() -> RegistryTable:
     return RegistryTable(
         "noise_models",
         "Noise models",
-        "targetacq.noise.NOISE_MODELS",
+        "targetacq.acquisition.path_noise.NOISE_MODELS",
         ("name", "combines with clutter", "what it is and its source"),
         rows,
-        _attr_doc("targetacq.noise", "NOISE_MODELS"),
+        _attr_doc("targetacq.acquisition.path_noise", "NOISE_MODELS"),
     )
 
 
@@ -117,9 +117,9 @@ def _sensor_types() -> RegistryTable:
 
 
 def _obscurants() -> RegistryTable:
-    from targetacq.atmosphere import OBSCURANTS
-    from targetacq.bands import BANDS
-    from targetacq.tables import load_table
+    from targetacq.base.tables import load_table
+    from targetacq.physics.atmosphere import OBSCURANTS
+    from targetacq.physics.bands import BANDS
 
     table = load_table("extinction")
     cells = table.keyed_ranges(("obscurant", "band"), "low_np_per_km", "high_np_per_km")
@@ -133,24 +133,24 @@ def _obscurants() -> RegistryTable:
     return RegistryTable(
         "obscurants",
         "Obscurants (extinction in Np/km)",
-        "targetacq.atmosphere.OBSCURANTS",
+        "targetacq.physics.atmosphere.OBSCURANTS",
         ("name", *BANDS, "source"),
         tuple(rows),
-        _attr_doc("targetacq.atmosphere", "OBSCURANTS")
+        _attr_doc("targetacq.physics.atmosphere", "OBSCURANTS")
         + " Source: "
         + " ".join(table.provenance.split()),
     )
 
 
 def _levels() -> RegistryTable:
-    from targetacq.atmosphere import EXTINCTION_LEVELS
+    from targetacq.physics.atmosphere import EXTINCTION_LEVELS
 
-    what = _attr_doc("targetacq.atmosphere", "EXTINCTION_LEVELS")
+    what = _attr_doc("targetacq.physics.atmosphere", "EXTINCTION_LEVELS")
     rows = tuple((level, str(i + 1)) for i, level in enumerate(EXTINCTION_LEVELS))
     return RegistryTable(
         "extinction_levels",
         "Extinction levels",
-        "targetacq.atmosphere.EXTINCTION_LEVELS",
+        "targetacq.physics.atmosphere.EXTINCTION_LEVELS",
         ("name", "position in the list"),
         rows,
         what,
@@ -158,22 +158,22 @@ def _levels() -> RegistryTable:
 
 
 def _visibility() -> RegistryTable:
-    from targetacq.atmosphere import VISIBILITY_CONVENTIONS
+    from targetacq.physics.atmosphere import VISIBILITY_CONVENTIONS
 
     rows = tuple((name, f"{value:.4f}") for name, value in VISIBILITY_CONVENTIONS.items())
     return RegistryTable(
         "visibility_conventions",
         "Visibility conventions",
-        "targetacq.atmosphere.VISIBILITY_CONVENTIONS",
+        "targetacq.physics.atmosphere.VISIBILITY_CONVENTIONS",
         ("name", "−ln(contrast threshold)"),
         rows,
-        _attr_doc("targetacq.atmosphere", "VISIBILITY_CONVENTIONS"),
+        _attr_doc("targetacq.physics.atmosphere", "VISIBILITY_CONVENTIONS"),
     )
 
 
 def _bands() -> RegistryTable:
-    from targetacq.bands import BANDS
-    from targetacq.tables import load_table
+    from targetacq.base.tables import load_table
+    from targetacq.physics.bands import BANDS
 
     table = load_table("bands")
     labels = dict(zip(table.column("band"), table.column("label"), strict=True))
@@ -184,71 +184,73 @@ def _bands() -> RegistryTable:
     return RegistryTable(
         "bands",
         "Spectral bands",
-        "targetacq.bands.BANDS",
+        "targetacq.physics.bands.BANDS",
         ("name", "limits [µm]", "label", "source"),
         rows,
-        _attr_doc("targetacq.bands", "BANDS") + " Source: " + " ".join(table.provenance.split()),
+        _attr_doc("targetacq.physics.bands", "BANDS")
+        + " Source: "
+        + " ".join(table.provenance.split()),
     )
 
 
 def _motion_rules() -> RegistryTable:
-    from targetacq.acquisition import MOTION_RULES
+    from targetacq.acquisition.probabilities import MOTION_RULES
 
     rows = tuple((name, rule.source) for name, rule in MOTION_RULES.items())
     return RegistryTable(
         "motion_rules",
         "Motion rules",
-        "targetacq.acquisition.MOTION_RULES",
+        "targetacq.acquisition.probabilities.MOTION_RULES",
         ("name", "what it is and its source"),
         rows,
-        _attr_doc("targetacq.acquisition", "MOTION_RULES"),
+        _attr_doc("targetacq.acquisition.probabilities", "MOTION_RULES"),
     )
 
 
 def _semantics() -> RegistryTable:
-    from targetacq.acquisition import ACQUISITION_SEMANTICS
+    from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS
 
     rows = tuple((name, s.source) for name, s in ACQUISITION_SEMANTICS.items())
     return RegistryTable(
         "acquisition_semantics",
         "Acquisition semantics",
-        "targetacq.acquisition.ACQUISITION_SEMANTICS",
+        "targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS",
         ("name", "what it is and its source"),
         rows,
-        _attr_doc("targetacq.acquisition", "ACQUISITION_SEMANTICS"),
+        _attr_doc("targetacq.acquisition.probabilities", "ACQUISITION_SEMANTICS"),
     )
 
 
 def _redraw_rules() -> RegistryTable:
-    from targetacq.engagement import REDRAW_RULES
+    from targetacq.acquisition.engagement import REDRAW_RULES
 
     rows = tuple((name, f"{r.description} ({r.source})") for name, r in REDRAW_RULES.items())
     return RegistryTable(
         "redraw_rules",
         "Redraw rules of the step API and simulate",
-        "targetacq.engagement.REDRAW_RULES",
+        "targetacq.acquisition.engagement.REDRAW_RULES",
         ("name", "what it is and its source"),
         rows,
-        _attr_doc("targetacq.engagement", "REDRAW_RULES"),
+        _attr_doc("targetacq.acquisition.engagement", "REDRAW_RULES"),
     )
 
 
 def _projections() -> RegistryTable:
-    from targetacq.optics import FIELD_OF_VIEW_PROJECTIONS
+    from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
 
     rows = tuple((name, text) for name, text in FIELD_OF_VIEW_PROJECTIONS.items())
     return RegistryTable(
         "fov_projections",
         "Field-of-view projections",
-        "targetacq.optics.FIELD_OF_VIEW_PROJECTIONS",
+        "targetacq.physics.optics.FIELD_OF_VIEW_PROJECTIONS",
         ("name", "what it is and its source"),
         rows,
-        _attr_doc("targetacq.optics", "FIELD_OF_VIEW_PROJECTIONS"),
+        _attr_doc("targetacq.physics.optics", "FIELD_OF_VIEW_PROJECTIONS"),
     )
 
 
 def _targets() -> RegistryTable:
-    from targetacq.targets import TARGETS
+    from targetacq.physics.targets import TARGETS
 
     sources = {t.source for t in TARGETS.values()}
     shared = len(sources) == 1
@@ -262,13 +264,13 @@ def _targets() -> RegistryTable:
         )
         for name, t in TARGETS.items()
     )
-    intro = _attr_doc("targetacq.targets", "TARGETS")
+    intro = _attr_doc("targetacq.physics.targets", "TARGETS")
     if shared:
         intro += " Source: " + _cell(next(iter(sources)))
     return RegistryTable(
         "targets",
         "Named targets",
-        "targetacq.targets.TARGETS",
+        "targetacq.physics.targets.TARGETS",
         (
             "name",
             "critical dimension [m]",
@@ -282,8 +284,8 @@ def _targets() -> RegistryTable:
 
 
 def _clutter_regions() -> RegistryTable:
-    from targetacq.tables import load_table
-    from targetacq.transforms import CLUTTER_REGIONS
+    from targetacq.acquisition.transforms import CLUTTER_REGIONS
+    from targetacq.base.tables import load_table
 
     table = load_table("schmieder_weathersby")
     p = [float(v) for v in table.column("probability")]
@@ -294,17 +296,17 @@ def _clutter_regions() -> RegistryTable:
     return RegistryTable(
         "clutter_regions",
         "Clutter regions",
-        "targetacq.transforms.CLUTTER_REGIONS",
+        "targetacq.acquisition.transforms.CLUTTER_REGIONS",
         ("name", "N50 of detection [cycles]", "source"),
         rows,
-        _attr_doc("targetacq.transforms", "CLUTTER_REGIONS")
+        _attr_doc("targetacq.acquisition.transforms", "CLUTTER_REGIONS")
         + " Source: "
         + " ".join(table.provenance.split()),
     )
 
 
 def _plausible_ranges() -> RegistryTable:
-    from targetacq.plausibility import PLAUSIBLE_RANGES
+    from targetacq.scenario.plausibility import PLAUSIBLE_RANGES
 
     rows = tuple(
         (
@@ -318,12 +320,13 @@ def _plausible_ranges() -> RegistryTable:
     return RegistryTable(
         "plausible_ranges",
         "Plausibility warnings",
-        "targetacq.plausibility.PLAUSIBLE_RANGES",
+        "targetacq.scenario.plausibility.PLAUSIBLE_RANGES",
         ("where", "warns at", "likely slip", "why no real sensor or scene reaches it"),
         rows,
-        _attr_doc("targetacq.plausibility", "PLAUSIBLE_RANGES")
+        _attr_doc("targetacq.scenario.plausibility", "PLAUSIBLE_RANGES")
         + " A value beyond its limit is valid and runs as given; validating the scenario warns "
-        "with the value's location and its likely fix (targetacq.plausibility.PlausibilityWarning"
+        "with the value's location and its likely fix "
+        "(targetacq.scenario.plausibility.PlausibilityWarning"
         "; the command line prints one line per warning on stderr, the web API answers them in "
         '"warnings").',
     )
@@ -411,16 +414,13 @@ def _api_summary() -> str:
 
 
 def _owner_module(name: str) -> str:
-    import importlib
-    import pkgutil
-
+    """The module that defines a name the package re-exports (its table of re-exports)."""
     import targetacq
 
-    for info in pkgutil.iter_modules(targetacq.__path__):
-        module = importlib.import_module(f"targetacq.{info.name}")
-        if name in getattr(module, "__all__", ()) and _attr_doc(module.__name__, name):
-            return module.__name__
-    raise LookupError(f"no module of targetacq documents {name!r}")
+    module = f"targetacq.{targetacq._MODULE_OF[name]}"
+    if not _attr_doc(module, name):
+        raise LookupError(f"{module} does not document {name!r}")
+    return module
 
 
 def _write(path: Path, text: str) -> None:

@@ -11,8 +11,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import targetacq as ta
-from targetacq.bands import BANDS
-from targetacq.plots import plot_atmosphere
+from targetacq.physics.bands import BANDS
+from targetacq.reports.plots import plot_atmosphere
 
 fig = plot_atmosphere("lwir", max_range=10e3)
 

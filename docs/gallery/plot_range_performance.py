@@ -13,8 +13,8 @@ import numpy as np
 
 import targetacq as ta
 from targetacq.core.cases import RangeCase
-from targetacq.plots import plot_range_performance
-from targetacq.ranges import range_performance
+from targetacq.reports.plots import plot_range_performance
+from targetacq.core.ranges import range_performance
 
 ifov = ta.ifov(17e-6, 75e-3)  # [rad]
 haze = ta.obscurant_extinction("haze", "lwir", "high")  # [Np/m]

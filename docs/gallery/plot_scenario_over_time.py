@@ -3,7 +3,7 @@ A scenario evaluated over time
 ==============================
 
 The bundled scenario ``uav_haze.toml``: a UAV's long-wave camera flies east at 1.5 km over a
-truck, a tank and a moving jeep in high haze. :class:`targetacq.model.ModelChain` evaluates
+truck, a tank and a moving jeep in high haze. :class:`targetacq.run.model_chain.ModelChain` evaluates
 every sensor × target × time in one pass (:func:`targetacq.example_path` finds the bundled file); the fused detection probability of each target rises
 as the UAV closes in and drops when the target leaves the field of view.
 """
@@ -12,8 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from targetacq import example_path
-from targetacq.model import ModelChain
-from targetacq.scenario import load_scenario
+from targetacq.run.model_chain import ModelChain
+from targetacq.scenario.schema import load_scenario
 
 scenario = load_scenario(example_path("uav_haze"))
 chain = ModelChain(scenario)

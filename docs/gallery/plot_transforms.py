@@ -11,7 +11,7 @@ and high clutter. The cycles axis is logarithmic, as in the thesis's figures.
 import numpy as np
 
 import targetacq as ta
-from targetacq.plots import plot_transforms
+from targetacq.reports.plots import plot_transforms
 
 fig = plot_transforms("johnson")
 

@@ -5,7 +5,7 @@ cycles on target, clutter → SCR, then Johnson-style transforms → probabiliti
 sensors. SI units throughout (m, rad, K, s). This module only re-exports the public API.
 
 The names are imported on first use (PEP 562): ``import targetacq`` costs almost nothing, and
-``targetacq.dri_ranges`` imports :mod:`targetacq.ranges` (NumPy, SciPy) when first looked up.
+``targetacq.dri_ranges`` imports :mod:`targetacq.core.ranges` (NumPy, SciPy) when first looked up.
 
 Examples
 --------
@@ -24,54 +24,54 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _EXPORTS: dict[str, tuple[str, ...]] = {
-    "acquisition": (
+    "acquisition.probabilities": (
         "Acquisition",
         "Clutter",
         "acquisition_probabilities",
         "effect_probability",
         "probability",
     ),
-    "atmosphere": (
+    "physics.atmosphere": (
         "extinction_from_visibility",
         "obscurant_extinction",
         "path_transmittance",
         "snr_from_transmittance",
         "transmittance",
     ),
-    "bands": ("BANDS",),
-    "bundled": ("example_path",),
-    "clutter": (
+    "physics.bands": ("BANDS",),
+    "base.bundled": ("example_path",),
+    "physics.clutter": (
         "image_clutter",
         "signal_to_clutter_ratio",
         "terrain_clutter",
     ),
-    "design": (
+    "run.design": (
         "required_focal_length",
         "required_ifov",
     ),
-    "criteria": (
+    "acquisition.criteria": (
         "CRITERIA",
         "TASKS",
         "Criterion",
         "get_criterion",
     ),
-    "fusion": (
+    "acquisition.fusion": (
         "central_level_bounds",
         "fuse",
         "fuse_groups",
     ),
-    "geometry": (
+    "physics.geometry": (
         "critical_dimension",
         "projected_extents",
         "slant_range",
         "solid_angle",
     ),
-    "noise": (
+    "acquisition.path_noise": (
         "NOISE_MODELS",
         "effective_scr",
         "noise_n50_factor",
     ),
-    "optics": (
+    "physics.optics": (
         "cycles_on_target",
         "diffraction_angle",
         "diffraction_spot",
@@ -84,19 +84,19 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "range_for_pixel_density",
         "resolvable_cycle_angle",
     ),
-    "radiometry": (
+    "physics.radiometry": (
         "band_exitance",
         "spectral_exitance",
     ),
-    "ranges": ("RangeCase", "dri_ranges"),
-    "scene": (
+    "core.ranges": ("RangeCase", "dri_ranges"),
+    "run.scene": (
         "Scene",
         "SceneAcquisition",
         "scene_acquisition",
     ),
-    "simulation": ("Simulation",),
-    "studies": ("sweep",),
-    "transforms": (
+    "run.simulation": ("Simulation",),
+    "run.studies": ("sweep",),
+    "acquisition.transforms": (
         "TRANSFORMS",
         "c2nveo",
         "c2nveo_inverse",
@@ -178,58 +178,70 @@ __all__ = [
 ]
 
 if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps them equal)
-    from targetacq.acquisition import (
+    from targetacq.acquisition.criteria import (
+        CRITERIA,
+        TASKS,
+        Criterion,
+        get_criterion,
+    )
+    from targetacq.acquisition.fusion import (
+        central_level_bounds,
+        fuse,
+        fuse_groups,
+    )
+    from targetacq.acquisition.path_noise import (
+        NOISE_MODELS,
+        effective_scr,
+        noise_n50_factor,
+    )
+    from targetacq.acquisition.probabilities import (
         Acquisition,
         Clutter,
         acquisition_probabilities,
         effect_probability,
         probability,
     )
-    from targetacq.atmosphere import (
+    from targetacq.acquisition.transforms import (
+        TRANSFORMS,
+        c2nveo,
+        c2nveo_inverse,
+        clutter_region,
+        inverse_transform,
+        schmieder_weathersby,
+        schmieder_weathersby_inverse,
+        transform,
+        ttpf,
+        ttpf_inverse,
+    )
+    from targetacq.base.bundled import (
+        example_path,
+    )
+    from targetacq.core.ranges import (
+        RangeCase,
+        dri_ranges,
+    )
+    from targetacq.physics.atmosphere import (
         extinction_from_visibility,
         obscurant_extinction,
         path_transmittance,
         snr_from_transmittance,
         transmittance,
     )
-    from targetacq.bands import (
+    from targetacq.physics.bands import (
         BANDS,
     )
-    from targetacq.bundled import (
-        example_path,
-    )
-    from targetacq.clutter import (
+    from targetacq.physics.clutter import (
         image_clutter,
         signal_to_clutter_ratio,
         terrain_clutter,
     )
-    from targetacq.criteria import (
-        CRITERIA,
-        TASKS,
-        Criterion,
-        get_criterion,
-    )
-    from targetacq.design import (
-        required_focal_length,
-        required_ifov,
-    )
-    from targetacq.fusion import (
-        central_level_bounds,
-        fuse,
-        fuse_groups,
-    )
-    from targetacq.geometry import (
+    from targetacq.physics.geometry import (
         critical_dimension,
         projected_extents,
         slant_range,
         solid_angle,
     )
-    from targetacq.noise import (
-        NOISE_MODELS,
-        effective_scr,
-        noise_n50_factor,
-    )
-    from targetacq.optics import (
+    from targetacq.physics.optics import (
         cycles_on_target,
         diffraction_angle,
         diffraction_spot,
@@ -242,36 +254,24 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
         range_for_pixel_density,
         resolvable_cycle_angle,
     )
-    from targetacq.radiometry import (
+    from targetacq.physics.radiometry import (
         band_exitance,
         spectral_exitance,
     )
-    from targetacq.ranges import (
-        RangeCase,
-        dri_ranges,
+    from targetacq.run.design import (
+        required_focal_length,
+        required_ifov,
     )
-    from targetacq.scene import (
+    from targetacq.run.scene import (
         Scene,
         SceneAcquisition,
         scene_acquisition,
     )
-    from targetacq.simulation import (
+    from targetacq.run.simulation import (
         Simulation,
     )
-    from targetacq.studies import (
+    from targetacq.run.studies import (
         sweep,
-    )
-    from targetacq.transforms import (
-        TRANSFORMS,
-        c2nveo,
-        c2nveo_inverse,
-        clutter_region,
-        inverse_transform,
-        schmieder_weathersby,
-        schmieder_weathersby_inverse,
-        transform,
-        ttpf,
-        ttpf_inverse,
     )
 
 

@@ -5,7 +5,7 @@ Every quantity takes a unit (``--pitch 17um``); choices come from the registries
 Failures, warnings and signals
 ------------------------------
 - **Bad input** (``ValueError``, ``TypeError``, ``KeyError``), a **file that cannot be read or
-  written** (``OSError``, and :class:`targetacq.outputs.OutputError` for every output file), a
+  written** (``OSError``, and :class:`targetacq.io.files.OutputError` for every output file), a
   run **too large for memory** (``MemoryError``) or **too deeply nested** input
   (``RecursionError``) print one line, ``targetacq: error: ...``, on stderr and exit with
   status 2, never a traceback. Anything else is a bug and keeps its traceback.
@@ -16,10 +16,10 @@ Failures, warnings and signals
 - **Warnings.** A command that fails prints only its error line. A command that succeeds
   prints each distinct ``UserWarning`` (a warning addressed to the user) after its output, as one
   line ``targetacq: warning: ...`` on stderr: among them a scenario file's plausibility
-  warnings (:mod:`targetacq.plausibility`: a value no real sensor has, such as a focal length of
-  ``"35 m"`` meant in mm), each located in the file. Other warnings (NumPy's floating-point
-  ``RuntimeWarning``, deprecations inside libraries) are internal numeric noise: the results
-  already carry NaN where a value is undefined, so they are dropped.
+  warnings (:mod:`targetacq.scenario.plausibility`: a value no real sensor has, such as a focal
+  length of ``"35 m"`` meant in mm), each located in the file. Other warnings (NumPy's
+  floating-point ``RuntimeWarning``, deprecations inside libraries) are internal numeric noise: the
+  results already carry NaN where a value is undefined, so they are dropped.
 - **Signals.** SIGTERM ends the command with status 143 (128 + 15) after removing any
   temporary output file; a file-size limit (SIGXFSZ) is ignored so that the write fails with
   "File too large" and is reported like any write failure.
@@ -244,9 +244,9 @@ def __getattr__(name: str) -> Any:
     (their help texts need the registries, which a command's module imports anyway)."""
     if name not in _SHARED_OPTIONS:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
-    from targetacq.bands import BANDS
     from targetacq.cli.params import Quantity
+    from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
+    from targetacq.physics.bands import BANDS
 
     length = Quantity("length", "--visibility", lists=False)
     extinction = Quantity("extinction", "--extinction", lists=False)
@@ -320,7 +320,7 @@ def _model_line(report: dict[str, Any]) -> str:
 
 def _render_rows(rows: list[dict[str, Any]], output_format: str) -> str:
     if output_format == "json":
-        from targetacq.outputs import json_text
+        from targetacq.io.files import json_text
 
         return json_text({"targets": rows}) + "\n"
     if output_format == "csv":

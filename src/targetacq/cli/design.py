@@ -1,7 +1,7 @@
 """The `design` command: the focal length, pitch or IFOV at which a task reaches a probability.
 
-The solver is :mod:`targetacq.design`; this module turns the range-case options into its
-arguments (through :func:`targetacq.services.range_case.range_setup`, so every option is
+The solver is :mod:`targetacq.run.design`; this module turns the range-case options into its
+arguments (through :func:`targetacq.run.range_options.range_setup`, so every option is
 checked as for ``dri``) and prints one line per task, probability, range and weather: without
 the path's extinction, and with it where one is given.
 """
@@ -14,19 +14,19 @@ from typing import Annotated, Any
 
 import typer
 
+from targetacq.base.limits import check_count
 from targetacq.cli import FORMATS, FormatOption, _csv, _model_line, app
 from targetacq.cli.options import range_case_options
-from targetacq.limits import check_count
-from targetacq.outputs import json_text
-from targetacq.services.options import typed_options
-from targetacq.services.range_case import (
+from targetacq.io.files import json_text
+from targetacq.run.option_table import typed_options
+from targetacq.run.range_options import (
     example_camera,
     option_choice,
     option_quantity,
     range_setup,
 )
 
-# targetacq.design (NumPy, the model) is imported when the command runs.
+# targetacq.run.design (NumPy, the model) is imported when the command runs.
 
 _NOT_FOR_DESIGN = ("ifov", "hfov", "projection", "pixel_density", "mrtd")
 """Range-case options that give the resolution the design solves for."""
@@ -71,8 +71,8 @@ def _flag(name: str) -> str:
 def design_report(options: dict[str, Any], range_text: str, task: str | None) -> dict[str, Any]:
     """The design of the ``design`` command as a JSON-ready dict (rows: one per task,
     probability, range and weather)."""
-    from targetacq import design as solver
-    from targetacq.transforms import get_transform
+    from targetacq.acquisition.transforms import get_transform
+    from targetacq.run import design as solver
 
     options = dict(options)
     for name in _NOT_FOR_DESIGN:

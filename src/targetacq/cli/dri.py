@@ -7,8 +7,6 @@ from typing import Annotated, Any
 
 import typer
 
-from targetacq import atmosphere
-from targetacq.atmosphere import np_per_km_to_db_per_km
 from targetacq.cli import (
     FORMATS,
     BandOption,
@@ -22,9 +20,11 @@ from targetacq.cli import (
     app,
 )
 from targetacq.cli.options import range_case_options
-from targetacq.outputs import json_text
-from targetacq.services.options import option_lists, typed_options
-from targetacq.services.range_case import (
+from targetacq.io.files import json_text
+from targetacq.physics import atmosphere
+from targetacq.physics.atmosphere import np_per_km_to_db_per_km
+from targetacq.run.option_table import option_lists, typed_options
+from targetacq.run.range_options import (
     dri_report,
     option_band,
     option_choice,
@@ -72,10 +72,10 @@ def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -
     them: every sensor type through the core (:func:`targetacq.core.pair_ranges.pair_performance`:
     each target moved away from the sensor along its start bearing, the sensor looking at it)."""
     from targetacq.cli.figures import _check_scenario_options
-    from targetacq.model import ModelChain
-    from targetacq.report_content import scenario_performance
-    from targetacq.scenario import load_scenario
-    from targetacq.services.range_case import option_probabilities
+    from targetacq.reports.content import scenario_performance
+    from targetacq.run.model_chain import ModelChain
+    from targetacq.run.range_options import option_probabilities
+    from targetacq.scenario.schema import load_scenario
 
     _check_scenario_options(case_options, "a scenario's dri", "--probability and --format")
     probabilities = option_probabilities(case_options.get("probability") or "0.5")

@@ -1,7 +1,7 @@
 """The `examples` commands: list the bundled examples, and copy them into a folder.
 
 The examples are the package data in ``targetacq/examples`` (scenario files, scripts, images
-and the box files of the ``clutter`` command): :func:`targetacq.bundled.example_files` finds
+and the box files of the ``clutter`` command): :func:`targetacq.base.bundled.example_files` finds
 them in an installed wheel as in a checkout, and :func:`targetacq.example_path` gives one's path
 to Python code. Each one's description is the first
 sentence of its leading comment or docstring; a file without one (an image) is described by
@@ -18,9 +18,9 @@ from typing import Annotated
 
 import typer
 
-from targetacq.bundled import example_files, example_name
+from targetacq.base.bundled import example_files, example_name
+from targetacq.base.registry import unknown_name
 from targetacq.cli import app
-from targetacq.registry import unknown_name
 
 __all__ = ["example_descriptions", "example_files"]
 
@@ -134,7 +134,7 @@ def copy_command(
 
     Example: targetacq examples copy all my-examples
     """
-    from targetacq.outputs import write_atomically
+    from targetacq.io.files import write_atomically
 
     files = example_files()
     if name == "all":

@@ -10,18 +10,19 @@ from typing import Annotated, Any
 import typer
 
 from targetacq import __version__
-from targetacq.atmosphere import (
-    EXTINCTION_LEVELS,
-)
-from targetacq.bands import BANDS
+from targetacq.acquisition.criteria import CRITERIA, get_criterion
+from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.transforms import TRANSFORMS
 from targetacq.cli import (
     app,
 )
 from targetacq.cli.options import range_case_options
-from targetacq.criteria import CRITERIA, get_criterion
-from targetacq.noise import NOISE_MODELS
-from targetacq.outputs import output_path
-from targetacq.report_content import (
+from targetacq.io.files import output_path
+from targetacq.physics.atmosphere import (
+    EXTINCTION_LEVELS,
+)
+from targetacq.physics.bands import BANDS
+from targetacq.reports.content import (
     REPORT_PROBABILITIES,
     atmosphere_figures,
     case_title,
@@ -31,8 +32,8 @@ from targetacq.report_content import (
     sources_line,
     titled,
 )
-from targetacq.services.options import option_product, typed_options
-from targetacq.services.range_case import (
+from targetacq.run.option_table import option_product, typed_options
+from targetacq.run.range_options import (
     RangeSetup,
     option_band,
     option_choice,
@@ -41,14 +42,13 @@ from targetacq.services.range_case import (
     option_quantity,
     range_setup,
 )
-from targetacq.transforms import TRANSFORMS
 
-# targetacq.plots and targetacq.report (matplotlib, about 0.3 s) are imported by the commands
-# that draw, not when the CLI starts.
+# targetacq.reports.plots and targetacq.io.html_report (matplotlib, about 0.3 s) are imported by the
+# commands that draw, not when the CLI starts.
 
 PLOT_KIND_NAMES = ("curves", "transforms", "atmosphere")
-"""The names of :data:`targetacq.plots.PLOT_KINDS`, known without importing matplotlib (for the
-help text; a test keeps the two equal)."""
+"""The names of :data:`targetacq.reports.plots.PLOT_KINDS`, known without importing matplotlib (for
+the help text; a test keeps the two equal)."""
 
 
 def _given(case_options: dict[str, Any]) -> set[str]:
@@ -174,7 +174,7 @@ def plot(
 
     Example: targetacq plot curves --example --out curves.png
     """
-    from targetacq.plots import (
+    from targetacq.reports.plots import (
         FIGURE_FORMATS,
         PLOT_KINDS,
         plot_atmosphere,
@@ -269,7 +269,12 @@ def report(
 
     Example: targetacq report --example --critical-dimension 0.75m,2.3m --out r.html
     """
-    from targetacq.report import REPORT_FORMATS, render_report, require_browser, write_report
+    from targetacq.io.html_report import (
+        REPORT_FORMATS,
+        render_report,
+        require_browser,
+        write_report,
+    )
 
     _, kind = output_path(out, REPORT_FORMATS, "the report file")  # before any work
     wanted = option_requirement(requirement)
@@ -298,7 +303,7 @@ def _range_case_report(
 ) -> tuple[Any, ...]:
     """Heading, range performance, sections, figures and captions of a report of range cases:
     one case per combination of the options given as lists."""
-    from targetacq.plots import plot_range_performance, plot_transforms
+    from targetacq.reports.plots import plot_range_performance, plot_transforms
 
     setups: dict[str, RangeSetup] = {}
     bands: list[tuple[float, float]] = []
@@ -397,7 +402,11 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         "focal_length_m": ("focal length", 1e3, "mm"),
         "hfov_rad": ("horizontal field of view", 180 / math.pi, "°"),
         "pixels": ("pixels across the field", 1, ""),
-        "projection": ("field of view to IFOV", 1, "(targetacq.optics.FIELD_OF_VIEW_PROJECTIONS)"),
+        "projection": (
+            "field of view to IFOV",
+            1,
+            "(targetacq.physics.optics.FIELD_OF_VIEW_PROJECTIONS)",
+        ),
         "pixel_density": ("EN 62676-4 pixel density", 1, "definition"),
         "f_number": ("F-number", 1, ""),
     }

@@ -9,20 +9,20 @@ from typing import Annotated
 import typer
 import typer.main
 
-from targetacq.acquisition import Clutter
-from targetacq.acquisition import probability as probability_of
+from targetacq.acquisition.criteria import CRITERIA, get_criterion
+from targetacq.acquisition.probabilities import Clutter
+from targetacq.acquisition.probabilities import probability as probability_of
+from targetacq.base.inputs import read_input_text
 from targetacq.cli import (
     FORMATS,
     FormatOption,
     _render_rows,
     app,
 )
-from targetacq.clutter import CHANNELS, as_boxes, gray, image_clutter
-from targetacq.criteria import CRITERIA, get_criterion
-from targetacq.features import target_features
-from targetacq.images import read_image, save_clutter_overlay
-from targetacq.inputs import read_input_text
-from targetacq.services.range_case import option_choice, option_quantity
+from targetacq.io.images import read_image, save_clutter_overlay
+from targetacq.physics.clutter import CHANNELS, as_boxes, gray, image_clutter
+from targetacq.physics.features import target_features
+from targetacq.run.range_options import option_choice, option_quantity
 
 _BOX_COLUMNS = ("x", "y", "width", "height")
 

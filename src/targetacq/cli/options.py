@@ -1,7 +1,7 @@
 """Option groups shared by commands, defined once.
 
 The sensor, target, scene, path, noise and model options of ``targetacq dri`` are the keyword
-arguments of :func:`targetacq.services.range_case.range_setup`. :func:`range_case_options` adds
+arguments of :func:`targetacq.run.range_options.range_setup`. :func:`range_case_options` adds
 all of them to a command (``dri``, ``plot``, ``report``, ``sweep``, ``design``), grouped in
 ``--help`` by panel, so every command that takes them lists them and parses them itself: no
 command re-parses another's arguments. The command receives them as one keyword argument,
@@ -23,7 +23,7 @@ from typing import Annotated, Any, TypeVar
 import typer
 
 from targetacq.cli.params import Quantity, complete_names
-from targetacq.services.options import LIST_SEPARATORS, RANGE_CASE_OPTIONS, SENSOR, OptionSpec
+from targetacq.run.option_table import LIST_SEPARATORS, RANGE_CASE_OPTIONS, SENSOR, OptionSpec
 
 __all__ = ["range_case_options"]
 
@@ -31,7 +31,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 
 def _obscurant_levels() -> tuple[str, ...]:
-    from targetacq.atmosphere import EXTINCTION_LEVELS
+    from targetacq.physics.atmosphere import EXTINCTION_LEVELS
 
     return EXTINCTION_LEVELS
 
@@ -54,7 +54,7 @@ def _parameter(spec: OptionSpec) -> inspect.Parameter:
         inspect.Parameter.KEYWORD_ONLY,
         default=None,
         annotation=Annotated[
-            str | None,  # text: a list of values is parsed by targetacq.services.options
+            str | None,  # text: a list of values is parsed by targetacq.run.option_table
             typer.Option(spec.flag, help=spec.help, rich_help_panel=spec.panel, **extra),
         ],
     )

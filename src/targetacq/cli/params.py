@@ -19,7 +19,7 @@ from typing import Any
 
 import typer
 
-from targetacq.units import DIMENSIONS, parse_quantity
+from targetacq.base.units import DIMENSIONS, parse_quantity
 
 __all__ = ["Quantity", "QuantityError", "complete_names"]
 
@@ -36,7 +36,7 @@ class Quantity:
     """A quantity option's type: text whose every item reads as a quantity of ``kind``.
 
     Each item of a comma-separated list (a sweep's values) must parse with
-    :func:`targetacq.units.parse_quantity` (a finite number with a unit of that kind) when the
+    :func:`targetacq.base.units.parse_quantity` (a finite number with a unit of that kind) when the
     command line is parsed; the text is passed on unchanged, to be converted where it is used.
     A bad item stops the command with one line naming the option and the item
     (:class:`QuantityError`). Typer takes a parameter type as a ``parser`` callable and a
@@ -45,7 +45,7 @@ class Quantity:
     Parameters
     ----------
     kind : str
-        A key of :data:`targetacq.units.DIMENSIONS` (``"length"``, ``"angle"``, ...).
+        A key of :data:`targetacq.base.units.DIMENSIONS` (``"length"``, ``"angle"``, ...).
     name : str
         The option's name in error messages, e.g. ``"--pitch"``.
     lists : bool

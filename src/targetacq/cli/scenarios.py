@@ -13,6 +13,8 @@ import numpy as np
 import typer
 import typer.main
 
+from targetacq.base.limits import check_seed
+from targetacq.base.units import parse_quantity
 from targetacq.cli import (
     DEFAULT_EXAMPLE,
     FORMATS,
@@ -23,15 +25,13 @@ from targetacq.cli import (
 )
 from targetacq.cli.params import complete_names
 from targetacq.core.compile import check_runnable
-from targetacq.datasets import output_file, sha256_file
-from targetacq.engines import ENGINES, get_engine
-from targetacq.limits import check_seed
-from targetacq.model import ModelChain
-from targetacq.scenario import Scenario, ScenarioError, load_scenario
-from targetacq.search import check_simulation_size
-from targetacq.search import simulate as simulate_runs
-from targetacq.services.range_case import option_choice
-from targetacq.units import parse_quantity
+from targetacq.core.engines import ENGINES, get_engine
+from targetacq.io.datasets import output_file, sha256_file
+from targetacq.run.model_chain import ModelChain
+from targetacq.run.range_options import option_choice
+from targetacq.run.search import check_simulation_size
+from targetacq.run.search import simulate as simulate_runs
+from targetacq.scenario.schema import Scenario, ScenarioError, load_scenario
 
 
 def _scenario_path(scenario: str | None) -> tuple[Scenario, str]:
@@ -120,7 +120,7 @@ def evaluate(
 
     Example: targetacq evaluate examples/two_sensors_fused.toml --out results.nc
     """
-    from targetacq.streaming import chunk_sizes, write_chunks
+    from targetacq.run.streaming import chunk_sizes, write_chunks
 
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
@@ -335,7 +335,7 @@ def _write_simulation(
     """The summary (and, for .nc/.zarr, every run's fused first times) with provenance."""
     import xarray as xr
 
-    from targetacq.datasets import Output, annotate, write_output
+    from targetacq.io.datasets import Output, annotate, write_output
 
     tasks = list(result.fused)
     by = summary.set_index(["target", "task"])
@@ -374,7 +374,7 @@ def _write_false_detections(
     provenance (the [false_targets] table among it)."""
     import xarray as xr
 
-    from targetacq.datasets import Output, annotate, write_output
+    from targetacq.io.datasets import Output, annotate, write_output
 
     frame = result.false_detections.frame()
     ds = xr.Dataset({name: ("false_detection", frame[name].to_numpy()) for name in _FALSE_COLUMNS})

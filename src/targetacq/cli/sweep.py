@@ -11,8 +11,8 @@ import typer
 
 from targetacq.cli import FORMATS, FormatOption, _csv, app
 from targetacq.cli.options import range_case_options
-from targetacq.outputs import json_text, output_path, write_atomically
-from targetacq.services.range_case import option_choice, option_quantity
+from targetacq.io.files import json_text, output_path, write_atomically
+from targetacq.run.range_options import option_choice, option_quantity
 
 # xarray, dask and matplotlib are imported by the command when it runs, not when the CLI starts.
 
@@ -73,7 +73,7 @@ def sweep(
     Example: targetacq sweep --pitch 12um --focal-length 35mm,50mm,75mm
     --critical-dimension 0.75m,2.3m --band lwir --obscurant none,fog:low --probability 0.5,0.9
     """
-    from targetacq.datasets import output_file
+    from targetacq.io.datasets import output_file
 
     option_choice(output_format, FORMATS, "--format")
     if out is not None:
@@ -112,8 +112,8 @@ def sweep(
 
 
 def run_sweep(case_options: dict[str, Any], **kwargs: Any) -> Any:
-    """:func:`targetacq.studies.sweep` with a missing Dask reported as a one-line error."""
-    from targetacq.studies import sweep as sweep_
+    """:func:`targetacq.run.studies.sweep` with a missing Dask reported as a one-line error."""
+    from targetacq.run.studies import sweep as sweep_
 
     try:
         return sweep_(case_options, **kwargs)
@@ -124,8 +124,8 @@ def run_sweep(case_options: dict[str, Any], **kwargs: Any) -> Any:
 def _output(ds: Any) -> Any:
     import pandas as pd
 
-    from targetacq.datasets import Output
-    from targetacq.studies import sweep_rows
+    from targetacq.io.datasets import Output
+    from targetacq.run.studies import sweep_rows
 
     at_ranges = "probability" in ds.data_vars
     columns = {}
@@ -142,15 +142,15 @@ def _output(ds: Any) -> Any:
 
 
 def write_sweep(ds: Any, out: str) -> Path:
-    """Write a sweep by the suffix of ``out`` (:data:`targetacq.datasets.OUTPUT_FORMATS`)."""
-    from targetacq.datasets import write_output
+    """Write a sweep by the suffix of ``out`` (:data:`targetacq.io.datasets.OUTPUT_FORMATS`)."""
+    from targetacq.io.datasets import write_output
 
     return write_output(_output(ds), out)
 
 
 def render_sweep(ds: Any, output_format: str) -> str:
     """A sweep as a table, JSON (``{"meta": ..., "ranges": [rows]}``) or CSV text."""
-    from targetacq.studies import sweep_rows
+    from targetacq.run.studies import sweep_rows
 
     rows = sweep_rows(ds)
     if output_format == "json":

@@ -8,7 +8,7 @@ from typing import Annotated
 import typer
 
 from targetacq.cli import app
-from targetacq.outputs import output_path
+from targetacq.io.files import output_path
 
 
 @app.command("validation")

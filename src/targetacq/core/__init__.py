@@ -1,7 +1,7 @@
 """The array core: typed records, the scenario compiler and the pure evaluation.
 
 See :mod:`targetacq.core.records`, :mod:`targetacq.core.compile` and
-:mod:`targetacq.core.evaluate`. Every front-end (``ModelChain``, the step API
+:mod:`targetacq.core.evaluation`. Every front-end (``ModelChain``, the step API
 :class:`targetacq.Simulation`, ranges, the CLI) computes through here.
 """
 
@@ -12,7 +12,7 @@ from targetacq.core.compile import (
     scenario_positions,
     sensor_rows,
 )
-from targetacq.core.evaluate import (
+from targetacq.core.evaluation import (
     Factors,
     Probabilities,
     evaluate,

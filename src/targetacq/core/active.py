@@ -1,7 +1,7 @@
 """The pairs of radars and laser radars in the array core, beside the imaging sensors'.
 
 A scene with radars or laser radars (:attr:`SceneArrays.radar`, :attr:`SceneArrays.laser`) is
-evaluated in two passes over the same geometry. :func:`targetacq.core.evaluate.factors` first
+evaluated in two passes over the same geometry. :func:`targetacq.core.evaluation.factors` first
 computes every row as an imager (range, critical dimension, field of view, path); then
 :func:`active_factors` replaces the rows of the active sensors with their own factors, and
 :func:`active_probabilities` gives every row its probabilities by its kind:
@@ -28,8 +28,12 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import _arrays, atmosphere, laser_radar, sensor_noise, transforms
+from targetacq.acquisition import transforms
+from targetacq.base import arrays as _arrays
 from targetacq.core.records import SceneArrays
+from targetacq.physics import atmosphere
+from targetacq.physics import detector_noise as sensor_noise
+from targetacq.physics import laser_radar_equation as laser_radar
 
 __all__ = ["active_factors", "active_probabilities", "has_active"]
 
@@ -89,7 +93,7 @@ def active_factors(
         The checked positions ``(n_s, *batch, 3)``, ``(n_g, *batch, 3)`` [m].
     visible_fraction : array, optional
         A visible fraction given for this call, checked and with the pairs' axes
-        (:func:`targetacq.core.evaluate.check_visible_fraction`). A laser radar's relief SCR
+        (:func:`targetacq.core.evaluation.check_visible_fraction`). A laser radar's relief SCR
         ``f h / sqrt(σ_z² + Δr²/12)`` is proportional to it: the compiled SCR (at the targets'
         own fraction) is scaled by the ratio of the two.
 
@@ -97,7 +101,7 @@ def active_factors(
     -------
     targetacq.core.Factors
     """
-    from targetacq import radar
+    from targetacq.physics import radar_equation as radar
 
     xp, (rng,) = _arrays.arrays(found.range)
     ndim = rng.ndim
@@ -166,7 +170,7 @@ def active_factors(
 
 def _radar_tasks(scene: SceneArrays, found: Any, xp: Any) -> tuple[Any, Any, Any]:
     """Detection, recognition and identification of the radar rows."""
-    from targetacq import radar
+    from targetacq.physics import radar_equation as radar
 
     arrays = scene.radar
     assert arrays is not None
@@ -203,7 +207,7 @@ def active_probabilities(
     """Every row's ordered probabilities by its kind, before the field of view.
 
     The imaging and laser-radar rows go through ``task_probabilities`` (the imagers' own,
-    :func:`targetacq.core.evaluate.task_probabilities`, which calls this module: passed in, so
+    :func:`targetacq.core.evaluation.task_probabilities`, which calls this module: passed in, so
     that this module does not import it back) in groups of the same clutter (an SCR or none)
     and noise (an SNR, or none where neither the path nor the sensor adds noise); the radar rows
     through :func:`_radar_tasks`.

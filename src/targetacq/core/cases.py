@@ -1,23 +1,23 @@
 """Range cases: one sensor, one target and one path, evaluated at slant ranges.
 
 A :class:`RangeCase` is the typed record that every range front-end describes: the range
-solver (:func:`targetacq.ranges.dri_ranges`), the range-performance curves
-(:func:`targetacq.ranges.range_performance`), :func:`targetacq.scene_acquisition`, the CLI's
+solver (:func:`targetacq.core.ranges.dri_ranges`), the range-performance curves
+(:func:`targetacq.core.ranges.range_performance`), :func:`targetacq.scene_acquisition`, the CLI's
 ``dri``, ``plot`` and ``report`` commands of the analyst's options (a scenario's ranges come from
-the core: :mod:`targetacq.core.pair_ranges`) and :meth:`targetacq.model.ModelChain.range_cases`.
-Its inputs are checked once, when it is made. :func:`case_acquisition` is the one place where
-a case becomes cycles on target, transmittance, SNR and the ordered probabilities at ranges
-(:func:`case_probability` gives one task's own curve, for the range solver); the physics is in
-the kernels they call:
+the core: :mod:`targetacq.core.pair_ranges`) and
+:meth:`targetacq.run.model_chain.ModelChain.range_cases`. Its inputs are checked once, when it is
+made. :func:`case_acquisition` is the one place where a case becomes cycles on target,
+transmittance, SNR and the ordered probabilities at ranges (:func:`case_probability` gives one
+task's own curve, for the range solver); the physics is in the kernels they call:
 
-1. resolution: ``N = d / (R · cycle)`` (:func:`targetacq.optics.cycles_on_target`; §3.5,
+1. resolution: ``N = d / (R · cycle)`` (:func:`targetacq.physics.optics.cycles_on_target`; §3.5,
    Fig. 3.3 and Eqs. (5.2), (5.3) in Sonesson (2004));
-2. path: ``τ = exp(−γR)`` (:func:`targetacq.atmosphere.transmittance`, Eq. (7.3)) times the
+2. path: ``τ = exp(−γR)`` (:func:`targetacq.physics.atmosphere.transmittance`, Eq. (7.3)) times the
    foliage's transmittance (§6.8), and the SNR of Eqs. (7.5)–(7.7)
-   (:func:`targetacq.atmosphere.snr_from_transmittance`);
+   (:func:`targetacq.physics.atmosphere.snr_from_transmittance`);
 3. probabilities: the transform with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform, ordered ``P_id <= P_rec <= P_det``
-   (:func:`targetacq.acquisition.acquisition_probabilities`, §3.5–3.9).
+   (:func:`targetacq.acquisition.probabilities.acquisition_probabilities`, §3.5–3.9).
 
 Without ``extinction`` and ``foliage`` the path adds no noise (the SNR is +inf and the noise
 model is not applied).
@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from targetacq import _arrays, atmosphere, optics, sensor_noise
-from targetacq import transforms as _transforms
-from targetacq.acquisition import (
+from targetacq.acquisition import transforms as _transforms
+from targetacq.acquisition.criteria import Criterion, get_criterion
+from targetacq.acquisition.path_noise import get_noise_model
+from targetacq.acquisition.probabilities import (
     Acquisition,
     Clutter,
     acquisition_probabilities,
@@ -40,8 +41,9 @@ from targetacq.acquisition import (
     get_semantics,
     probability,
 )
-from targetacq.criteria import Criterion, get_criterion
-from targetacq.noise import get_noise_model
+from targetacq.base import arrays as _arrays
+from targetacq.physics import atmosphere, optics
+from targetacq.physics import detector_noise as sensor_noise
 
 __all__ = [
     "RESOLUTION_MODELS",
@@ -62,8 +64,8 @@ class RangeCase:
     Array fields broadcast with each other and with the ranges they are evaluated at. The
     inputs are checked when the case is made (``ValueError`` naming the field and its valid
     range, ``TypeError`` for a value that is not real numbers); ``criterion`` is then always a
-    :class:`targetacq.criteria.Criterion`. Every quantity must be finite except ``scr``, whose
-    +inf means no clutter; an array field may hold NaN (a missing value), which gives NaN
+    :class:`targetacq.acquisition.criteria.Criterion`. Every quantity must be finite except ``scr``,
+    whose +inf means no clutter; an array field may hold NaN (a missing value), which gives NaN
     probabilities at those elements only.
 
     Attributes
@@ -83,7 +85,7 @@ class RangeCase:
     criterion : str, Criterion or mapping
         Criteria set (name, object, or task → N50 mapping).
     transform : str
-        A name from :data:`targetacq.transforms.TRANSFORMS`.
+        A name from :data:`targetacq.acquisition.transforms.TRANSFORMS`.
     options : mapping
         The transform's options (e.g. ``{"bound": "pessimistic"}`` for c2nveo).
     extinction : array_like, optional
@@ -95,13 +97,13 @@ class RangeCase:
     region : {"low", "medium", "high"}, optional
         Table 3.5 clutter region, instead of ``scr``.
     hot_spot, moving : bool
-        See :func:`targetacq.transforms.schmieder_weathersby`.
+        See :func:`targetacq.acquisition.transforms.schmieder_weathersby`.
     noise_model : str, NoiseModel or callable
-        How the noise moves the transforms (:mod:`targetacq.noise`).
+        How the noise moves the transforms (:mod:`targetacq.acquisition.path_noise`).
     contrast : array_like, optional
         Target–background contrast at the scene, in the unit of ``noise_equivalent_contrast``
         (a thermal sensor: ΔT [K]); with ``noise_equivalent_contrast``, the sensor's own noise
-        (:mod:`targetacq.sensor_noise`).
+        (:mod:`targetacq.physics.detector_noise`).
     noise_equivalent_contrast : array_like, optional
         The sensor's noise-equivalent contrast, >= 0 (a thermal sensor: its NETD [K]).
     target_area : array_like, optional
@@ -109,13 +111,14 @@ class RangeCase:
         sensor's SNR; default the critical dimension squared (the fewest pixels a target of that
         critical dimension can cover).
     mrtd : MrtdCurve, optional
-        The sensor's MRTD curve (:class:`targetacq.mrtd.MrtdCurve`): the cycles on target are
-        then MRTD-limited (:data:`RESOLUTION_MODELS` "mrtd"), with ``contrast`` the target's
-        ΔT [K].
+        The sensor's MRTD curve (:class:`targetacq.physics.mrtd.MrtdCurve`): the cycles on target
+        are then MRTD-limited (:data:`RESOLUTION_MODELS` "mrtd"), with ``contrast`` the target's ΔT
+        [K].
     motion : str
-        How a moving target is detected (:data:`targetacq.acquisition.MOTION_RULES`).
+        How a moving target is detected (:data:`targetacq.acquisition.probabilities.MOTION_RULES`).
     semantics : str
-        What the three probabilities mean (:data:`targetacq.acquisition.ACQUISITION_SEMANTICS`).
+        What the three probabilities mean
+        (:data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`).
 
     Examples
     --------
@@ -218,7 +221,7 @@ class RangeCase:
                 "contrast (e.g. delta_t)"
             )
         if self.mrtd is not None:
-            from targetacq.mrtd import MrtdCurve
+            from targetacq.physics.mrtd import MrtdCurve
 
             if not isinstance(self.mrtd, MrtdCurve):
                 raise ValueError(f"mrtd must be an MrtdCurve, got {type(self.mrtd).__name__}")
@@ -298,12 +301,12 @@ class RangeCase:
     @property
     def clutter(self) -> Clutter:
         """``scr``, ``region``, ``hot_spot`` and ``moving``, as a
-        :class:`targetacq.acquisition.Clutter`."""
+        :class:`targetacq.acquisition.probabilities.Clutter`."""
         return Clutter(scr=self.scr, region=self.region, hot_spot=self.hot_spot, moving=self.moving)
 
     def resolution(self) -> dict[str, Any]:
-        """Keyword arguments of :func:`targetacq.optics.cycles_on_target` and
-        :func:`targetacq.optics.range_for_cycles` for this case's resolution.
+        """Keyword arguments of :func:`targetacq.physics.optics.cycles_on_target` and
+        :func:`targetacq.physics.optics.range_for_cycles` for this case's resolution.
 
         A given ``cycle`` is passed as the IFOV of a sensor sampling at it, ``cycle / 2``
         (one cycle is two pixel rows, Fig. 3.3), with no optics limit.
@@ -320,7 +323,7 @@ class RangeCase:
     @property
     def cycle_angle(self) -> Any:
         """The angle of one resolvable cycle [rad]: ``cycle``, or the coarser of the sampling
-        and the optics limits (:func:`targetacq.optics.resolvable_cycle_angle`)."""
+        and the optics limits (:func:`targetacq.physics.optics.resolvable_cycle_angle`)."""
         if self.cycle is not None:
             return self.cycle
         return optics.resolvable_cycle_angle(
@@ -355,8 +358,9 @@ class RangePerformance:
 
 @dataclass(frozen=True)
 class CaseAcquisition(Acquisition):
-    """A case at ranges: the probabilities (as :class:`targetacq.acquisition.Acquisition`,
-    ordered) and the factors behind them, each of the broadcast shape of case and ranges.
+    """A case at ranges: the probabilities (as
+    :class:`targetacq.acquisition.probabilities.Acquisition`, ordered) and the factors behind them,
+    each of the broadcast shape of case and ranges.
 
     Attributes
     ----------
@@ -388,7 +392,7 @@ def _geometric_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
 
 
 def _mrtd_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
-    from targetacq.mrtd import mrtd_cycles
+    from targetacq.physics.mrtd import mrtd_cycles
 
     return mrtd_cycles(range, case.critical_dimension, case.contrast, transmittance, case.mrtd)
 
@@ -405,7 +409,7 @@ RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
             "mrtd",
             _mrtd_cycles,
             "MRTD-limited, STANAG 4347 style: N = f*(R) · d / R with MRTD(f*) = τ(R) ΔT "
-            "(:func:`targetacq.mrtd.mrtd_cycles`)",
+            "(:func:`targetacq.physics.mrtd.mrtd_cycles`)",
         ),
     }
 )
@@ -416,10 +420,10 @@ RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
 def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
-    ``N`` from :func:`targetacq.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in Sonesson
-    (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); the SNR of Eqs. (7.5)–(7.7) added
-    in variance to the sensor's own (:func:`targetacq.sensor_noise.sensor_snr`, with the pixels
-    the target's area covers at the sensor's IFOV).
+    ``N`` from :func:`targetacq.physics.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in
+    Sonesson (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); the SNR of Eqs. (7.5)–(7.7)
+    added in variance to the sensor's own (:func:`targetacq.physics.detector_noise.sensor_snr`, with
+    the pixels the target's area covers at the sensor's IFOV).
 
     Parameters
     ----------
@@ -456,9 +460,9 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
     """Cycles, transmittance, SNR and the ordered probabilities of a case at ranges.
 
     The factors of :func:`case_factors` and the probabilities of
-    :func:`targetacq.acquisition.acquisition_probabilities` (detection in clutter from Table 3.5,
-    §3.8; ``P_id <= P_rec <= P_det``), with the SNR applied through the case's noise model
-    where the path attenuates.
+    :func:`targetacq.acquisition.probabilities.acquisition_probabilities` (detection in clutter from
+    Table 3.5, §3.8; ``P_id <= P_rec <= P_det``), with the SNR applied through the case's noise
+    model where the path attenuates.
 
     Parameters
     ----------
@@ -505,9 +509,9 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
 def case_probability(case: RangeCase, range: Any, task: str) -> Any:
     """Probability of one task of a case at ranges: the task's own (marginal) curve.
 
-    :func:`targetacq.acquisition.probability` at the factors of :func:`case_factors`; for any
-    task of the criterion that the transform covers (e.g. orientation, or detection alone with
-    the Schmieder–Weathersby transform). :func:`case_acquisition` gives the ordered three.
+    :func:`targetacq.acquisition.probabilities.probability` at the factors of :func:`case_factors`;
+    for any task of the criterion that the transform covers (e.g. orientation, or detection alone
+    with the Schmieder–Weathersby transform). :func:`case_acquisition` gives the ordered three.
 
     Parameters
     ----------

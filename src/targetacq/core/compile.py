@@ -10,7 +10,7 @@ curve) happen here and nowhere else. The scripted paths of a scenario are turned
 Before anything is computed, every problem that would stop the scenario from running is
 collected (:func:`check_runnable`): files that cannot be read, image boxes outside the image,
 terrain class indices that name no class, a time grid (or a terrain map) too large for memory.
-They are raised together, each located, as one :class:`targetacq.scenario.ScenarioError`; the
+They are raised together, each located, as one :class:`targetacq.scenario.schema.ScenarioError`; the
 ``validate`` command reports the same list, so a scenario it accepts compiles.
 """
 
@@ -22,9 +22,9 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import atmosphere, geometry
-from targetacq.clutter import signal_to_clutter_ratio
-from targetacq.constants import SPEED_OF_LIGHT
+from targetacq.acquisition.criteria import Criterion, get_criterion
+from targetacq.base.constants import SPEED_OF_LIGHT
+from targetacq.base.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.core.records import (
     LaserArrays,
     ModelChoices,
@@ -36,9 +36,9 @@ from targetacq.core.records import (
     SignatureArrays,
     TargetArrays,
 )
-from targetacq.criteria import Criterion, get_criterion
-from targetacq.limits import BYTES_PER_EVALUATION, check_size
-from targetacq.scenario import ScenarioError
+from targetacq.physics import atmosphere, geometry
+from targetacq.physics.clutter import signal_to_clutter_ratio
+from targetacq.scenario.schema import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
 
 __all__ = [
@@ -59,7 +59,7 @@ class TerrainArrays:
 
     Attributes
     ----------
-    terrain : targetacq.terrain.TerrainMap
+    terrain : targetacq.physics.terrain.TerrainMap
     mean : numpy.ndarray (n_s, K)
         Mean signal of each class in each sensor's band [W/m²].
     variance : numpy.ndarray (n_s, K)
@@ -222,7 +222,7 @@ def _path(scenario: Any) -> PathArrays:
 
 def _image_scr(scenario: Any, pixels: np.ndarray) -> np.ndarray:
     """SCR of each target measured in the background image (Eqs. (3.12)-(3.15))."""
-    from targetacq.clutter import image_clutter
+    from targetacq.physics.clutter import image_clutter
 
     return np.asarray(image_clutter(pixels, [t.image_box for t in scenario.targets]).scr)
 
@@ -263,8 +263,9 @@ def _signature(
 
 
 def _relief_scr(scenario: Any, sensor: Any) -> np.ndarray:
-    """A laser radar's 3-D SCR of every target (:func:`targetacq.laser_radar.relief_scr`)."""
-    from targetacq import laser_radar
+    """A laser radar's 3-D SCR of every target
+    (:func:`targetacq.physics.laser_radar_equation.relief_scr`)."""
+    from targetacq.physics import laser_radar_equation as laser_radar
 
     heights = np.array([t.dimensions[2] for t in scenario.targets], dtype=float)
     visible = np.array([t.visible_fraction for t in scenario.targets], dtype=float)
@@ -279,7 +280,7 @@ def _relief_scr(scenario: Any, sensor: Any) -> np.ndarray:
 
 
 def _radar(scenario: Any, sensors: list[Any]) -> RadarArrays | None:
-    from targetacq import radar
+    from targetacq.physics import radar_equation as radar
 
     rows = tuple(k for k, s in enumerate(sensors) if get_sensor_type(s.type).kind == "radar")
     if not rows:
@@ -336,7 +337,7 @@ def _laser(scenario: Any, sensors: list[Any]) -> LaserArrays | None:
 
 
 def _terrain(scenario: Any, grid: Any) -> TerrainArrays | None:
-    from targetacq.terrain import TerrainClass, TerrainMap
+    from targetacq.physics.terrain import TerrainClass, TerrainMap
 
     bg = scenario.background
     if bg.terrain is None:
@@ -362,8 +363,8 @@ def _terrain(scenario: Any, grid: Any) -> TerrainArrays | None:
 
 def _background_image(scenario: Any, problems: list[str]) -> np.ndarray | None:
     """The background image as one channel, and each target's box checked against it."""
-    from targetacq.clutter import as_boxes, gray
-    from targetacq.images import read_image
+    from targetacq.io.images import read_image
+    from targetacq.physics.clutter import as_boxes, gray
 
     bg = scenario.background
     if bg.image is None:
@@ -388,7 +389,7 @@ def _background_image(scenario: Any, problems: list[str]) -> np.ndarray | None:
 
 def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
     """The terrain map's class indices, checked against the classes and the memory."""
-    from targetacq.terrain import read_class_map
+    from targetacq.physics.terrain import read_class_map
 
     spec = scenario.background.terrain
     if spec is None:
@@ -409,7 +410,7 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
         )
         return None
     rows, cols = grid.shape
-    try:  # one summed-area table per class (targetacq.terrain.TerrainMap)
+    try:  # one summed-area table per class (targetacq.physics.terrain.TerrainMap)
         check_size(
             count * (rows + 1.0) * (cols + 1.0),
             8,
@@ -425,7 +426,7 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
 def _mrtd_curves(scenario: Any, problems: list[str]) -> dict[str, Any]:
     """The sensors' MRTD curves read from their files, by sensor name; a file that cannot be
     read, or is not a curve, is a problem located at ``sensors[i].mrtd``."""
-    from targetacq.mrtd import MrtdCurve
+    from targetacq.physics.mrtd import MrtdCurve
 
     curves = {}
     for k, sensor in enumerate(scenario.sensors):
@@ -442,7 +443,7 @@ def _mrtd(owned: list[tuple[str, Any]], curves: dict[str, Any]) -> MrtdArrays | 
     """The MRTD-limited rows: each thermal row whose sensor has a curve, with the slope
     ``∂M_bb,band/∂T`` at its ``netd_temperature`` that turns its contrast into a ΔT (as the
     CLI's ``--mrtd`` does with the temperatures)."""
-    from targetacq.radiometry import band_exitance_derivative
+    from targetacq.physics.radiometry import band_exitance_derivative
 
     rows = tuple(k for k, (owner, _) in enumerate(owned) if owner in curves)
     if not rows:
@@ -462,9 +463,9 @@ def _mrtd(owned: list[tuple[str, Any]], curves: dict[str, Any]) -> MrtdArrays | 
 
 def _size_problems(scenario: Any) -> list[str]:
     """The scenario's own time grid against the memory a chunked evaluation of it needs: all
-    the times of one target at once (:meth:`targetacq.model.ModelChain.evaluate_chunks`, which
-    ``targetacq evaluate`` streams). An evaluation held in memory whole is checked by
-    :meth:`targetacq.model.ModelChain.evaluate`."""
+    the times of one target at once (:meth:`targetacq.run.model_chain.ModelChain.evaluate_chunks`,
+    which ``targetacq evaluate`` streams). An evaluation held in memory whole is checked by
+    :meth:`targetacq.run.model_chain.ModelChain.evaluate`."""
     grid, n_s, n_g = scenario.time, len(scenario.sensors), len(scenario.targets)
     try:
         check_size(
@@ -485,11 +486,11 @@ def check_runnable(scenario: Any) -> list[str]:
 
     This compiles the scenario (:func:`compile_scenario`: the files it names are read) without
     evaluating anything: the ``validate`` command's check, the same as
-    :class:`targetacq.model.ModelChain` makes, so the two cannot disagree.
+    :class:`targetacq.run.model_chain.ModelChain` makes, so the two cannot disagree.
 
     Parameters
     ----------
-    scenario : targetacq.scenario.Scenario
+    scenario : targetacq.scenario.schema.Scenario
 
     Returns
     -------
@@ -507,7 +508,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
 
     Parameters
     ----------
-    scenario : targetacq.scenario.Scenario
+    scenario : targetacq.scenario.schema.Scenario
 
     Returns
     -------
@@ -515,7 +516,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
 
     Raises
     ------
-    targetacq.scenario.ScenarioError
+    targetacq.scenario.schema.ScenarioError
         With every problem found (:func:`check_runnable`), each located: an image or a terrain
         map that cannot be read, boxes outside the image, class indices naming no class, a
         time grid too large for memory.
@@ -583,7 +584,7 @@ def scenario_positions(
 
     Parameters
     ----------
-    scenario : targetacq.scenario.Scenario
+    scenario : targetacq.scenario.schema.Scenario
     times : array_like
         (n_t,) [s].
     targets : slice, optional

@@ -2,15 +2,15 @@
 
 A thermal sensor with an MRTD curve (:attr:`targetacq.core.records.SensorArrays.mrtd`) resolves
 its target to the bar frequency ``f*`` at which the target's apparent temperature difference
-``τ · ΔT`` equals the curve (:mod:`targetacq.mrtd`), so its cycles on target are
-``N = f*(τ · |ΔT|) · d / R`` (:func:`targetacq.mrtd.mrtd_cycles`) instead of the geometric
+``τ · ΔT`` equals the curve (:mod:`targetacq.physics.mrtd`), so its cycles on target are
+``N = f*(τ · |ΔT|) · d / R`` (:func:`targetacq.physics.mrtd.mrtd_cycles`) instead of the geometric
 ``d / (R · cycle)``, with the pair's slant range ``R``, critical dimension ``d`` and path
 transmittance ``τ`` (segments and local clouds included) as
-:func:`targetacq.core.evaluate.factors` computed them, and ``ΔT`` the pair's exitance contrast
+:func:`targetacq.core.evaluation.factors` computed them, and ``ΔT`` the pair's exitance contrast
 over the slope ``∂M_bb,band/∂T`` at the sensor's reference temperature: the blackbody
 temperature difference that gives the same contrast in the band (the range-case chain's
 ``contrast`` of :class:`targetacq.core.cases.RangeCase`; the CLI's ``--mrtd`` makes it the
-same way from the temperatures). :func:`targetacq.core.evaluate.factors` computes every row as
+same way from the temperatures). :func:`targetacq.core.evaluation.factors` computes every row as
 a geometric imager and then :func:`mrtd_factors` replaces the cycles of these rows; the rest
 (noise, transforms, field of view) is the same for every imager.
 
@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import _arrays
+from targetacq.base import arrays as _arrays
 from targetacq.core.records import SceneArrays
-from targetacq.mrtd import mrtd_cycles
+from targetacq.physics.mrtd import mrtd_cycles
 
 __all__ = ["mrtd_factors"]
 
@@ -46,17 +46,17 @@ def mrtd_factors(scene: SceneArrays, found: Any) -> Any:
     -------
     targetacq.core.Factors
         ``found`` itself with its NumPy cycles written over at the rows (what
-        :func:`targetacq.core.evaluate.factors` keeps beside them is kept), or a copy with new
+        :func:`targetacq.core.evaluation.factors` keeps beside them is kept), or a copy with new
         cycles in other array namespaces.
 
     Examples
     --------
-    :func:`targetacq.core.evaluate.factors` calls it for a scene with MRTD-limited rows:
+    :func:`targetacq.core.evaluation.factors` calls it for a scene with MRTD-limited rows:
 
     >>> from importlib import resources
     >>> import numpy as np
     >>> from targetacq.core import compile_scenario, factors
-    >>> from targetacq.scenario import Scenario
+    >>> from targetacq.scenario.schema import Scenario
     >>> curve = str(resources.files("targetacq") / "data" / "example_mrtd.csv")
     >>> scenario = Scenario.model_validate({
     ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 3.4e-4, "position": [0, 0, 2],

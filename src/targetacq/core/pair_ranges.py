@@ -18,7 +18,7 @@ What the line of ranges does with the rest of a scenario:
   a DRI range, ``evaluate`` gives the asked probability there.
 - **terrain map**: used, around the target where it stands at the start: the SCR is the map's
   window at the target's start position, its classes seen at the footprint ``R · IFOV`` of
-  each range (:func:`targetacq.core.evaluate.footprint_scr`). The target keeps its own
+  each range (:func:`targetacq.core.evaluation.footprint_scr`). The target keeps its own
   surroundings: moved along the line, it would cross other cells of the map (or leave it),
   and a range curve would jump at their edges, so that a DRI range would be an edge of the
   map rather than a range of the sensor.
@@ -40,7 +40,7 @@ import numpy as np
 
 from targetacq.core.cases import RangePerformance
 from targetacq.core.compile import scenario_positions
-from targetacq.core.evaluate import factors, footprint_scr, probabilities
+from targetacq.core.evaluation import factors, footprint_scr, probabilities
 
 __all__ = ["pair_performance"]
 
@@ -205,7 +205,7 @@ def pair_performance(
 
     Parameters
     ----------
-    chain : targetacq.model.ModelChain
+    chain : targetacq.run.model_chain.ModelChain
     rows : sequence of int
         Sensor rows of the compiled scene.
     probabilities : sequence of float
@@ -223,8 +223,8 @@ def pair_performance(
 
     Examples
     --------
-    >>> from targetacq.model import ModelChain
-    >>> from targetacq.scenario import load_scenario
+    >>> from targetacq.run.model_chain import ModelChain
+    >>> from targetacq.scenario.schema import load_scenario
     >>> chain = ModelChain(load_scenario("examples/two_sensors_fused.toml"))
     >>> dri = pair_performance(chain, [1], [0.5]).dri  # row 1: the thermal sensor
     >>> row = dri[(dri["case"] == "thermal → soldier") & (dri["task"] == "detection")]

@@ -5,7 +5,7 @@ dataclasses. Their array fields are the *data* of a JAX pytree and their other f
 flags, model choices) the static *metadata*, so a compiled scene can be passed through
 ``jax.jit``, ``vmap`` and ``grad`` (:func:`register_pytrees`; JAX is never imported unless it is
 used). Nothing here holds physics: :mod:`targetacq.core.compile` fills the records from a
-scenario and :mod:`targetacq.core.evaluate` computes from them.
+scenario and :mod:`targetacq.core.evaluation` computes from them.
 
 JAX (``pip install 'targetacq[jax]'``)::
 
@@ -137,7 +137,7 @@ class SensorArrays:
         Extinction of each segment in the sensor's band [Np/m].
     noise_equivalent : array (n_s,)
         Signal difference equal to the sensor's own noise [W/m²]; 0 where none is given
-        (:mod:`targetacq.sensor_noise`).
+        (:mod:`targetacq.physics.detector_noise`).
     names : tuple of str
     types : tuple of str
         Sensor types (:data:`targetacq.sensors.SENSOR_TYPES`).
@@ -150,8 +150,9 @@ class SensorArrays:
     groups : tuple of str
         The scenario sensor each row belongs to: its own name, or, for a band of a colour
         camera, the camera's name. Rows of one group see the scene through the same optics: the
-        sensor-level fusion takes the best of them (:func:`targetacq.fusion.fuse_groups`) and the
-        step API draws their outcomes from the same random stream. Empty: every row is its own
+        sensor-level fusion takes the best of them
+        (:func:`targetacq.acquisition.fusion.fuse_groups`) and the step API draws their outcomes
+        from the same random stream. Empty: every row is its own
         group.
     mrtd : MrtdArrays or None
         The rows whose resolution is MRTD-limited (thermal sensors with an ``mrtd`` curve);
@@ -182,11 +183,13 @@ class SensorArrays:
 @pytree_record
 @dataclass(frozen=True)
 class MrtdArrays:
-    """The sensor rows whose resolution is MRTD-limited (:mod:`targetacq.mrtd`), one entry each.
+    """The sensor rows whose resolution is MRTD-limited (:mod:`targetacq.physics.mrtd`), one entry
+    each.
 
-    The cycles on target of these rows are ``f*(τ ΔT) · d / R`` (:func:`targetacq.mrtd.mrtd_cycles`)
-    instead of the geometric ``d / (R · cycle)``, with ΔT the pair's exitance contrast turned into
-    the blackbody temperature difference that gives it at the reference temperature.
+    The cycles on target of these rows are ``f*(τ ΔT) · d / R``
+    (:func:`targetacq.physics.mrtd.mrtd_cycles`) instead of the geometric ``d / (R · cycle)``, with
+    ΔT the pair's exitance contrast turned into the blackbody temperature difference that gives it
+    at the reference temperature.
 
     Attributes
     ----------
@@ -195,7 +198,7 @@ class MrtdArrays:
         ``netd_temperature``) [W/(m²·K)]: the contrast [W/m²] over it is ΔT [K].
     rows : tuple of int
         The rows among the scene's sensors.
-    curves : tuple of targetacq.mrtd.MrtdCurve
+    curves : tuple of targetacq.physics.mrtd.MrtdCurve
         Each row's curve (static: the kernel's tables are constants under ``jax.jit``).
     """
 
@@ -299,7 +302,7 @@ class RadarArrays:
     ----------
     constant : array (n_r,)
         ``K`` of the radar equation ``SNR = K σ τ² / R⁴`` [m²]
-        (:func:`targetacq.radar.radar_constant`).
+        (:func:`targetacq.physics.radar_equation.radar_constant`).
     beamwidth : array (n_r,)
         Azimuth beamwidth [rad], Eq. (9.1).
     pulse_length : array (n_r,)
@@ -317,7 +320,7 @@ class RadarArrays:
     rows : tuple of int
         The radars' rows among the scene's sensors.
     detectors : tuple of str
-        Each radar's P_d model (:data:`targetacq.radar.RADAR_DETECTION_MODELS`).
+        Each radar's P_d model (:data:`targetacq.physics.radar_equation.RADAR_DETECTION_MODELS`).
     """
 
     constant: Any
@@ -365,19 +368,19 @@ class ModelChoices:
     Attributes
     ----------
     transform : str
-        :data:`targetacq.transforms.TRANSFORMS`.
+        :data:`targetacq.acquisition.transforms.TRANSFORMS`.
     options : tuple of (str, object)
         The transform's options.
     noise_model : str
-        :data:`targetacq.noise.NOISE_MODELS`.
+        :data:`targetacq.acquisition.path_noise.NOISE_MODELS`.
     region : str or None
         A Table 3.5 clutter region for every pair.
     search_time : float
         t_s of the search model [s].
     motion : str
-        :data:`targetacq.acquisition.MOTION_RULES`.
+        :data:`targetacq.acquisition.probabilities.MOTION_RULES`.
     semantics : str
-        :data:`targetacq.acquisition.ACQUISITION_SEMANTICS`.
+        :data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`.
     """
 
     transform: str = "ttpf"
@@ -581,7 +584,7 @@ def as_jax(scene: Any) -> SceneArrays:
     scene : SceneArrays or targetacq.core.CompiledScenario
         A compiled scenario's ``scene``, or the compiled scenario itself. A scenario with a
         terrain map raises ``ValueError``: the terrain's SCR is looked up per position on the
-        host (:func:`targetacq.core.evaluate.footprint_scr`), with NumPy only.
+        host (:func:`targetacq.core.evaluation.footprint_scr`), with NumPy only.
 
     Returns
     -------

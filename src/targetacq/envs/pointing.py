@@ -24,9 +24,9 @@ Info
     has done the task since the reset (bool arrays, the model's cumulative fused flags);
     ``events``: what happened within the step, ordered by time, each a dict of ``sensor``,
     ``target``, ``task``, ``time`` [s] and ``kind`` (``first`` or ``reacquired``,
-    :data:`targetacq.simulation.EVENT_KINDS`); ``warnings``: the model's warnings of the step,
+    :data:`targetacq.run.simulation.EVENT_KINDS`); ``warnings``: the model's warnings of the step,
     as text (a target in a camera's view for less than a step, once per episode:
-    :class:`targetacq.search.ShortVisitWarning`), kept here rather than emitted so that training
+    :class:`targetacq.run.search.ShortVisitWarning`), kept here rather than emitted so that training
     over many episodes does not print one per episode.
 Episode
     ``duration`` seconds in steps of ``dt``; terminated early when every target is identified.
@@ -46,8 +46,8 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 
-from targetacq.scenario import Atmosphere, Background, Scenario, Sensor, Target
-from targetacq.search import ShortVisitWarning
+from targetacq.run.search import ShortVisitWarning
+from targetacq.scenario.schema import Atmosphere, Background, Scenario, Sensor, Target
 from targetacq.sensors import SENSOR_TYPES, get_sensor_type
 
 __all__ = ["CAMERA_TYPES", "MAX_CAMERAS", "MAX_TARGETS", "SensorPointingEnv"]
@@ -66,7 +66,7 @@ scene gives every target a temperature and (but for thermal cameras) a reflectan
 background an in-band irradiance: what those types need."""
 
 _TASKS = ("detected", "recognised", "identified")
-"""The cumulative fused flags of :class:`targetacq.simulation.StepResult` (``fused_<flag>``), in
+"""The cumulative fused flags of :class:`targetacq.run.simulation.StepResult` (``fused_<flag>``), in
 the observation's order."""
 
 
@@ -225,7 +225,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Draw a new layout of targets and start an episode (reproducible from ``seed``)."""
         super().reset(seed=seed)
-        from targetacq.simulation import Simulation
+        from targetacq.run.simulation import Simulation
 
         scenario = self._scenario()
         self._targets = np.array([t.position for t in scenario.targets], dtype=float)

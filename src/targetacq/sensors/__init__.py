@@ -32,8 +32,8 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
-from targetacq.bands import BANDS, parse_band
-from targetacq.registry import lookup
+from targetacq.base.registry import lookup
+from targetacq.physics.bands import BANDS, parse_band
 from targetacq.sensors import colour, imaging, laser_radar, radar, swir, thermal, tv
 from targetacq.sensors.signature import Signature
 
@@ -76,7 +76,7 @@ class SensorType:
         ``cycle_angle(sensor) -> float`` [rad]: the resolution model.
     noise_equivalent : callable
         ``noise_equivalent(sensor, signature) -> float`` [W/m²]: the signal difference equal
-        to the sensor's own noise (0: none given), :mod:`targetacq.sensor_noise`.
+        to the sensor's own noise (0: none given), :mod:`targetacq.physics.detector_noise`.
     source : str
     kind : str
         How the core computes the type's pairs: "imaging" (the thesis's imaging model),

@@ -12,7 +12,7 @@ independent-sensor rule of Eq. (8.4), ``1 − Π(1 − p_b)``, would count the s
 (three identical bands of P = 0.5 would report 0.875). The project's rule takes the bands as
 completely dependent (comonotone): a target is found in the colour picture exactly when it is
 found in the band where it is easiest to find, so ``P = max_b p_b``
-(:func:`targetacq.fusion.fuse_groups`). This is the Fréchet–Hoeffding upper bound of the
+(:func:`targetacq.acquisition.fusion.fuse_groups`). This is the Fréchet–Hoeffding upper bound of the
 dependence between events, the opposite extreme of Eq. (8.4); with it three identical bands give
 the single band's probability exactly, and a target that differs from its background in one
 band only is found through that band. Over time (the step API and ``simulate``) the bands of one
@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import radiometry
+from targetacq.physics import radiometry
 from targetacq.sensors.signature import Signature
 
 

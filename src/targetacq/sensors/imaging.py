@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from targetacq import optics, radiometry
+from targetacq.physics import optics, radiometry
 
 
 def cycle_angle(sensor: Any) -> float:
     """Angle of one resolvable cycle of a scenario sensor [rad].
 
     Sampling (2·IFOV) against the diffraction limit of the aperture at the band's centre
-    wavelength, when an aperture is given (:func:`targetacq.optics.resolvable_cycle_angle`).
+    wavelength, when an aperture is given (:func:`targetacq.physics.optics.resolvable_cycle_angle`).
     """
     wavelength = sum(sensor.limits) / 2 if sensor.aperture is not None else None
     return float(

@@ -1,20 +1,23 @@
 """Laser radars (Sonesson 2004 §9.4.4): three-dimensional pictures, with the model's factors.
 
-The kernels are in :mod:`targetacq.laser_radar`; the core computes a laser radar's pairs in
+The kernels are in :mod:`targetacq.physics.laser_radar_equation`; the core computes a laser radar's
+pairs in
 :mod:`targetacq.core.active`:
 
 - **resolution**: as an imager's, from the detector spacing (the IFOV; two pixels a cycle), so
   the cycles on target and the transforms are those of the imaging sensors;
 - **clutter**: a 3-D measure, the target's visible height over the background's relief spread
-  combined with the range resolution ``c t / 2`` (:func:`targetacq.laser_radar.relief_scr`);
+  combined with the range resolution ``c t / 2``
+  (:func:`targetacq.physics.laser_radar_equation.relief_scr`);
 - **noise**: the atmosphere of Eq. (7.7) over the two-way path (the return travels the path
   twice), combined in variance with the receiver's SNR from the range equation of an extended
-  Lambertian target (:func:`targetacq.laser_radar.received_power`) over its noise-equivalent
+  Lambertian target (:func:`targetacq.physics.laser_radar_equation.received_power`) over its
+  noise-equivalent
   power.
 
-The project's assumptions are stated in :mod:`targetacq.laser_radar`; here, in addition: the
-target's reflectance (``targets.reflectance``) is at the laser's wavelength, and the sensor's
-``band`` holds that wavelength (for the path's extinction).
+The project's assumptions are stated in :mod:`targetacq.physics.laser_radar_equation`; here, in
+addition: the target's reflectance (``targets.reflectance``) is at the laser's wavelength, and the
+sensor's ``band`` holds that wavelength (for the path's extinction).
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import atmosphere
+from targetacq.physics import atmosphere
 from targetacq.sensors.signature import Signature
 
 

@@ -1,6 +1,6 @@
 """Pulse radars (Sonesson 2004 §9.4.3): the three factors of the model, for an active sensor.
 
-The kernels are in :mod:`targetacq.radar`; the core computes a radar's pairs in
+The kernels are in :mod:`targetacq.physics.radar_equation`; the core computes a radar's pairs in
 :mod:`targetacq.core.active`:
 
 - **resolution**: the cells on target, the critical dimension over the resolution cell of

@@ -11,16 +11,16 @@ them. The signal of a target or a background is
 
 with ``E`` the scenario's irradiance **in the sensor's band** [W/m²] and the emissivity of an
 opaque surface from its reflectance, ``ε = 1 − r`` (Eq. (6.5) with Kirchhoff's law,
-:func:`targetacq.radiometry.emissivity_from_reflectance`): one reflectance says both how much of
-the sunlight a surface returns and how much it emits in the same band. A scenario's
+:func:`targetacq.physics.radiometry.emissivity_from_reflectance`): one reflectance says both how
+much of the sunlight a surface returns and how much it emits in the same band. A scenario's
 ``emissivity`` or ``material`` is that of the thermal band (Table 6.1 has no short-wave column) and
 does not enter a SWIR signal.
 
 The sensor's noise is a noise-equivalent contrast ``nec`` relative to the background's signal,
 as for a TV camera (:func:`targetacq.sensors.tv.noise_equivalent`). The path is the project's
 atmosphere model in the sensor's band: an ``extinction``, or an ``obscurant`` read from Table 7.1
-between its visible and mid-wave cells (:func:`targetacq.atmosphere.obscurant_extinction`); a
-``visibility`` gives the visible band's extinction and is refused, as for a thermal imager.
+between its visible and mid-wave cells (:func:`targetacq.physics.atmosphere.obscurant_extinction`);
+a ``visibility`` gives the visible band's extinction and is refused, as for a thermal imager.
 Clutter: a Table 3.5 region, an SCR or an image, as for a TV camera.
 """
 
@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import radiometry
+from targetacq.physics import radiometry
 from targetacq.sensors.imaging import reflective_requirements
 from targetacq.sensors.signature import Signature
 
@@ -43,9 +43,9 @@ def exitance(reflectance: Any, irradiance: Any, temperature: Any, band: Any) -> 
     """Signal of an opaque surface in a SWIR band: reflected plus emitted [W/m²].
 
     ``S = r · E + (1 − r) · M_band(T)``: the reflected exitance of §6.2
-    (:func:`targetacq.radiometry.reflected_exitance`) plus the grey-body band exitance of Eqs.
-    (6.4), (6.12) (:func:`targetacq.radiometry.grey_body_exitance`) with the emissivity of an
-    opaque body, ``ε = 1 − r`` (Eq. (6.5), Kirchhoff; Sonesson 2004 §6.1).
+    (:func:`targetacq.physics.radiometry.reflected_exitance`) plus the grey-body band exitance of
+    Eqs. (6.4), (6.12) (:func:`targetacq.physics.radiometry.grey_body_exitance`) with the emissivity
+    of an opaque body, ``ε = 1 − r`` (Eq. (6.5), Kirchhoff; Sonesson 2004 §6.1).
 
     Parameters
     ----------

@@ -2,7 +2,7 @@
 
 Signature: grey-body band exitances ``ε · M_band(T)`` of target and background (6.4), (6.12);
 clutter from the background's temperature spread, ``ε · dM/dT · σ_T``
-(:func:`targetacq.clutter.temperature_spread_clutter`).
+(:func:`targetacq.physics.clutter.temperature_spread_clutter`).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import clutter, radiometry
+from targetacq.physics import clutter, radiometry
 from targetacq.sensors import imaging
 from targetacq.sensors.signature import Signature
 
@@ -37,8 +37,8 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
 
 def noise_equivalent(sensor: Any, seen: Any) -> float:
     """``NETD · ∂M_bb,band/∂T`` at the NETD's reference temperature [W/m²]; 0 without a NETD
-    (:func:`targetacq.sensor_noise.netd_exitance`)."""
-    from targetacq.sensor_noise import netd_exitance
+    (:func:`targetacq.physics.detector_noise.netd_exitance`)."""
+    from targetacq.physics.detector_noise import netd_exitance
 
     if sensor.netd is None:
         return 0.0

@@ -1,8 +1,8 @@
 """TV cameras: reflected light in the visible band (Sonesson 2004 §6.2, §9.4.1).
 
 Signature: reflected exitances ``r · E`` of target and background under the scene's
-irradiance E (:func:`targetacq.radiometry.reflected_exitance`). Clutter is given as a Table 3.5
-region, an SCR or an image; a temperature spread means nothing to a TV camera.
+irradiance E (:func:`targetacq.physics.radiometry.reflected_exitance`). Clutter is given as a Table
+3.5 region, an SCR or an image; a temperature spread means nothing to a TV camera.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import radiometry
+from targetacq.physics import radiometry
 from targetacq.sensors.imaging import reflective_requirements
 from targetacq.sensors.signature import Signature
 

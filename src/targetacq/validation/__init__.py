@@ -36,7 +36,7 @@ from typing import Any
 
 import pandas as pd
 
-from targetacq.outputs import output_path, write_atomically
+from targetacq.io.files import output_path, write_atomically
 from targetacq.validation._dri import vendor_section
 from targetacq.validation._model import Check, Section, Summary, half_unit, summarise
 from targetacq.validation._page import render_page
@@ -79,7 +79,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
     ----------
     transforms : mapping, optional
         The transforms registry to look for :data:`OBSERVED_TRANSFORM` in (default
-        :data:`targetacq.transforms.TRANSFORMS`).
+        :data:`targetacq.acquisition.transforms.TRANSFORMS`).
 
     Returns
     -------
@@ -163,7 +163,7 @@ def render_validation(sections: Sequence[Section] | None = None) -> str:
 
 
 def write_validation(path: str | Path, page: str) -> Path:
-    """Write the page atomically (:func:`targetacq.outputs.write_atomically`).
+    """Write the page atomically (:func:`targetacq.io.files.write_atomically`).
 
     Raises
     ------

@@ -16,8 +16,9 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from targetacq import optics, ranges
-from targetacq.plots import TASK_COLOURS
+from targetacq.core import ranges
+from targetacq.physics import optics
+from targetacq.reports.plots import TASK_COLOURS
 from targetacq.validation._model import Check, Section, as_float, half_unit, new_figure
 
 __all__ = ["VENDOR_SOURCE", "vendor_section"]
@@ -98,7 +99,8 @@ def vendor_section() -> Section:
         title="A vendor's DRI ranges (thermal camera datasheet)",
         source=VENDOR_SOURCE + ". The guide states P = 50 %, a vehicle of 2.3 m and a person "
         "whose width 'cannot exceed 0.75 m'.",
-        method="targetacq.ranges.dri_ranges(RangeCase(d, targetacq.optics.ifov(pitch, focal "
+        method="targetacq.core.ranges.dri_ranges(RangeCase(d, targetacq.physics.optics.ifov(pitch, "
+        "focal "
         f"length), criterion='{_CRITERION}'), 0.5) (the TTPF's 50 % point, 1.5 / 6 / 12 "
         "pixels = 0.75 / 3 / 6 cycles), d = 2.3 m (vehicle) or 0.75 m (person).",
         checks=tuple(checks),

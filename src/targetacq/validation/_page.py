@@ -8,7 +8,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from targetacq.report import STYLE, figure_uri, html_table
+from targetacq.io.html_report import STYLE, figure_uri, html_table
 from targetacq.validation._model import Check, Section, Summary, format_residual, summarise
 
 __all__ = ["render_page"]

@@ -17,9 +17,9 @@ import scipy.constants as codata
 from matplotlib.figure import Figure
 from scipy import integrate
 
-from targetacq import atmosphere, optics, radiometry
-from targetacq.bands import BANDS
-from targetacq.tables import load_table
+from targetacq.base.tables import load_table
+from targetacq.physics import atmosphere, optics, radiometry
+from targetacq.physics.bands import BANDS
 from targetacq.validation._model import Check, Section, as_float, half_unit, new_figure
 
 __all__ = [
@@ -74,7 +74,8 @@ def materials_section() -> Section:
         title="Table 6.1: reflectance → emissivity of materials",
         source="Sonesson (2004) Table 6.1 (p. 35), reflectance in % (Hudson, via [17]); "
         "emissivity of an opaque body ε = 1 − r, Eq. (6.5) with Kirchhoff's law.",
-        method="targetacq.radiometry.material_emissivity(material, band, bound), bound 'low' or "
+        method="targetacq.physics.radiometry.material_emissivity(material, band, bound), bound "
+        "'low' or "
         "'high' reflectance (the low reflectance gives the high emissivity).",
         checks=tuple(checks),
         notes="Published column: 1 − the printed reflectance; its tolerance is the printed "
@@ -164,7 +165,7 @@ def extinction_section() -> Section:
         title="Table 7.1: extinction coefficients of the obscurants",
         source="Sonesson (2004) Table 7.1 (p. 42), 'Extinction coefficient of atmospheric "
         "obscurants (low altitude)', Np/km.",
-        method="targetacq.atmosphere.obscurant_extinction(obscurant, band, level) × 1000 "
+        method="targetacq.physics.atmosphere.obscurant_extinction(obscurant, band, level) × 1000 "
         "(Np/m → Np/km), level 'low' or 'high'.",
         checks=tuple(checks),
         notes="The package's 'nominal' level, the geometric mean of each cell, is its own choice "
@@ -224,7 +225,7 @@ def terms_section() -> Section:
         key="table-7-2",
         title="Table 7.2: descriptive terms of the extinction",
         source="Sonesson (2004) Table 7.2 (p. 42), 'Explanations to Table 7.1'.",
-        method="targetacq.atmosphere.extinction_term(γ / 1000) (Np/km → Np/m).",
+        method="targetacq.physics.atmosphere.extinction_term(γ / 1000) (Np/km → Np/m).",
         checks=tuple(checks),
         notes="Text compared without case and white space. The printed intervals share their "
         "ends (0.1, 0.5, 2 Np/km belong to two rows each); the package puts an end in the upper "
@@ -336,8 +337,9 @@ def planck_section() -> Section:
         "(6.12), a misprint: the units need c²). No values are printed: the reference is a "
         "numerical quadrature of (6.2) made by this page (SciPy quad, CODATA constants from "
         "scipy.constants).",
-        method="targetacq.radiometry.band_exitance(T, band) (closed-form series, no quadrature) "
-        "and targetacq.radiometry.stefan_boltzmann_exitance(T).",
+        method="targetacq.physics.radiometry.band_exitance(T, band) (closed-form series, no "
+        "quadrature) "
+        "and targetacq.physics.radiometry.stefan_boltzmann_exitance(T).",
         checks=tuple(checks),
         notes="Tolerance: 1e-9 relative, a thousand times the quadrature's accuracy. The "
         "temperatures cover both branches of the package's series (c2/(λT) above and below 2: "
@@ -482,10 +484,11 @@ def optics_section() -> Section:
         title="Check values in the text: diffraction, cycles, vignetting, Np ↔ dB, SNR",
         source="Sonesson (2004) §5.5 (Eq. (5.3)), Fig. 3.3, §6.6 (Eq. (6.17)), §7.4 "
         "(Eqs. (7.5)–(7.7)).",
-        method="targetacq.optics.diffraction_angle, targetacq.optics.cycles_on_target, "
-        "targetacq.radiometry.irradiance_at_sensor (lens, unit intensity and range), "
-        "targetacq.atmosphere.db_per_km_to_np_per_km / np_per_km_to_db_per_km, "
-        "targetacq.atmosphere.snr_from_transmittance.",
+        method="targetacq.physics.optics.diffraction_angle, "
+        "targetacq.physics.optics.cycles_on_target, "
+        "targetacq.physics.radiometry.irradiance_at_sensor (lens, unit intensity and range), "
+        "targetacq.physics.atmosphere.db_per_km_to_np_per_km / np_per_km_to_db_per_km, "
+        "targetacq.physics.atmosphere.snr_from_transmittance.",
         checks=tuple(checks),
         notes="Eq. (5.3) is sin Δθ = 1.22 λ/D: 1.22 × 10 µm / 122 mm = 1e-4 exactly, and the "
         "arcsine adds 1.7e-13 rad.",

@@ -14,10 +14,11 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from targetacq import acquisition, transforms
-from targetacq.criteria import CRITERIA
-from targetacq.plots import REGION_COLOURS, TASK_COLOURS
-from targetacq.tables import load_table
+from targetacq.acquisition import probabilities as acquisition
+from targetacq.acquisition import transforms
+from targetacq.acquisition.criteria import CRITERIA
+from targetacq.base.tables import load_table
+from targetacq.reports.plots import REGION_COLOURS, TASK_COLOURS
 from targetacq.validation._model import Check, Section, as_float, half_unit, new_figure
 
 __all__ = [
@@ -136,8 +137,10 @@ def johnson_section() -> Section:
         title="Tables 3.1 and 3.2: Johnson's criteria (N50)",
         source="Sonesson (2004) Table 3.1 (p. 18, after Johnson 1958) and Table 3.2 (p. 19); "
         "§3.5: the table values are the 50 % points.",
-        method="targetacq.criteria.CRITERIA['johnson-<target>'] and CRITERIA['johnson'] "
-        "(.n50(task)); targetacq.acquisition.probability(N50, task, 'johnson', transform) for "
+        method="targetacq.acquisition.criteria.CRITERIA['johnson-<target>'] and "
+        "CRITERIA['johnson'] "
+        "(.n50(task)); targetacq.acquisition.probabilities.probability(N50, task, 'johnson', "
+        "transform) for "
         "the probability at the 50 % point.",
         checks=tuple(checks),
         notes="The registry's N50s are the printed values. Every transform gives P = 0.5 at the "
@@ -217,7 +220,8 @@ def c2nveo_section() -> Section:
         key="table-3-3",
         title="Table 3.3: the C2NVEO transform",
         source="Sonesson (2004) Table 3.3 (p. 19), 'C2NVEO's version of the Johnson criteria'.",
-        method="targetacq.transforms.c2nveo(N, CRITERIA['c2nveo'].n50(task), task, bound) at "
+        method="targetacq.acquisition.transforms.c2nveo(N, CRITERIA['c2nveo'].n50(task), task, "
+        "bound) at "
         "the printed N of each cell end: bound='optimistic' is the low end, 'pessimistic' the "
         "high end.",
         checks=tuple(checks),
@@ -291,7 +295,8 @@ def schmieder_weathersby_section() -> Section:
         key="table-3-5",
         title="Table 3.5: detection in clutter (Schmieder–Weathersby)",
         source="Sonesson (2004) Table 3.5 (p. 22), from Schmieder & Weathersby (1983).",
-        method="targetacq.transforms.schmieder_weathersby(N, region=region) at the printed N "
+        method="targetacq.acquisition.transforms.schmieder_weathersby(N, region=region) at the "
+        "printed N "
         "(N50 = 1.0, the table's own and Johnson's detection N50).",
         checks=tuple(checks),
         notes="The curves pass through every printed point (linear in log N between them). "
@@ -357,7 +362,8 @@ def observed_section(registry: Mapping[str, Any] | None = None) -> Section:
     Parameters
     ----------
     registry : mapping, optional
-        The transforms registry (default :data:`targetacq.transforms.TRANSFORMS`). When it has
+        The transforms registry (default :data:`targetacq.acquisition.transforms.TRANSFORMS`). When
+        it has
         :data:`OBSERVED_TRANSFORM` with an ``scr`` option, its values are an extra column.
     """
     registry = transforms.TRANSFORMS if registry is None else registry
@@ -404,7 +410,8 @@ def observed_section(registry: Mapping[str, Any] | None = None) -> Section:
         key="table-3-4",
         title="Table 3.4: observed detection against the model (a comparison)",
         source="Sonesson (2004) Table 3.4 (p. 22), observations of Schmieder & Weathersby (1983).",
-        method="targetacq.transforms.schmieder_weathersby(N, scr=SCR): the Table 3.5 curves, "
+        method="targetacq.acquisition.transforms.schmieder_weathersby(N, scr=SCR): the Table 3.5 "
+        "curves, "
         "picked or combined by the SCR as that function documents. Column "
         f"'{_BINNED}': schmieder_weathersby(N, region=…), the printed Table 3.5 curve of the "
         "SCR's clutter region (SCR 0.33 → high, 1.2 and 5.8 → medium, 39 → low).",

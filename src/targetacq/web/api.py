@@ -30,11 +30,11 @@ Endpoints
 Warnings
 --------
 The answers of bodies that carry a scenario (``/evaluate``, ``/report``, the ``/step`` that
-starts a session) list the scenario's plausibility warnings (:mod:`targetacq.plausibility`:
+starts a session) list the scenario's plausibility warnings (:mod:`targetacq.scenario.plausibility`:
 valid values no real sensor has, such as a focal length of ``"100 m"``) as text: in
 ``"warnings"`` of a JSON answer, and in the ``X-Targetacq-Warnings`` header (a JSON list) of a
 file or a page. Every ``/step`` answer lists the step's warnings too (a target in view for less
-than the step: :class:`targetacq.search.ShortVisitWarning`). Nothing is printed by the server.
+than the step: :class:`targetacq.run.search.ShortVisitWarning`). Nothing is printed by the server.
 
 Errors
 ------
@@ -86,12 +86,12 @@ from pydantic import (
 from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
-from targetacq.datasets import DOWNLOAD_FORMATS, MEDIA_TYPES
-from targetacq.outputs import json_text
-from targetacq.plausibility import collected
-from targetacq.scenario import Scenario, ScenarioError, parse_scenario
-from targetacq.services.options import RANGE_CASE_OPTIONS
-from targetacq.units import shown_text
+from targetacq.base.units import shown_text
+from targetacq.io.datasets import DOWNLOAD_FORMATS, MEDIA_TYPES
+from targetacq.io.files import json_text
+from targetacq.run.option_table import RANGE_CASE_OPTIONS
+from targetacq.scenario.plausibility import collected
+from targetacq.scenario.schema import Scenario, ScenarioError, parse_scenario
 
 __all__ = [
     "CURVE_POINTS",
@@ -194,7 +194,7 @@ _LONG_VALUE = re.compile(
 
 
 def _bounded(message: str) -> str:
-    """``message`` with every long value in it shortened (:func:`targetacq.units.shown_text`:
+    """``message`` with every long value in it shortened (:func:`targetacq.base.units.shown_text`:
     its first :data:`SHOWN_CHARACTERS` characters, quoted, and its length), so that an error
     never echoes a whole offending value (a 500 kB session id, field name or unit text)."""
     message = str(message)
@@ -603,8 +603,8 @@ _OPTION_NAMES = [spec.name for spec in RANGE_CASE_OPTIONS]
 
 def _setup(body: BaseModel) -> Any:
     """The range setup of the body's options, as ``targetacq dri`` builds it."""
-    from targetacq.services.options import typed_options
-    from targetacq.services.range_case import range_setup
+    from targetacq.run.option_table import typed_options
+    from targetacq.run.range_options import range_setup
 
     options = _case_options(body)
     listed = (options.get("probability") or "").count(",") + 1
@@ -620,7 +620,7 @@ def _setup(body: BaseModel) -> Any:
 def _no_curves(setup: Any) -> str | None:
     """Why a case has no probability curves (None when it has): a pixel-density criterion
     gives thresholds, a detection-only transform needs the clutter given with another one."""
-    from targetacq.transforms import get_transform
+    from targetacq.acquisition.transforms import get_transform
 
     if not setup.criterion.gives_probabilities:
         return f"criterion {setup.criterion.name} gives pixel-density ranges, not probabilities"
@@ -635,9 +635,9 @@ def _no_curves(setup: Any) -> str | None:
 
 def _curves(body: BaseModel) -> dict[str, Any]:
     """The range-performance curves of the body's one case."""
-    from targetacq import ranges
-    from targetacq.report_content import FLOOR, MAX_AUTO_RANGE, case_title
-    from targetacq.services.range_case import option_quantity
+    from targetacq.core import ranges
+    from targetacq.reports.content import FLOOR, MAX_AUTO_RANGE, case_title
+    from targetacq.run.range_options import option_quantity
 
     setup = _setup(body)
     unsupported = _no_curves(setup)
@@ -770,7 +770,7 @@ def _check_report_work(scenario: Scenario, limit: int) -> None:
     (:data:`REPORT_CURVE_POINTS` curve ranges + the scenario's times + the simulated runs × their
     steps), each a pair's evaluation or draw at one range or time."""
     from targetacq.core import sensor_rows
-    from targetacq.report_content import SIMULATION_RUNS, SIMULATION_STEPS
+    from targetacq.reports.content import SIMULATION_RUNS, SIMULATION_STEPS
 
     pairs = len(sensor_rows(scenario)) * len(scenario.targets)
     times = int(scenario.time.count)
@@ -794,7 +794,7 @@ def _check_report_work(scenario: Scenario, limit: int) -> None:
 
 
 def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
-    from targetacq.model import ModelChain
+    from targetacq.run.model_chain import ModelChain
 
     scenario, found = _scenario(body.scenario)
     _check_work(scenario, max_evaluations)
@@ -832,9 +832,9 @@ def _evaluate(body: EvaluateRequest, max_evaluations: int) -> Response:
 
 def _report(body: ReportRequest, max_evaluations: int, max_report_work: int) -> Response:
     from targetacq import __version__
-    from targetacq.report import render_report
-    from targetacq.report_content import REPORT_PROBABILITIES, scenario_report
-    from targetacq.services.range_case import option_probabilities
+    from targetacq.io.html_report import render_report
+    from targetacq.reports.content import REPORT_PROBABILITIES, scenario_report
+    from targetacq.run.range_options import option_probabilities
 
     scenario, found = _scenario(body.scenario)  # refuses files and locates problems first
     _check_work(scenario, max_evaluations)
@@ -974,7 +974,7 @@ def _check_sizes(body: StepRequest, max_elements: int) -> None:
 def _session(body: StepRequest, sessions: _Sessions, max_elements: int) -> tuple[str, list[str]]:
     """The session of a ``/step`` body (started from its scenario when it names none), and the
     scenario's warnings when it starts one."""
-    from targetacq.simulation import Simulation
+    from targetacq.run.simulation import Simulation
 
     if body.session is not None:
         if not body.reset:
@@ -1017,7 +1017,7 @@ def _session(body: StepRequest, sessions: _Sessions, max_elements: int) -> tuple
 
 def _step_answer(body: StepRequest, key: str, sessions: _Sessions, found: list[str]) -> Response:
     """Step the session ``key`` (after its reset, if asked) and answer the step as JSON."""
-    from targetacq.simulation import TASKS
+    from targetacq.run.simulation import TASKS
 
     session = sessions.get(key)
     with session.lock, _library_errors(list(_STEP_ARRAYS)), _step_warnings() as raised:
@@ -1058,7 +1058,7 @@ def _step_answer(body: StepRequest, key: str, sessions: _Sessions, found: list[s
 
 
 _FLAGS = ("detected", "recognised", "identified")
-"""The cumulative flags of :class:`targetacq.simulation.StepResult` (and ``fused_`` each)."""
+"""The cumulative flags of :class:`targetacq.run.simulation.StepResult` (and ``fused_`` each)."""
 
 
 def _step(body: StepRequest, sessions: _Sessions, max_elements: int) -> Response:
@@ -1079,13 +1079,13 @@ def _pairs(body: StepRequest, sessions: _Sessions) -> float:
 
 def _registries() -> dict[str, Any]:
     """Every registry's names, with descriptions and sources where it has them."""
-    from targetacq.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
-    from targetacq.bands import BANDS
-    from targetacq.criteria import CRITERIA
-    from targetacq.noise import NOISE_MODELS
+    from targetacq.acquisition.criteria import CRITERIA
+    from targetacq.acquisition.path_noise import NOISE_MODELS
+    from targetacq.acquisition.transforms import C2NVEO_BOUNDS, TRANSFORMS
+    from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
+    from targetacq.physics.bands import BANDS
+    from targetacq.physics.targets import TARGETS
     from targetacq.sensors import SENSOR_TYPES
-    from targetacq.targets import TARGETS
-    from targetacq.transforms import C2NVEO_BOUNDS, TRANSFORMS
 
     def items(registry: Any) -> list[dict[str, Any]]:
         out = []
@@ -1264,7 +1264,7 @@ def create_app(
 
     @app.post("/dri", summary="DRI ranges of one sensor and target (targetacq dri)")
     def dri(body: DriRequest) -> Response:  # type: ignore[valid-type]
-        from targetacq.services.range_case import dri_report
+        from targetacq.run.range_options import dri_report
 
         setup = _setup(body)
         with _library_errors(_OPTION_NAMES):

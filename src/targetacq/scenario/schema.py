@@ -1,0 +1,1300 @@
+"""The declarative scenario: sensors, targets, background, atmosphere, model choices.
+
+A scenario is written in TOML with a unit on every quantity (``"17 um"``, ``"3 km"``,
+``"305 K"``) and validated here with pydantic; errors are located ("sensors[0].pitch: ...") and an
+unknown key gets a "did you mean". A file is strict: a bare number where a unit is needed is an
+error saying which unit to add (:func:`load_scenario`, :func:`parse_scenario`).
+
+Python users build the same objects directly (:class:`Scenario`, :class:`Sensor`, ...), passing
+each quantity as a string with its unit, as a pint ``Quantity`` (``17 * ureg.um``; one of
+another dimension is an error naming the field) or as a plain number in SI units (``17e-6``).
+Inside, every quantity is a bare, finite SI float, so ``Scenario.model_validate(s.model_dump())``
+gives ``s`` back. A position is a sequence of three such quantities, or one string
+(``"0 0 1.5 km"``).
+
+Positions are map coordinates in metres, x east, y north, z up. A thing either stands at
+``position`` or moves along ``waypoints`` (times and positions, linear in between, held before
+the first and after the last).
+
+Domains. Every quantity is finite; temperatures lie in (0, ``limits.MAX_TEMPERATURE``] K,
+temperature differences in [0, ``limits.MAX_TEMPERATURE``] K, depressions within
+±``limits.MAX_DEPRESSION``, azimuths and headings within ±``limits.MAX_ANGLE_TURN``, lengths
+and coordinates within ±``limits.MAX_LENGTH`` (a million kilometres) and pixel counts in [1,
+``limits.MAX_ELEMENTS``] (:mod:`targetacq.base.limits`). Flags are ``true`` or ``false``, pixel
+counts and boxes whole numbers and plain numbers (fractions, SCR, N50) numbers, never quoted
+text. Contradictions are refused: two ways of giving one thing (``emissivity`` and
+``material``), a choice that means nothing with the rest (``bound`` without the c2nveo
+transform, ``channel`` without an ``image``, ``projection`` without ``hfov``), or that the model
+cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
+itself).
+
+Errors. :class:`ScenarioError` holds every problem found, each located
+(``file: table[index].key: what``); its message is the first. Problems that need the files a
+scenario names (its image, its terrain map, its sensors' MRTD curves) or the size of its run are
+found when it is compiled (:func:`targetacq.core.compile.check_runnable`), which ``targetacq
+validate`` does too.
+
+Warnings. A valid value that no real sensor or scene has, most often a unit slip (``focal_length
+= 100`` from Python, meant in mm: a 100 m lens), is emitted as a
+:class:`targetacq.scenario.plausibility.PlausibilityWarning` each time a :class:`Scenario` is
+validated, located and with its likely fix; the scenario still runs as given
+(:data:`targetacq.scenario.plausibility.PLAUSIBLE_RANGES` is the table of limits).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import numbers
+import tomllib
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
+from difflib import get_close_matches
+from pathlib import Path
+from typing import Annotated, Any, Literal, get_args, get_origin
+
+import numpy as np
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+
+from targetacq.acquisition.criteria import CRITERIA
+from targetacq.acquisition.engagement import REDRAW_RULES
+from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS, MOTION_RULES
+from targetacq.acquisition.transforms import C2NVEO_BOUNDS, TRANSFORMS
+from targetacq.base.inputs import read_input_text
+from targetacq.base.limits import (
+    MAX_ANGLE_TURN,
+    MAX_DEPRESSION,
+    check_count,
+    check_length,
+    check_range,
+    check_size,
+    check_temperature,
+    check_temperature_difference,
+)
+from targetacq.base.registry import lookup, unknown_name
+from targetacq.base.units import is_quantity, to_si
+from targetacq.physics import atmosphere as _atmosphere
+from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
+from targetacq.physics.radiometry import MATERIALS
+from targetacq.scenario.plausibility import collected, emit, plausibility_warnings
+from targetacq.sensors import (
+    SENSOR_TYPES,
+    check_sensor_band,
+    check_sensor_noise,
+    check_sensor_tables,
+    get_sensor_type,
+    sensor_band,
+)
+
+__all__ = [
+    "Atmosphere",
+    "Background",
+    "Cloud",
+    "FalseTargets",
+    "ModelChoices",
+    "Scenario",
+    "ScenarioError",
+    "Segment",
+    "Sensor",
+    "Target",
+    "Terrain",
+    "TerrainClassSpec",
+    "TimeGrid",
+    "Waypoint",
+    "load_scenario",
+    "parse_scenario",
+]
+
+_TASKS = ("detection", "recognition", "identification")
+
+_GRID_ADVICE = "use a longer time.step or a shorter span (time.start to time.stop)"
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be used; the message says where and what is wrong.
+
+    Parameters
+    ----------
+    problems : str or sequence of str
+        One located problem, or every problem found (at least one).
+
+    Attributes
+    ----------
+    problems : tuple of str
+        Every problem, each located (``file: table[index].key: what``). The message is the
+        first, with the count of the others (``targetacq validate`` prints them all).
+    """
+
+    def __init__(self, problems: str | Sequence[str]) -> None:
+        self.problems = (problems,) if isinstance(problems, str) else tuple(problems)
+        if not self.problems:
+            raise TypeError("ScenarioError needs at least one problem")
+        others = len(self.problems) - 1
+        more = f" (and {others} more problem{'s' if others > 1 else ''})" if others else ""
+        super().__init__(self.problems[0] + more)
+
+    def in_file(self, source: str | Path) -> ScenarioError:
+        """The same problems, each prefixed with the file they are in."""
+        return ScenarioError([f"{source}: {problem}" for problem in self.problems])
+
+
+def _strict_units(info: ValidationInfo) -> bool:
+    """Whether bare numbers are refused: set by :func:`parse_scenario` for files."""
+    return isinstance(info.context, Mapping) and bool(info.context.get("strict_units"))
+
+
+def _quantity(kind: str, domain: Callable[[str, float], Any] | None = None) -> Any:
+    """A quantity of ``kind`` in SI, checked finite (by :func:`targetacq.base.units.to_si`) and,
+    where given, by ``domain(name, value)``."""
+
+    def parse(value: Any, info: ValidationInfo) -> float:
+        name = info.field_name or kind
+        number = to_si(value, kind, name, strict=_strict_units(info))
+        if domain is not None:
+            domain(name, number)
+        return number
+
+    return BeforeValidator(parse)
+
+
+def _within(limit: float) -> Callable[[str, float], Any]:
+    def check(name: str, value: float) -> None:
+        check_range(name, value, -limit, limit, "deg", 180.0 / math.pi)
+
+    return check
+
+
+Length = Annotated[float, _quantity("length", check_length)]
+"""A length or a coordinate, within ±``limits.MAX_LENGTH``."""
+Angle = Annotated[float, _quantity("angle")]
+Bearing = Annotated[float, _quantity("angle", _within(MAX_ANGLE_TURN))]
+"""An azimuth or heading: from north, clockwise, within one turn either way."""
+Depression = Annotated[float, _quantity("angle", _within(MAX_DEPRESSION))]
+Temperature = Annotated[float, _quantity("temperature", check_temperature)]
+TemperatureDifference = Annotated[
+    float, _quantity("temperature difference", check_temperature_difference)
+]
+Extinction = Annotated[float, _quantity("extinction")]
+Time = Annotated[float, _quantity("time")]
+Irradiance = Annotated[float, _quantity("irradiance")]
+AreaDensity = Annotated[float, _quantity("area density")]
+Area = Annotated[float, _quantity("area")]
+Power = Annotated[float, _quantity("power")]
+Frequency = Annotated[float, _quantity("frequency")]
+Speed = Annotated[float, _quantity("speed")]
+PowerRatio = Annotated[float, _quantity("power ratio")]
+"""A ratio of powers, written in dB in files (``"30 dB"``); linear inside."""
+
+
+def _show(value: Any) -> str:
+    """A value as the user wrote it: text quoted, numbers and flags as in TOML."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    return repr(value)
+
+
+def _flag(value: Any, info: ValidationInfo) -> bool:
+    """``true`` or ``false`` only: no "yes", no 1."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(
+        f"{info.field_name} must be true or false (without quotes); got {_show(value)}"
+    )
+
+
+def _whole(value: Any, info: ValidationInfo) -> int:
+    """A whole number: no quoted text, no 3.5 (nor 3.0), no flag."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)):
+        return int(value)
+    raise ValueError(f"{info.field_name} must hold whole numbers; got {_show(value)}")
+
+
+def _number(value: Any, info: ValidationInfo) -> float:
+    """A finite plain number: no quoted text, no flag."""
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        number = float(value)
+        if math.isfinite(number):
+            return number
+        raise ValueError(f"{info.field_name} must be a finite number; got {number:g}")
+    raise ValueError(f"{info.field_name} must be a number (without quotes); got {_show(value)}")
+
+
+def _name(value: Any, info: ValidationInfo) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise ValueError(f"{info.field_name} must be a non-empty text; got {_show(value)}")
+    return value
+
+
+def _pixel_count(value: int, info: ValidationInfo) -> int:
+    return check_count(info.field_name or "pixels", value, 1)
+
+
+def _pixel_index(value: int, info: ValidationInfo) -> int:
+    # A negative one is refused with the whole box (Target), saying what a box is.
+    return value if value < 0 else check_count(info.field_name or "image_box", value, 0)
+
+
+Flag = Annotated[bool, BeforeValidator(_flag)]
+WholeNumber = Annotated[int, BeforeValidator(_whole)]
+Number = Annotated[float, BeforeValidator(_number)]
+Fraction = Annotated[Number, Field(ge=0.0, le=1.0)]
+Name = Annotated[str, BeforeValidator(_name)]
+PixelCount = Annotated[WholeNumber, Field(gt=0), AfterValidator(_pixel_count)]
+"""A number of pixels, in [1, ``limits.MAX_ELEMENTS``]."""
+PixelIndex = Annotated[WholeNumber, AfterValidator(_pixel_index)]
+"""A pixel position or extent of a box, at most ``limits.MAX_ELEMENTS`` (the lower bounds are
+checked with the whole box)."""
+
+
+def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
+    name = info.field_name or "position"
+    if isinstance(value, str):
+        *numbers_, unit = value.replace(",", " ").split() or [""]
+        parts: list[Any] = [f"{n} {unit}" for n in numbers_]
+    elif isinstance(value, Sequence) or (is_quantity(value) and getattr(value, "ndim", 0) == 1):
+        parts = list(value)
+    elif getattr(value, "ndim", None) == 1 and hasattr(value, "tolist"):  # a NumPy array
+        parts = value.tolist()
+    else:
+        raise ValueError(
+            f"{name}: a position is [x, y, z] with units, e.g. ['0 m', '0 m', '1.5 km']"
+        )
+    if len(parts) != 3:
+        raise ValueError(f"{name}: a position needs three coordinates x, y, z; got {len(parts)}")
+    strict = _strict_units(info)
+    x, y, z = (
+        check_length(name, to_si(part, "length", name, strict=strict), "coordinates")
+        for part in parts
+    )
+    return x, y, z
+
+
+Position = Annotated[tuple[float, float, float], BeforeValidator(_position)]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+class Waypoint(_Strict):
+    """A point of a path: ``time`` [s] and ``position`` [m]."""
+
+    time: Time
+    position: Position
+
+
+def _one_place(position: Any, waypoints: Any, what: str) -> None:
+    if (position is None) == (waypoints is None):
+        raise ValueError(f"give the {what} either position or waypoints")
+    if waypoints is not None:
+        times = [w.time for w in waypoints]
+        if len(times) < 2 or any(b <= a for a, b in itertools.pairwise(times)):
+            raise ValueError("waypoints need at least two, with increasing times")
+
+
+def _sensor_type(value: Any) -> str:
+    """A name of :data:`targetacq.sensors.SENSOR_TYPES` (the registry gives the choices)."""
+    if not isinstance(value, str):
+        raise ValueError(f"a sensor type is a name: one of {', '.join(SENSOR_TYPES)}")
+    return get_sensor_type(value).name
+
+
+def _band_table(kind: str | None) -> Any:
+    """A value, or a table of values per named colour band (``{red = 0.2, green = 0.3}``):
+    fractions in [0, 1] where ``kind`` is None, else quantities of ``kind``; each error names
+    the band."""
+
+    def parse(value: Any, info: ValidationInfo) -> Any:
+        name = info.field_name or "value"
+
+        def one(item: Any, where: str) -> float:
+            if kind is not None:
+                return to_si(item, kind, where, strict=_strict_units(info))
+            if not isinstance(item, numbers.Real) or isinstance(item, (bool, np.bool_)):
+                raise ValueError(f"{where} must be a number (without quotes); got {_show(item)}")
+            number = float(item)
+            if not 0.0 <= number <= 1.0:
+                raise ValueError(f"{where} must be in [0, 1]; got {number:g}")
+            return number
+
+        if isinstance(value, Mapping):
+            if not value:
+                raise ValueError(f"{name}: a table of bands needs at least one band")
+            if not all(isinstance(band, str) and band.strip() for band in value):
+                raise ValueError(f"{name}: band names are non-empty texts")
+            return {band: one(item, f"{name}.{band}") for band, item in value.items()}
+        return one(value, name)
+
+    return BeforeValidator(parse)
+
+
+BandFractions = Annotated[float | dict[str, float], _band_table(None)]
+"""A fraction, or one per named colour band (``{red = 0.2, green = 0.3, blue = 0.1}``)."""
+BandIrradiances = Annotated[float | dict[str, float], _band_table("irradiance")]
+"""An irradiance, or one per named colour band."""
+
+
+class Radar(_Strict):
+    """A pulse radar's transmitter, antenna, receiver and detector (the ``radar`` table of a
+    ``type = "radar"`` sensor; the model is :mod:`targetacq.sensors.radar`).
+
+    ``power`` peak transmitted power, ``gain`` antenna gain and ``noise_figure``, ``losses`` as
+    power ratios in dB, ``frequency`` the carrier, ``pulse_length`` τ (matched filter: noise
+    bandwidth 1/τ, range resolution c τ / 2), ``beamwidth`` the antenna's azimuth beamwidth θ_a,
+    ``false_alarm`` the detector's P_fa, ``pulses`` integrated non-coherently, ``detector`` the
+    P_d(SNR, P_fa) model, ``polarization`` for the rain attenuation, and the cells on target of
+    P = 0.5 for recognition and identification (the project's criteria for radar).
+
+    The default detector is ``swerling1`` (a fluctuating target, one pulse: exact, and P_d → P_fa
+    as the SNR → 0). Albersheim's formula is stated for 0.1 <= P_d <= 0.9 (within 0.2 dB of the
+    exact curve for P_d >= 0.4): below, it tends to a floor (0.017 at P_fa = 1e-6) instead of
+    P_fa, so a distant target keeps a small P_d per look;
+    ``marcum`` is exact for a steady target (NumPy only). See
+    :data:`targetacq.physics.radar_equation.RADAR_DETECTION_MODELS`.
+    """
+
+    power: Power
+    gain: PowerRatio
+    frequency: Frequency
+    pulse_length: Time
+    beamwidth: Angle
+    noise_figure: PowerRatio = 1.0
+    losses: PowerRatio = 1.0
+    false_alarm: Annotated[Number, Field(gt=0.0, lt=1.0)] = 1e-6
+    pulses: Annotated[WholeNumber, Field(ge=1)] = 1
+    detector: str = "swerling1"
+    polarization: Literal["horizontal", "vertical", "circular"] = "horizontal"
+    recognition_cells: Annotated[Number, Field(gt=0.0)] = 8.0
+    identification_cells: Annotated[Number, Field(gt=0.0)] = 12.8
+
+    @model_validator(mode="after")
+    def _check(self) -> Radar:
+        from targetacq.physics.radar_equation import RADAR_DETECTION_MODELS
+
+        for name in ("power", "frequency", "pulse_length", "gain"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"radar.{name} must be > 0")
+        if not 0 < self.beamwidth < math.pi:
+            raise ValueError("radar.beamwidth must be in (0, 180) degrees")
+        for name in ("noise_figure", "losses"):
+            if not getattr(self, name) >= 1:
+                raise ValueError(f"radar.{name} must be >= 0 dB")
+        model = lookup(RADAR_DETECTION_MODELS, self.detector, "radar detector")
+        if model.single_pulse and self.pulses > 1:
+            raise ValueError(
+                f"radar.detector {self.detector!r} is for one pulse; with pulses > 1 use "
+                "albersheim or marcum"
+            )
+        if self.identification_cells <= self.recognition_cells:
+            raise ValueError("radar.identification_cells must exceed recognition_cells")
+        return self
+
+
+class Laser(_Strict):
+    """A direct-detection laser radar's transmitter and receiver (the ``laser`` table of a
+    ``type = "laser_radar"`` sensor; the model is :mod:`targetacq.sensors.laser_radar`).
+
+    ``power`` transmitted (peak) power, ``aperture`` the receiver's diameter, ``timing`` the
+    shortest time that separates two returns (range resolution c t / 2), ``nep`` the receiver's
+    noise-equivalent power (0: no receiver noise), ``efficiency`` of the optics and detector.
+    """
+
+    power: Power
+    aperture: Length
+    timing: Time
+    nep: Power = 0.0
+    efficiency: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
+
+    @model_validator(mode="after")
+    def _check(self) -> Laser:
+        for name in ("power", "aperture", "timing"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"laser.{name} must be > 0")
+        if not self.nep >= 0:
+            raise ValueError("laser.nep must be >= 0 W")
+        return self
+
+
+class Sensor(_Strict):
+    """An imaging sensor.
+
+    ``type`` "thermal" sees emitted radiation in its ``band``; "tv" sees reflected light
+    (visible band, the background's ``irradiance``). ``projection`` says how ``hfov`` over
+    ``pixels`` gives the IFOV: "angular" (default, IFOV = hfov / pixels, the datasheet
+    convention) or "rectilinear" (a pinhole camera, 2 tan(hfov/2) / pixels); it applies to
+    ``hfov`` only (left out, it stays ``None`` and :attr:`fov_projection` says "angular").
+    ``f_number`` gives the aperture as ``focal_length / f_number``. The sensor's own noise:
+    ``netd`` of a thermal sensor (quoted at ``netd_temperature``, 300 K by default), ``nec``
+    (noise-equivalent contrast, relative to the background) of a TV sensor; without them only
+    the atmosphere adds noise. The resolution is given one way: ``pitch`` with
+    ``focal_length``, ``hfov`` with ``pixels``, or ``ifov``. Pointing: ``look_at`` a point,
+    or ``azimuth`` (from north, clockwise) and ``depression`` (below the horizon); with neither,
+    every target is taken to be in view. ``mrtd``: a thermal sensor's MRTD curve, the path of a
+    CSV file (:meth:`targetacq.physics.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
+    folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
+    resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
+    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    """
+
+    name: Name
+    type: Annotated[str, BeforeValidator(_sensor_type)] = "thermal"
+    band: str | None = None
+    pixels: tuple[PixelCount, PixelCount] | None = None
+    pitch: Length | None = None
+    focal_length: Length | None = None
+    hfov: Angle | None = None
+    ifov: Angle | None = None
+    aperture: Length | None = None
+    position: Position | None = None
+    waypoints: list[Waypoint] | None = None
+    look_at: Position | None = None
+    azimuth: Bearing | None = None
+    depression: Depression | None = None
+    projection: str | None = None
+    f_number: Annotated[Number, Field(gt=0.0)] | None = None
+    netd: TemperatureDifference | None = None
+    netd_temperature: Temperature = 300.0
+    nec: Annotated[Number, Field(ge=0.0)] | None = None
+    bands: Annotated[list[Name], Field(min_length=1)] | None = None
+    radar: Radar | None = None
+    laser: Laser | None = None
+    mrtd: str | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Sensor:
+        self._check_type_tables()
+        if self.type == "radar":
+            return self._check_radar()
+        ways = [
+            self.pitch is not None or self.focal_length is not None,
+            self.hfov is not None,
+            self.ifov is not None,
+        ]
+        if sum(ways) != 1:
+            raise ValueError("give the resolution one way: pitch and focal_length, hfov, or ifov")
+        if ways[0] and (self.pitch is None or self.focal_length is None):
+            raise ValueError("pitch and focal_length go together")
+        for name in ("pitch", "focal_length", "ifov", "aperture"):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise ValueError(f"{name} must be > 0")
+        if self.hfov is not None and not 0 < self.hfov < math.pi:
+            raise ValueError("hfov must be in (0, 180) degrees")
+        if self.hfov is not None and self.pixels is None:
+            raise ValueError("hfov needs pixels = [width, height]")
+        if self.projection is not None:
+            lookup(FIELD_OF_VIEW_PROJECTIONS, self.projection, "projection")
+            if self.hfov is None:
+                # As the CLI says it: a projection turns a field of view into an IFOV, and a
+                # pitch with a focal length (or an IFOV) is one already.
+                raise ValueError("projection applies to hfov and pixels")
+        if self.f_number is not None:
+            if self.focal_length is None:
+                raise ValueError("f_number needs focal_length (aperture = focal_length / f_number)")
+            if self.aperture is not None:
+                raise ValueError("give aperture or f_number, not both")
+            # The aperture diameter a datasheet's F-number stands for: D = f / F#.
+            object.__setattr__(self, "aperture", self.focal_length / self.f_number)
+        check_sensor_band(self)  # required, or the type's default; within the type's limits
+        _one_place(self.position, self.waypoints, "sensor")
+        if self.look_at is not None and (self.azimuth is not None or self.depression is not None):
+            raise ValueError("give look_at, or azimuth and depression, not both")
+        if (self.azimuth is None) != (self.depression is None):
+            raise ValueError("azimuth and depression go together")
+        if self.pixels is None and (self.look_at is not None or self.azimuth is not None):
+            raise ValueError("pointing needs pixels = [width, height] for the field of view")
+        if self.look_at is not None and _on_path(self.look_at, self.position, self.waypoints):
+            raise ValueError(
+                "look_at is the sensor's own position (or lies on its waypoints' path): a "
+                "sensor cannot look at itself; give a point away from it"
+            )
+        self.field_of_view  # noqa: B018 - refuses a field of view of 180 degrees or more
+        get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
+        check_sensor_noise(self)  # netd or nec: the one the type takes
+        return self
+
+    def _check_type_tables(self) -> None:
+        """The tables that belong to one sensor type: bands (colour), radar, laser."""
+        check_sensor_tables(self)
+        if self.bands is not None and len(set(self.bands)) != len(self.bands):
+            raise ValueError("bands must be distinct names")
+
+    def _check_radar(self) -> Sensor:
+        """A radar's resolution is its antenna and pulse: no optics, no field of view."""
+        optics_given = [
+            key
+            for key in ("pixels", "pitch", "focal_length", "hfov", "ifov", "aperture", "band")
+            if getattr(self, key) is not None
+        ]
+        if optics_given:
+            raise ValueError(
+                f"{optics_given[0]} is an imaging sensor's; a radar's resolution is "
+                "radar.beamwidth and radar.pulse_length"
+            )
+        if self.look_at is not None or self.azimuth is not None:
+            raise ValueError("a radar here scans all around: it takes no look_at or azimuth")
+        if self.netd is not None or self.nec is not None:
+            raise ValueError("a radar's noise is its receiver: radar.noise_figure")
+        _one_place(self.position, self.waypoints, "sensor")
+        return self
+
+    @property
+    def limits(self) -> tuple[float, float]:
+        """The band (λ1, λ2) [m]; without one, its type's default (a TV sensor: the visible)."""
+        return sensor_band(self)
+
+    @property
+    def fov_projection(self) -> str:
+        """The projection of ``hfov`` over ``pixels``: ``projection``, "angular" by default."""
+        return self.projection or "angular"
+
+    @property
+    def pixel_ifov(self) -> float:
+        """IFOV [rad] of the central pixel (a radar's: its beamwidth)."""
+        from targetacq.physics import optics
+
+        if self.radar is not None:
+            return self.radar.beamwidth
+        if self.ifov is not None:
+            return self.ifov
+        if self.hfov is not None and self.pixels is not None:
+            return float(
+                optics.ifov_from_field_of_view(self.hfov, self.pixels[0], self.fov_projection)
+            )
+        assert self.pitch is not None
+        assert self.focal_length is not None
+        return self.pitch / self.focal_length
+
+    @property
+    def field_of_view(self) -> tuple[float, float] | None:
+        """(horizontal, vertical) full field of view [rad], if pixels are given."""
+        from targetacq.physics import optics
+
+        if self.pixels is None:
+            return None
+        # A pitch-and-focal-length (or IFOV) sensor is a pinhole camera; an hfov sensor follows
+        # its projection.
+        projection = self.fov_projection if self.hfov is not None else "rectilinear"
+        h, v = (
+            float(optics.field_of_view_from_ifov(self.pixel_ifov, n, projection))
+            for n in self.pixels
+        )
+        if h >= math.pi or v >= math.pi:
+            raise ValueError("the field of view must be < 180 degrees on both sides")
+        return h, v
+
+
+class Target(_Strict):
+    """A target: a box ``dimensions`` = [length, width, height] with its long axis along
+    ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
+    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``."""
+
+    name: Name
+    dimensions: tuple[Length, Length, Length]
+    heading: Bearing = 0.0
+    criterion: str | None = None
+    temperature: Temperature | None = None
+    emissivity: Fraction | None = None
+    material: str | None = None
+    reflectance: BandFractions | None = None
+    rcs: Area | None = None
+    position: Position | None = None
+    waypoints: list[Waypoint] | None = None
+    moving: Flag = False
+    visible_fraction: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
+    hot_spot: Flag = False
+    image_box: tuple[PixelIndex, PixelIndex, PixelIndex, PixelIndex] | None = None
+
+    @field_validator("criterion")
+    @classmethod
+    def _known_criterion(cls, value: str | None) -> str | None:
+        return value if value is None else _probability_criterion(value)
+
+    @model_validator(mode="after")
+    def _check(self) -> Target:
+        if any(not d > 0 for d in self.dimensions):
+            raise ValueError("dimensions must be > 0")
+        if self.rcs is not None and not self.rcs >= 0:
+            raise ValueError("rcs must be >= 0 m^2 (a radar cross-section)")
+        _one_place(self.position, self.waypoints, "target")
+        if self.image_box is not None:
+            x, y, width, height = self.image_box
+            if x < 0 or y < 0 or width < 1 or height < 1:
+                raise ValueError(
+                    "image_box is [x, y, width, height] in pixels with x, y >= 0 and width, "
+                    f"height >= 1; got {list(self.image_box)}"
+                )
+        if self.material is not None and self.material not in MATERIALS:
+            raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
+        if self.emissivity is not None and self.material is not None:
+            raise ValueError("give emissivity or material, not both")
+        return self
+
+
+class TerrainClassSpec(_Strict):
+    """A terrain class of a thermal scene: its mean temperature and its temperature spread at a
+    stated ground resolution (§6.7)."""
+
+    name: Name
+    temperature: Temperature
+    temperature_std: TemperatureDifference
+    resolution: Length
+
+    @model_validator(mode="after")
+    def _check(self) -> TerrainClassSpec:
+        if not self.resolution > 0:
+            raise ValueError("resolution must be > 0")
+        return self
+
+
+class Terrain(_Strict):
+    """A terrain map (Eqs. (6.10)–(6.11)): ``map`` a CSV file of class indices (rows northward
+    from ``origin``, columns eastward), ``cell_size`` per map cell, and the ``classes``."""
+
+    map: str
+    cell_size: Length
+    origin: tuple[Length, Length] = (0.0, 0.0)
+    classes: Annotated[list[TerrainClassSpec], Field(min_length=1)]
+
+    @model_validator(mode="after")
+    def _check(self) -> Terrain:
+        if not self.cell_size > 0:
+            raise ValueError("cell_size must be > 0")
+        return self
+
+
+class Background(_Strict):
+    """The background: its temperature and emissivity (thermal) or reflectance and the
+    irradiance (TV), and the clutter as a Table 3.5 region, an SCR, a temperature spread, an
+    image (``image`` with each target's ``image_box``) or a terrain map (thermal sensors)."""
+
+    temperature: Temperature | None = None
+    emissivity: Fraction | None = None
+    material: str | None = None
+    reflectance: BandFractions | None = None
+    irradiance: BandIrradiances | None = None
+    clutter: Literal["low", "medium", "high"] | None = None
+    scr: Annotated[Number, Field(ge=0.0)] | None = None
+    clutter_std: TemperatureDifference | None = None
+    image: str | None = None
+    channel: Literal["luminance", "red", "green", "blue"] | None = None
+    terrain: Terrain | None = None
+    sigma0: PowerRatio | None = None
+    relief_std: Length | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Background:
+        ways = (self.clutter, self.scr, self.clutter_std, self.image, self.terrain)
+        if sum(v is not None for v in ways) > 1:
+            raise ValueError("give one of clutter, scr, clutter_std, image and terrain")
+        if self.material is not None and self.material not in MATERIALS:
+            raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
+        if self.emissivity is not None and self.material is not None:
+            raise ValueError("give emissivity or material, not both")
+        irradiance = self.irradiance
+        values = list(irradiance.values()) if isinstance(irradiance, dict) else [irradiance]
+        if not all(v is None or v >= 0 for v in values):
+            raise ValueError("irradiance must be >= 0 W/m^2")
+        if self.sigma0 is not None and not self.sigma0 > 0:
+            raise ValueError("sigma0 must be > 0 (a power ratio in dB, e.g. -20 dB)")
+        if self.relief_std is not None and not self.relief_std >= 0:
+            raise ValueError("relief_std must be >= 0 m")
+        if self.channel is not None and self.image is None:
+            raise ValueError("channel picks the channel of background.image; give the image")
+        return self
+
+
+class Segment(_Strict):
+    """A stretch of the line of sight, from the sensor outward, with its own extinction."""
+
+    length: Length
+    extinction: Extinction | None = None
+    obscurant: str | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Segment:
+        if (self.extinction is None) == (self.obscurant is None):
+            raise ValueError("give a segment's extinction or obscurant")
+        if not self.length >= 0:
+            raise ValueError("length must be >= 0")
+        _check_obscurant(self.obscurant)
+        return self
+
+
+class Cloud(_Strict):
+    """A local obscurant cloud (spray, dust, snow behind a vehicle, §7.5–7.7): a sphere."""
+
+    center: Position
+    radius: Length
+    extinction: Extinction
+
+    @model_validator(mode="after")
+    def _check(self) -> Cloud:
+        if not self.radius > 0:
+            raise ValueError("radius must be > 0")
+        if not self.extinction >= 0:
+            raise ValueError("extinction must be >= 0")
+        return self
+
+
+def _probability_criterion(name: str) -> str:
+    """``name`` if it is a criterion with N50s for the three tasks, else ``ValueError``."""
+    criterion = lookup(CRITERIA, name, "criterion")
+    usable = [
+        key
+        for key, c in CRITERIA.items()
+        if c.gives_probabilities and all(task in c.tasks for task in _TASKS)
+    ]
+    if not criterion.gives_probabilities:
+        raise ValueError(
+            f"criterion {name!r} gives pixel-density thresholds, not probabilities (it is for "
+            f"ranges: targetacq dri); choose one of {', '.join(usable)}"
+        )
+    missing = [task for task in _TASKS if task not in criterion.tasks]
+    if missing:
+        raise ValueError(
+            f"criterion {name!r} has no N50 for {', '.join(missing)}; choose one of "
+            f"{', '.join(usable)}"
+        )
+    return name
+
+
+def _on_path(point: Sequence[float], position: Any, waypoints: Any) -> bool:
+    """Whether ``point`` is ``position``, or lies on the straight legs between ``waypoints``
+    (within a micrometre: where a boresight would have no direction)."""
+    if position is not None:
+        places = [np.asarray(position, dtype=float)]
+    else:
+        places = [np.asarray(w.position, dtype=float) for w in waypoints]
+    p = np.asarray(point, dtype=float)
+    legs = list(itertools.pairwise(places)) or [(places[0], places[0])]
+    for start, end in legs:
+        along = end - start
+        length2 = float(along @ along)
+        share = 0.0 if length2 == 0 else min(max(float((p - start) @ along) / length2, 0.0), 1.0)
+        if float(np.linalg.norm(start + share * along - p)) <= 1e-6:
+            return True
+    return False
+
+
+def _check_obscurant(text: str | None) -> None:
+    if text is None:
+        return
+    name, _, level = text.partition(":")
+    if name not in _atmosphere.OBSCURANTS:
+        raise unknown_name(name, _atmosphere.OBSCURANTS, "obscurant")
+    if level and level not in _atmosphere.EXTINCTION_LEVELS:
+        raise ValueError(
+            f"obscurant level must be one of {', '.join(_atmosphere.EXTINCTION_LEVELS)}"
+        )
+
+
+class Atmosphere(_Strict):
+    """The path: one of ``extinction``, ``obscurant`` ("haze" or "haze:high", per sensor band,
+    Table 7.1) or ``visibility`` with its ``visibility_convention`` (visible band only);
+    ``segments`` near the sensor; local ``clouds``. ``rain_rate`` (e.g. "5 mm/h") attenuates
+    radars (ITU-R P.838-3); the optical extinctions above do not apply to a radar."""
+
+    extinction: Extinction | None = None
+    obscurant: str | None = None
+    visibility: Length | None = None
+    visibility_convention: Literal["koschmieder", "mor"] | None = None
+    segments: list[Segment] = []
+    clouds: list[Cloud] = []
+    rain_rate: Speed | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Atmosphere:
+        if sum(v is not None for v in (self.extinction, self.obscurant, self.visibility)) > 1:
+            raise ValueError("give one of extinction, obscurant and visibility")
+        if self.extinction is not None and not self.extinction >= 0:
+            raise ValueError("extinction must be >= 0")
+        if self.rain_rate is not None and not self.rain_rate >= 0:
+            raise ValueError("rain_rate must be >= 0 (e.g. 5 mm/h)")
+        if self.visibility is not None:
+            if not self.visibility > 0:
+                raise ValueError("visibility must be > 0")
+            if self.visibility_convention is None:
+                raise ValueError('visibility needs visibility_convention = "koschmieder" or "mor"')
+        elif self.visibility_convention is not None:
+            raise ValueError("visibility_convention goes with visibility; give the visibility")
+        _check_obscurant(self.obscurant)
+        return self
+
+    @property
+    def present(self) -> bool:
+        """Whether the path attenuates at all."""
+        return any(
+            v is not None for v in (self.extinction, self.obscurant, self.visibility)
+        ) or bool(self.segments or self.clouds)
+
+
+# The model choices that name an entry of a registry: the registry and its kind for the message.
+_MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
+    "criterion": (CRITERIA, "criterion"),
+    "noise_model": (NOISE_MODELS, "noise model"),
+    "motion": (MOTION_RULES, "motion rule"),
+    "semantics": (ACQUISITION_SEMANTICS, "semantics"),
+    "redraw": (REDRAW_RULES, "redraw rule"),
+}
+
+
+class ModelChoices(_Strict):
+    """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
+    (how a moving target is detected), semantics (nested or conditional: what the three
+    probabilities mean, hence what is reported and sampled), fusion, the search model's
+    time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default), and when a
+    sensor-target pair's random draws are drawn again (``redraw``,
+    :data:`targetacq.acquisition.engagement.REDRAW_RULES`, with its ``decorrelation_time`` [s] where
+    the rule takes one)."""
+
+    criterion: str = "johnson"
+    n50: (
+        tuple[
+            Annotated[Number, Field(gt=0)],
+            Annotated[Number, Field(gt=0)],
+            Annotated[Number, Field(gt=0)],
+        ]
+        | None
+    ) = None
+    transform: str = "ttpf"
+    bound: str | None = None
+    noise_model: str = "variance-sum"
+    motion: str = "low-clutter"
+    semantics: str = "nested"
+    fusion: Literal["sensor-level"] = "sensor-level"
+    search_time: Time = 3.4
+    redraw: str = "never"
+    decorrelation_time: Time | None = None
+
+    @field_validator("criterion", "noise_model", "motion", "semantics", "redraw")
+    @classmethod
+    def _registered(cls, value: str, info: ValidationInfo) -> str:
+        registry, kind = _MODEL_REGISTRIES[info.field_name or ""]
+        lookup(registry, value, kind)
+        return value
+
+    @field_validator("transform")
+    @classmethod
+    def _all_tasks(cls, value: str) -> str:
+        transform = lookup(TRANSFORMS, value, "transform")
+        if transform.tasks is not None and any(t not in transform.tasks for t in _TASKS):
+            every = [
+                k for k, t in TRANSFORMS.items() if t.tasks is None or set(_TASKS) <= set(t.tasks)
+            ]
+            raise ValueError(
+                f"transform {value!r} is for detection in clutter only, and the model's transform "
+                f"serves all three tasks: choose one of {', '.join(every)}, and give the clutter "
+                "in [background] (clutter, scr, clutter_std, image or terrain) for "
+                "Schmieder-Weathersby detection"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _check(self) -> ModelChoices:
+        if self.bound is not None:
+            if self.bound not in C2NVEO_BOUNDS:
+                raise ValueError(f"bound must be one of {', '.join(C2NVEO_BOUNDS)}")
+            if self.transform != "c2nveo":
+                raise ValueError('bound is an option of transform = "c2nveo"; give that transform')
+        if not self.search_time > 0:
+            raise ValueError("search_time must be > 0 s")
+        uses_time = REDRAW_RULES[self.redraw].uses_time
+        if uses_time and self.decorrelation_time is None:
+            raise ValueError(
+                f"redraw = {self.redraw!r} needs decorrelation_time (how long a target must be "
+                'out of view before it is drawn again, e.g. "30 s")'
+            )
+        if not uses_time and self.decorrelation_time is not None:
+            raise ValueError(
+                f"decorrelation_time is an option of redraw = 'after-out-of-view', not of "
+                f"redraw = {self.redraw!r}"
+            )
+        if self.decorrelation_time is not None and not (0 <= self.decorrelation_time < math.inf):
+            raise ValueError(f"decorrelation_time must be >= 0 s, got {self.decorrelation_time!r}")
+        if self.n50 is None:
+            _probability_criterion(self.criterion)
+        elif any(b < a for a, b in itertools.pairwise(self.n50)):
+            raise ValueError(
+                "n50 = [detection, recognition, identification] must not decrease (a harder "
+                f"task needs at least as many cycles); got {list(self.n50)}"
+            )
+        return self
+
+
+class FalseTargets(_Strict):
+    """False detections: target-like clutter objects declared targets (the ``[false_targets]``
+    table; the law is in :mod:`targetacq.run.false_targets`).
+
+    ``density`` [1/m²] of target-sized clutter objects on the ground, ``probability`` the hazard
+    of declaring an object in view a target, in units of 1/t_s (about the probability that an
+    object looked at for one search time is declared), ``max_range`` [m] the farthest ground the
+    sensors search, and ``sensors`` the sensors that report false detections (default: every
+    sensor with a field of view).
+    """
+
+    density: AreaDensity
+    probability: Annotated[Number, Field(gt=0.0, le=1.0)]
+    max_range: Length
+    sensors: list[Name] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> FalseTargets:
+        if not self.density > 0:
+            raise ValueError("density must be > 0 (clutter objects per area, e.g. 4 /km^2)")
+        if not self.max_range > 0:
+            raise ValueError("max_range must be > 0")
+        return self
+
+
+def _pointed(sensor: Any) -> bool:
+    return sensor.look_at is not None or (
+        sensor.azimuth is not None and sensor.depression is not None
+    )
+
+
+NO_FALSE_TARGET_SENSORS = (
+    "false_targets.sensors: an empty list names no sensor, so none would report false targets; "
+    "name at least one sensor, or leave sensors out for every sensor with a field of view (or "
+    "remove the [false_targets] table)"
+)
+"""The problem with an empty ``false_targets.sensors``: it names no sensor, so no false target
+would ever be drawn, without a word."""
+
+
+def false_target_problems(scenario: Any) -> list[str]:
+    """What is wrong with a scenario's ``[false_targets]`` table, each problem located.
+
+    ``false_targets.sensors`` must name sensors of the scenario, at least one, each with a
+    field of view (``pixels``) and a pointing (``look_at``, or ``azimuth`` and ``depression``),
+    once; without ``sensors``, at least one sensor must have a field of view.
+
+    Parameters
+    ----------
+    scenario : Scenario
+
+    Returns
+    -------
+    list of str
+        Empty where there is no table or nothing is wrong.
+    """
+    table = getattr(scenario, "false_targets", None)
+    if table is None:
+        return []
+    sensors = {s.name: s for s in scenario.sensors}
+    if table.sensors is None:
+        if not any(s.pixels is not None for s in scenario.sensors):
+            return [
+                "false_targets: no sensor has a field of view (pixels = [width, height]), so "
+                "none can report false targets; give one pixels and a pointing"
+            ]
+        return []
+    if not table.sensors:
+        return [NO_FALSE_TARGET_SENSORS]
+    problems = []
+    seen: set[str] = set()
+    for k, name in enumerate(table.sensors):
+        where = f"false_targets.sensors[{k}]"
+        sensor = sensors.get(name)
+        if name in seen:
+            problems.append(f"{where}: {name!r} is listed twice")
+        elif sensor is None:
+            problems.append(
+                f"{where}: unknown sensor {name!r}; the sensors are: {', '.join(sensors)}"
+            )
+        elif sensor.pixels is None:
+            problems.append(
+                f"{where}: sensor {name!r} has no field of view (give pixels = [width, height] "
+                "and a pointing); false targets are drawn inside a field of view"
+            )
+        elif not _pointed(sensor):
+            problems.append(
+                f"{where}: sensor {name!r} is not pointed (give look_at, or azimuth and "
+                "depression); false targets are drawn inside its field of view on the ground"
+            )
+        seen.add(name)
+    return problems
+
+
+class TimeGrid(_Strict):
+    """Evaluation times: ``start`` to ``stop`` inclusive every ``step``."""
+
+    start: Time = 0.0
+    stop: Time = 0.0
+    step: Time = 1.0
+
+    @model_validator(mode="after")
+    def _check(self) -> TimeGrid:
+        if not self.step > 0:
+            raise ValueError("step must be > 0 s")
+        if self.stop < self.start:
+            raise ValueError("stop must not be before start")
+        return self
+
+    @property
+    def count(self) -> float:
+        """How many times the grid holds, counted without building it (a float, so that a
+        grid too large to build still has a size; +inf where the span over the step
+        overflows)."""
+        steps = (self.stop - self.start) / self.step
+        return math.floor(steps + 1e-9) + 1.0 if math.isfinite(steps) else math.inf
+
+    def times(self) -> Any:
+        """The times [s], after checking that they fit in memory."""
+        check_size(self.count, 8, f"the time grid ({self.describe()})", _GRID_ADVICE)
+        return self.start + self.step * np.arange(int(self.count))
+
+    def describe(self) -> str:
+        """The grid in the file's words, for messages."""
+        return f"time.step {self.step:g} s from {self.start:g} s to {self.stop:g} s"
+
+
+class Scenario(_Strict):
+    """A whole scene. See the module docstring and ``examples/`` for files."""
+
+    name: str = ""
+    sensors: Annotated[list[Sensor], Field(min_length=1)]
+    targets: Annotated[list[Target], Field(min_length=1)]
+    background: Background = Background()
+    atmosphere: Atmosphere = Atmosphere()
+    model: ModelChoices = ModelChoices()
+    time: TimeGrid = TimeGrid()
+    false_targets: FalseTargets | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> Scenario:
+        problems = self.problems()
+        if problems:
+            # Every problem of the whole scene at once, each located, one per line (split
+            # again by the error formatter).
+            raise ValueError("\n".join(problems))
+        # Valid, but maybe a unit slip (a 100 m lens): warned, never refused.
+        emit(plausibility_warnings(self))
+        return self
+
+    def problems(self) -> list[str]:
+        """What is wrong across tables (names, the sensors' needs, image boxes), each located."""
+        problems = []
+        for what, items in (("sensor", self.sensors), ("target", self.targets)):
+            counts = Counter(item.name for item in items)
+            duplicates = sorted(n for n, count in counts.items() if count > 1)
+            if duplicates:
+                problems.append(
+                    f"{what}s: {what} names must be unique; repeated: {', '.join(duplicates)}"
+                )
+        for kind in dict.fromkeys(s.type for s in self.sensors):
+            problems += get_sensor_type(kind).requirements(self)
+        problems += [
+            f'sensors[{k}].mrtd: an MRTD curve is a thermal sensor\'s (type = "thermal"); '
+            f"a {s.type} sensor's resolution is its own"
+            for k, s in enumerate(self.sensors)
+            if s.mrtd is not None and s.type != "thermal"
+        ]
+        if self.false_targets is not None:
+            problems += false_target_problems(self)
+        image = self.background.image is not None
+        for k, target in enumerate(self.targets):
+            if image and target.image_box is None:
+                problems.append(
+                    f"targets[{k}].image_box: background.image needs an image_box for every "
+                    "target (where the target is in the image)"
+                )
+            elif not image and target.image_box is not None:
+                problems.append(
+                    f"targets[{k}].image_box: an image_box is a box in background.image; give "
+                    "the image"
+                )
+        return problems
+
+
+def _fields_of(model: Any) -> dict[str, Any]:
+    return (
+        dict(model.model_fields) if isinstance(model, type) and issubclass(model, BaseModel) else {}
+    )
+
+
+def _model_at(loc: Sequence[Any]) -> Any:
+    """The pydantic model class at a location of the scenario, for "did you mean" hints."""
+    current: Any = Scenario
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        fields = _fields_of(current)
+        if part not in fields:
+            return current
+        annotation = fields[part].annotation
+        while get_origin(annotation) is not None:
+            args = [a for a in get_args(annotation) if a is not type(None)]
+            models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
+            annotation = models[0] if models else (args[0] if args else annotation)
+            if models:
+                break
+        current = annotation
+    return current
+
+
+def _location(loc: Sequence[Any]) -> str:
+    text = ""
+    for part in loc:
+        if isinstance(part, int):
+            text += f"[{part}]"
+        else:
+            text += ("." if text else "") + str(part)
+    return text or "scenario"
+
+
+def _number_text(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _count(ctx: Mapping[str, Any]) -> str:
+    return str(ctx.get("actual_length", "?"))
+
+
+def _message(detail: Mapping[str, Any], loc: Sequence[Any]) -> str:
+    """One pydantic error in the file's words (TOML vocabulary, no Python syntax)."""
+    kind, ctx = detail["type"], detail.get("ctx") or {}
+    given = detail.get("input")
+    if kind == "extra_forbidden":
+        key = str(loc[-1])
+        valid = list(_fields_of(_model_at(loc[:-1])))
+        close = get_close_matches(key, valid, 1)
+        hint = f" (did you mean {close[0]!r}?)" if close else ""
+        return f"unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
+    if kind == "missing":
+        return (
+            "missing item: the list is too short"
+            if loc and isinstance(loc[-1], int)
+            else ("required key missing")
+        )
+    bounds = {
+        "greater_than": ">",
+        "greater_than_equal": ">=",
+        "less_than": "<",
+        "less_than_equal": "<=",
+    }
+    if kind in bounds:
+        limit = next(iter(ctx.values()))
+        return f"must be {bounds[kind]} {_number_text(limit)}; got {_show(given)}"
+    plain = {
+        "string_type": f"must be text in quotes; got {_show(given)}",
+        "list_type": f"must be a list [...]; got {_show(given)}",
+        "tuple_type": f"must be a list [...]; got {_show(given)}",
+        "model_type": "must be a table",
+        "model_attributes_type": "must be a table",
+        "dict_type": "must be a table",
+        "finite_number": f"must be finite; got {_show(given)}",
+        "recursion_loop": "nested too deeply",
+        "literal_error": f"must be {ctx.get('expected', '')}; got {_show(given)}",
+        "too_short": f"needs at least {ctx.get('min_length')} item(s); got {_count(ctx)}",
+        "too_long": f"takes at most {ctx.get('max_length')} items; got {_count(ctx)}",
+    }
+    if kind in plain:
+        return plain[kind]
+    message = str(detail["msg"]).removeprefix("Value error, ")
+    field = next((p for p in reversed(loc) if isinstance(p, str)), None)
+    if field is not None:  # quantity messages name their field; the location already does
+        message = message.removeprefix(f"{field}: ")
+    return message
+
+
+def _problems(error: ValidationError) -> list[str]:
+    """Every error of a validation, each located (``table[index].key: what``)."""
+    problems: list[str] = []
+    for detail in error.errors():
+        loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
+        message = _message(detail, loc)
+        if not loc and detail["type"] == "value_error":
+            problems += message.splitlines()  # Scenario.problems(): located already
+        else:
+            problems.append(f"{_location(loc)}: {message}")
+    return list(dict.fromkeys(problems))
+
+
+def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
+    """Validate a scenario given as nested dictionaries (as read from TOML).
+
+    Units are strict, as in a file: every quantity is a string with its unit (or a pint
+    ``Quantity``); a bare number where a unit is needed is an error saying which unit to add.
+    Build :class:`Scenario` directly (or call ``Scenario.model_validate``) to give SI numbers.
+
+    A valid value beyond what any real sensor or scene has (a unit slip: ``"100 m"`` for a
+    focal length) is not an error: it is emitted as a
+    :class:`targetacq.scenario.plausibility.PlausibilityWarning`, located like the errors
+    (``source: sensors[0].focal_length: ...``).
+
+    Raises
+    ------
+    ScenarioError
+        With every problem found, each located: ``source: table.key: what is wrong``.
+    """
+    try:
+        with collected() as found:
+            scenario = Scenario.model_validate(data, context={"strict_units": True})
+    except ValidationError as error:
+        raise ScenarioError([f"{source}: {problem}" for problem in _problems(error)]) from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: nested too deeply to be a scenario") from None
+    emit([f"{source}: {message}" for message in found])  # located in the file, as errors are
+    return scenario
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario TOML file.
+
+    The file is a regular file of at most :data:`targetacq.base.limits.MAX_INPUT_BYTES`, in UTF-8
+    (a byte-order mark is allowed; :func:`targetacq.base.inputs.read_input_text`). Relative
+    ``image`` and terrain ``map`` paths, and sensors' ``mrtd`` curves, are taken from the file's
+    folder.
+
+    Raises
+    ------
+    ScenarioError
+        Missing, unreadable or oversized file, a directory or a device, malformed or too deeply
+        nested TOML (with its line and column), or an invalid scenario (every problem, each
+        located).
+    """
+    source = Path(path)
+    try:
+        text = read_input_text(source, "scenario file")
+    except ValueError as error:
+        raise ScenarioError(str(error)) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ScenarioError(f"{source}: malformed TOML: {error}") from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: malformed TOML: nested too deeply") from None
+    scenario = parse_scenario(data, str(source))
+    bg = scenario.background
+    update: dict[str, Any] = {}
+    if bg.image is not None and not Path(bg.image).is_absolute():
+        update["image"] = str(source.parent / bg.image)
+    if bg.terrain is not None and not Path(bg.terrain.map).is_absolute():
+        update["terrain"] = bg.terrain.model_copy(
+            update={"map": str(source.parent / bg.terrain.map)}
+        )
+    if update:
+        scenario = scenario.model_copy(update={"background": bg.model_copy(update=update)})
+    if any(s.mrtd is not None and not Path(s.mrtd).is_absolute() for s in scenario.sensors):
+        sensors = [
+            s.model_copy(update={"mrtd": str(source.parent / s.mrtd)})
+            if s.mrtd is not None and not Path(s.mrtd).is_absolute()
+            else s
+            for s in scenario.sensors
+        ]
+        scenario = scenario.model_copy(update={"sensors": sensors})
+    return scenario

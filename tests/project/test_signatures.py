@@ -1,0 +1,109 @@
+"""No public function or method takes more than 10 parameters: a longer list is a typed record.
+
+Every module under ``src/targetacq`` is read with :mod:`ast` (nothing is imported). A function's
+parameters are its positional-only, positional and keyword-only ones, plus ``*args`` and
+``**kwargs`` (one each); a method's ``self`` or ``cls`` is not counted. Exempt:
+
+- private names (a leading ``_``), members of private classes, and functions nested in functions
+  (none of them is an API);
+- typer commands (decorated ``@<app>.command(...)``): each command-line option is a parameter
+  of the command function by typer's design, and the command's interface is its command line,
+  not a Python call.
+
+Numba kernels are not exempt: nopython code takes flat arrays rather than records, so a kernel
+with a long argument list is private to ``engines/`` (a leading ``_``), behind the engines'
+public classes.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterator
+from pathlib import Path
+
+SOURCE = Path(__file__).resolve().parents[2] / "src" / "targetacq"
+LIMIT = 10
+
+
+def parameter_count(function: ast.FunctionDef | ast.AsyncFunctionDef, *, method: bool) -> int:
+    """Parameters of ``function``: positional-only, positional, keyword-only, ``*args`` and
+    ``**kwargs``; without a method's first parameter when it is ``self`` or ``cls``."""
+    args = function.args
+    named = [*args.posonlyargs, *args.args, *args.kwonlyargs]
+    count = len(named) + (args.vararg is not None) + (args.kwarg is not None)
+    if method and named and named[0].arg in ("self", "cls"):
+        count -= 1
+    return count
+
+
+def _decorator_name(decorator: ast.expr) -> str:
+    target = decorator.func if isinstance(decorator, ast.Call) else decorator
+    if isinstance(target, ast.Attribute):
+        return target.attr
+    if isinstance(target, ast.Name):
+        return target.id
+    return ""
+
+
+def _exempt(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    names = {_decorator_name(d) for d in function.decorator_list}
+    return "command" in names
+
+
+def long_signatures(tree: ast.Module) -> Iterator[tuple[str, int, int]]:
+    """``(qualified name, line, parameter count)`` of each public function or method of a
+    module with more than :data:`LIMIT` parameters."""
+
+    def walk(node: ast.AST, prefix: str, in_class: bool) -> Iterator[tuple[str, int, int]]:
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, ast.ClassDef):
+                if not child.name.startswith("_"):
+                    yield from walk(child, f"{prefix}{child.name}.", True)
+            elif isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
+                if child.name.startswith("_") or _exempt(child):
+                    continue
+                count = parameter_count(child, method=in_class)
+                if count > LIMIT:
+                    yield f"{prefix}{child.name}", child.lineno, count
+            elif isinstance(child, ast.If | ast.Try):  # definitions under `if TYPE_CHECKING:` etc.
+                yield from walk(child, prefix, in_class)
+
+    yield from walk(tree, "", False)
+
+
+def test_the_counter_counts_every_kind_of_parameter() -> None:
+    source = (
+        "def eleven(a, b, /, c, d=1, *args, e, f=2, g, h, i, **kwargs): pass\n"
+        "def ten(a, b, c, d, e, f, g, h, i, j): pass\n"
+        "def _private(a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "class Public:\n"
+        "    def method(self, a, b, c, d, e, f, g, h, i, j): pass\n"
+        "    def too_many(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "    @classmethod\n"
+        "    def build(cls, *a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "class _Hidden:\n"
+        "    def method(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "@app.command('x')\n"
+        "def command(a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "@compiled\n"
+        "def kernel(a, b, c, d, e, f, g, h, i, j, k): pass\n"
+    )
+    found = {(name, count) for name, _, count in long_signatures(ast.parse(source))}
+    assert found == {
+        ("eleven", 11),
+        ("Public.too_many", 11),
+        ("Public.build", 11),
+        ("kernel", 11),
+    }
+
+
+def test_no_public_function_takes_more_than_ten_parameters() -> None:
+    offenders = []
+    for path in sorted(SOURCE.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for name, line, count in long_signatures(tree):
+            offenders.append(f"{path.relative_to(SOURCE.parent)}:{line} {name}: {count}")
+    assert not offenders, (
+        f"public functions with more than {LIMIT} parameters (take a typed record):\n"
+        + "\n".join(offenders)
+    )

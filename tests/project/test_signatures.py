@@ -107,3 +107,64 @@ def test_no_public_function_takes_more_than_ten_parameters() -> None:
         f"public functions with more than {LIMIT} parameters (take a typed record):\n"
         + "\n".join(offenders)
     )
+
+
+# --- array parameters are annotated as arrays -----------------------------------------------
+
+_ARRAY_TYPE = ("array_like", "array", "ndarray", "numpy.ndarray")
+
+
+def documented_arrays(function: ast.FunctionDef | ast.AsyncFunctionDef) -> set[str]:
+    """The parameters whose numpydoc entry gives an array type (``x : array_like, optional``)."""
+    doc = ast.get_docstring(function) or ""
+    lines = doc.splitlines()
+    found: set[str] = set()
+    section = None
+    for k, line in enumerate(lines):
+        text = line.strip()
+        if k + 1 < len(lines) and set(lines[k + 1].strip()) == {"-"}:
+            section = text
+            continue
+        if section != "Parameters" or " : " not in text or line.startswith((" " * 5, "\t")):
+            continue
+        names, kind = text.split(" : ", 1)
+        if kind.split(",")[0].split(" ")[0].strip() in _ARRAY_TYPE:
+            found |= {name.strip().lstrip("*") for name in names.split(",")}
+    return found
+
+
+def any_arrays(tree: ast.Module) -> Iterator[tuple[str, int, str]]:
+    """``(function, line, parameter)`` of each parameter of a public function documented as an
+    array but annotated ``Any``."""
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        if node.name.startswith("_") and node.name != "__init__":
+            continue
+        arrays = documented_arrays(node)
+        args = node.args
+        for arg in [*args.posonlyargs, *args.args, *args.kwonlyargs]:
+            annotation = ast.unparse(arg.annotation) if arg.annotation else None
+            if arg.arg in arrays and annotation in ("Any", "Any | None"):
+                yield node.name, node.lineno, arg.arg
+
+
+def test_the_array_check_reads_the_docstring() -> None:
+    source = (
+        "def f(x: Any, y: Any, n: int, z: Any | None = None, w: Array = 1):\n"
+        '    """F.\n\n    Parameters\n    ----------\n    x : array_like\n        X.\n'
+        "    y : str\n        Y.\n    n : int\n    z, w : array_like, optional\n"
+        '        Z and W.\n    """\n'
+    )
+    assert [p for _, _, p in any_arrays(ast.parse(source))] == ["x", "z"]
+
+
+def test_array_parameters_are_annotated_as_arrays() -> None:
+    """A parameter documented as ``array_like`` is annotated ``Array`` (from
+    :mod:`targetacq.base.arrays`), not ``Any``: the annotation says what the docstring says."""
+    found = [
+        f"{path.relative_to(SOURCE)}:{line} {function}({name})"
+        for path in sorted(SOURCE.rglob("*.py"))
+        for function, line, name in any_arrays(ast.parse(path.read_text(encoding="utf-8")))
+    ]
+    assert not found, "array parameters annotated Any:\n" + "\n".join(found)

@@ -12,11 +12,12 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 
 __all__ = ["central_level_bounds", "fuse", "fuse_groups"]
 
 
-def fuse(probabilities: Any, axis: int = -1) -> Any:
+def fuse(probabilities: Array, axis: int = -1) -> Any:
     """Sensor-level fusion of independent sensors, Eq. (8.4) in Sonesson (2004).
 
     ``P_SL = 1 - Π_i (1 - p_i)`` over ``axis``.
@@ -59,7 +60,7 @@ def fused_along(p: Any, axis: int, xp: Any) -> Any:
     return 1.0 - xp.prod(1.0 - p, axis=axis)
 
 
-def fuse_groups(probabilities: Any, groups: Any, axis: int = 0) -> Any:
+def fuse_groups(probabilities: Array, groups: Any, axis: int = 0) -> Any:
     """Sensor-level fusion of groups of completely dependent sensors.
 
     Within a group (the colour bands of one camera: one look at one picture through one

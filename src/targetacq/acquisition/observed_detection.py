@@ -250,7 +250,7 @@ def _scr(scr: Any, xp: Any) -> Array:
     return s
 
 
-def observed_detection(cycles: Any, n50: Any = 1.0, *, scr: Any) -> Any:
+def observed_detection(cycles: Array, n50: Array = 1.0, *, scr: Array) -> Any:
     """Probability of detection from the observations of Table 3.4 in Sonesson (2004).
 
     A monotone fit through the observed points (module doc): per SCR row linear in ``log N``
@@ -298,7 +298,7 @@ def observed_detection(cycles: Any, n50: Any = 1.0, *, scr: Any) -> Any:
     return _arrays.result(fit.forward(scaled, fit.clamped_log_scr(s, xp), xp))
 
 
-def observed_detection_inverse(probability: Any, n50: Any = 1.0, *, scr: Any) -> Any:
+def observed_detection_inverse(probability: Array, n50: Array = 1.0, *, scr: Array) -> Any:
     """Cycles needed for a probability of detection (inverse of :func:`observed_detection`).
 
     Parameters
@@ -351,7 +351,7 @@ def _options(task: str, options: Mapping[str, Any]) -> Any:
     return options.get("scr")
 
 
-def forward(cycles: Any, n50: Any, task: str = "detection", **options: Any) -> Any:
+def forward(cycles: Array, n50: Array, task: str = "detection", **options: Any) -> Any:
     """Registry adapter: :func:`observed_detection` with option ``scr`` (required).
 
     Parameters
@@ -373,7 +373,7 @@ def forward(cycles: Any, n50: Any, task: str = "detection", **options: Any) -> A
     return observed_detection(cycles, n50, scr=_options(task, options))
 
 
-def inverse(probability: Any, n50: Any, task: str = "detection", **options: Any) -> Any:
+def inverse(probability: Array, n50: Array, task: str = "detection", **options: Any) -> Any:
     """Registry adapter: :func:`observed_detection_inverse` with option ``scr`` (required).
 
     Parameters

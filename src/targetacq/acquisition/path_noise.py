@@ -55,6 +55,7 @@ import numpy as np
 
 from targetacq.acquisition.transforms import clutter_n50, sw_high_anchor
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.registry import lookup
 
 __all__ = [
@@ -98,7 +99,7 @@ def snr_ratio(snr: Any) -> Any:
     return _arrays.result(_amplitude(s, xp))
 
 
-def effective_scr(scr: Any, snr: Any) -> Any:
+def effective_scr(scr: Array, snr: Array) -> Any:
     """Clutter and noise added in variance: ``R_eff = (1/SCR² + 1/SNR_lin²)^(−1/2)``.
 
     Parameters
@@ -166,7 +167,7 @@ def ratio_anchors() -> tuple[float, float, float]:
     return low, medium, sw_high_anchor()[2]
 
 
-def ratio_n50(ratio: Any) -> Any:
+def ratio_n50(ratio: Array) -> Any:
     """Continuous 50 % point of detection against a clutter or noise ratio R [cycles].
 
     See the module docstring: 0.5 for R >= 10, ``0.5 · (10/R)^log10(2)`` on [1, 10),
@@ -340,7 +341,7 @@ def get_noise_model(noise_model: str | NoiseModel | Callable[[Any], Any]) -> Noi
 
 
 def noise_n50_factor(
-    snr: Any, noise_model: str | NoiseModel | Callable[[Any], Any] = "variance-sum"
+    snr: Array, noise_model: str | NoiseModel | Callable[[Any], Any] = "variance-sum"
 ) -> Any:
     """Factor >= 1 by which noise multiplies the N50s (see the module docstring).
 

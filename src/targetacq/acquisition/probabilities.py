@@ -579,7 +579,7 @@ def probability(
     return plain
 
 
-def effect_probability(detection: Any, recognition: Any, identification: Any) -> Any:
+def effect_probability(detection: Array, recognition: Array, identification: Array) -> Any:
     """Combined probability ``P_effect = P_det · P_rec · P_id``, Eq. (2.5) in Sonesson (2004).
 
     Parameters

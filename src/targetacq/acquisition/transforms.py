@@ -147,7 +147,7 @@ def _ttpf_inverse(p: Array, xp: Any) -> Array:
     return xp.exp(u)
 
 
-def ttpf(cycles: Any, n50: Any) -> Any:
+def ttpf(cycles: Array, n50: Array) -> Any:
     """Target transfer probability function.
 
     ``P = x^E / (1 + x^E)`` with ``x = N / N50`` and ``E = 2.7 + 0.7 x``, the Johnson-based
@@ -183,7 +183,7 @@ def ttpf(cycles: Any, n50: Any) -> Any:
     return _arrays.result(_ttpf(n / n50_, xp))
 
 
-def ttpf_inverse(probability: Any, n50: Any) -> Any:
+def ttpf_inverse(probability: Array, n50: Array) -> Any:
     """Cycles at which the TTPF reaches a probability (inverse of :func:`ttpf`).
 
     Parameters
@@ -337,7 +337,7 @@ def _check_bound(bound: str) -> None:
 _C2NVEO_TASKS = ("detection", "recognition", "identification")
 
 
-def c2nveo(cycles: Any, n50: Any, task: str = "detection", bound: str = "nominal") -> Any:
+def c2nveo(cycles: Array, n50: Array, task: str = "detection", bound: str = "nominal") -> Any:
     """C2NVEO probability of a task from cycles on target, Table 3.3 in Sonesson (2004).
 
     Parameters
@@ -403,7 +403,7 @@ def c2nveo_inverse(
     return _arrays.result(n * (n50_ / c2nveo_reference_n50(task)))
 
 
-def clutter_region(scr: Any) -> Any:
+def clutter_region(scr: Array) -> Any:
     """Clutter region of Table 3.5 for a signal-to-clutter ratio.
 
     Parameters
@@ -455,7 +455,7 @@ def sw_region_n50() -> Mapping[str, float]:
     )
 
 
-def clutter_n50(scr: Any) -> Any:
+def clutter_n50(scr: Array) -> Any:
     """Cycles for P(detection) = 0.5 at a signal-to-clutter ratio, Table 3.5 and its continuation.
 
     0.5 cycles for SCR > 10, 1.0 for 1 <= SCR <= 10, 2.5 for 0.33 <= SCR < 1 (Table 3.5's
@@ -574,10 +574,10 @@ def _sw_select_numpy(values: Mapping[str, Array], scr: np.ndarray, scr_low: floa
 
 
 def schmieder_weathersby(
-    cycles: Any,
-    n50: Any = 1.0,
+    cycles: Array,
+    n50: Array = 1.0,
     *,
-    scr: Any = None,
+    scr: Array = None,
     region: str | None = None,
     hot_spot: bool = False,
     moving: bool = False,
@@ -829,7 +829,7 @@ def get_transform(method: str | Transform) -> Transform:
 
 
 def transform(
-    cycles: Any, n50: Any, task: str = "detection", method: str = "ttpf", **options: Any
+    cycles: Array, n50: Array, task: str = "detection", method: str = "ttpf", **options: Any
 ) -> Any:
     """Probability of a task from cycles on target, by the named transform.
 

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.base.arrays import Array
 from targetacq.base.limits import check_seed
 
 __all__ = ["philox4x32", "stream_key", "uniforms"]
@@ -79,7 +80,7 @@ def stream_key(seed: int, *names: str) -> tuple[int, int]:
     return value & 0xFFFFFFFF, value >> 32
 
 
-def uniforms(key: Any, step: Any, run: Any, purpose: int) -> np.ndarray:
+def uniforms(key: Any, step: Array, run: Array, purpose: int) -> np.ndarray:
     """Uniform numbers in (0, 1) for counters (step, run, purpose), 53 random bits each.
 
     Parameters

@@ -30,6 +30,7 @@ import numpy as np
 
 from targetacq.acquisition import transforms
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.core.records import SceneArrays
 from targetacq.physics import atmosphere
 from targetacq.physics import detector_noise as sensor_noise
@@ -79,7 +80,7 @@ def _geometry(s_pos: Any, t_pos: Any, rows: tuple[int, ...], xp: Any) -> tuple[A
 
 
 def active_factors(
-    scene: SceneArrays, found: Any, s_pos: Any, t_pos: Any, visible_fraction: Any = None
+    scene: SceneArrays, found: Any, s_pos: Array, t_pos: Array, visible_fraction: Array = None
 ) -> Any:
     """The factors of a scene's radar and laser-radar rows in place of the imager's.
 

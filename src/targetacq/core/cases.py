@@ -42,6 +42,7 @@ from targetacq.acquisition.probabilities import (
     probability,
 )
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.physics import atmosphere, optics
 from targetacq.physics import detector_noise as sensor_noise
 
@@ -417,7 +418,7 @@ RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
 ``mrtd`` applies where the case has an MRTD curve."""
 
 
-def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
+def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
     ``N`` from :func:`targetacq.physics.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in
@@ -456,7 +457,7 @@ def case_factors(case: RangeCase, range: Any) -> tuple[Any, Any, Any]:
     return cycles, tau, snr
 
 
-def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
+def case_acquisition(case: RangeCase, range: Array) -> CaseAcquisition:
     """Cycles, transmittance, SNR and the ordered probabilities of a case at ranges.
 
     The factors of :func:`case_factors` and the probabilities of
@@ -506,7 +507,7 @@ def case_acquisition(case: RangeCase, range: Any) -> CaseAcquisition:
     )
 
 
-def case_probability(case: RangeCase, range: Any, task: str) -> Any:
+def case_probability(case: RangeCase, range: Array, task: str) -> Any:
     """Probability of one task of a case at ranges: the task's own (marginal) curve.
 
     :func:`targetacq.acquisition.probabilities.probability` at the factors of :func:`case_factors`;

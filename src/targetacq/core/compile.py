@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.acquisition.criteria import Criterion, get_criterion
+from targetacq.base.arrays import Array
 from targetacq.base.constants import SPEED_OF_LIGHT
 from targetacq.base.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.core.records import (
@@ -578,7 +579,7 @@ def _path_positions(items: Any, times: np.ndarray) -> np.ndarray:
 
 
 def scenario_positions(
-    scenario: Any, times: Any, targets: slice | None = None
+    scenario: Any, times: Array, targets: slice | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Positions and headings of a scenario's scripted paths at times.
 

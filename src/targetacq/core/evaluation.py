@@ -89,6 +89,7 @@ from targetacq.acquisition.probabilities import (
     ordered_probabilities,
 )
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.core import active, mrtd_rows
 from targetacq.core.records import (
     ModelChoices,
@@ -186,7 +187,7 @@ def _per_target(value: Any, batch: int, xp: Any) -> Any:
 
 
 def boresight(
-    sensor_positions: Any, sensors: SensorArrays, pointing: Any = None
+    sensor_positions: Array, sensors: SensorArrays, pointing: Array = None
 ) -> tuple[tuple[Any, Any, Any], Any]:
     """Boresight of each sensor and whether it is pointed.
 
@@ -240,7 +241,7 @@ def boresight(
 # --------------------------------------------------------------------------------------------
 
 
-def check_visible_fraction(visible_fraction: Any, shape: tuple[int, ...], xp: Any = None) -> Any:
+def check_visible_fraction(visible_fraction: Array, shape: tuple[int, ...], xp: Any = None) -> Any:
     """A visible fraction given per call, checked and shaped against the pairs ``shape``.
 
     Parameters
@@ -1019,12 +1020,12 @@ def _in_view_tasks(
 
 def factors(
     scene: SceneArrays,
-    sensor_positions: Any,
-    target_positions: Any,
-    headings: Any = None,
-    pointing: Any = None,
-    scr: Any = None,
-    visible_fraction: Any = None,
+    sensor_positions: Array,
+    target_positions: Array,
+    headings: Array = None,
+    pointing: Array = None,
+    scr: Array = None,
+    visible_fraction: Array = None,
 ) -> Factors:
     """Range, critical dimension, cycles, field of view, path and clutter of every pair.
 
@@ -1192,7 +1193,7 @@ def _factors_generic(
 
 
 def task_probabilities(
-    cycles: Any, snr: Any, scr: Any, scene: SceneArrays, moving: Any = None
+    cycles: Array, snr: Array, scr: Array, scene: SceneArrays, moving: Array = None
 ) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
 
@@ -1275,7 +1276,7 @@ def task_probabilities(
     return out[0], out[1], out[2]
 
 
-def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Probabilities:
+def probabilities(scene: SceneArrays, found: Factors, moving: Array = None) -> Probabilities:
     """Probabilities of every pair from its factors, zero outside the field of view, NaN where
     the geometry (the range or the cycles) is NaN, and their sensor-level fusion (8.4).
 
@@ -1370,13 +1371,13 @@ def evaluate(
 
 def evaluate_step(
     scene: SceneArrays,
-    sensor_positions: Any,
-    target_positions: Any,
-    headings: Any = None,
-    pointing: Any = None,
-    visible_fraction: Any = None,
-    moving: Any = None,
-    scr: Any = None,
+    sensor_positions: Array,
+    target_positions: Array,
+    headings: Array = None,
+    pointing: Array = None,
+    visible_fraction: Array = None,
+    moving: Array = None,
+    scr: Array = None,
 ) -> tuple[Any, Any, Any]:
     """One time of the core: which pairs are in view, their probabilities and their fusion.
 
@@ -1593,8 +1594,8 @@ def _step_numpy(
 
 
 def footprint_scr(
-    terrain: Any, range: Any, target_positions: Any, target_signal: Any, ifov: Any
-) -> Any:
+    terrain: Any, range: Array, target_positions: Array, target_signal: Array, ifov: Array
+) -> Array:
     """SCR of each pair from a terrain map at the sensor's ground footprint, (6.9)-(6.11).
 
     The window around each target weighs the classes

@@ -103,7 +103,9 @@ def dri_ranges(
 _DRI_TASKS = ("detection", "recognition", "identification")
 
 
-def case_ranges(case: RangeCase, probability: Any = 0.5, tolerance: float = 1e-9) -> dict[str, Any]:
+def case_ranges(
+    case: RangeCase, probability: Array = 0.5, tolerance: float = 1e-9
+) -> dict[str, Any]:
     """Range at which each task of a case reaches a probability (the DRI ranges of a case).
 
     Without attenuation the closed form ``R = d / (N_p · cycle)`` (§3.5, Fig. 3.3), with
@@ -329,7 +331,7 @@ def case_probabilities(
 
 
 def range_performance(
-    range: Any,
+    range: Array,
     cases: Mapping[str, RangeCase | Mapping[str, Any]],
     probabilities: Any = (0.5, 0.8, 0.95),
     tolerance: float = 1e-9,

@@ -29,6 +29,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from targetacq.base.arrays import Array
+
 _R = TypeVar("_R")
 _V = TypeVar("_V")
 
@@ -444,7 +446,7 @@ def _take(value: Any, index: np.ndarray, axis: int) -> Any:
     return xp.take(value, xp.asarray(index), axis=axis)
 
 
-def take_targets(scene: SceneArrays, index: Any) -> SceneArrays:
+def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
     """The scene whose targets are ``scene.targets[index]``, in that order.
 
     Every per-target array is taken along its target axis: the targets' fields (dimensions,

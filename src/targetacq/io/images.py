@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.base.arrays import Array
 from targetacq.io.files import output_path, write_atomically
 
 __all__ = ["read_image", "save_clutter_overlay"]
@@ -51,7 +52,7 @@ def read_image(path: str | Path) -> np.ndarray:
     return pixels
 
 
-def save_clutter_overlay(image: Any, result: Any, boxes: Any, path: str | Path) -> Path:
+def save_clutter_overlay(image: Array, result: Any, boxes: Array, path: str | Path) -> Path:
     """Write the image in grey with the clutter cells (yellow) and the targets (red) drawn.
 
     Parameters

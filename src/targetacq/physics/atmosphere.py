@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.tables import load_table
 from targetacq.physics.bands import BANDS, band_limits
 
@@ -73,7 +74,7 @@ EXTINCTION_LEVEL_WORDS: Mapping[str, str] = MappingProxyType(
 a band is light fog in that band (whatever visual range Table 7.2 gives the same Np/km)."""
 
 
-def transmittance(extinction: Any, range: Any) -> Any:
+def transmittance(extinction: Array, range: Array) -> Any:
     """Beer–Lambert transmittance ``τ = exp(−γ R)``, Eq. (7.3) (and (7.1) for absorption alone).
 
     Parameters
@@ -102,7 +103,7 @@ def transmittance(extinction: Any, range: Any) -> Any:
     return _arrays.result(xp.exp(-g * r))
 
 
-def path_transmittance(extinctions: Any, lengths: Any, axis: int = -1) -> Any:
+def path_transmittance(extinctions: Array, lengths: Array, axis: int = -1) -> Any:
     """Transmittance of a path through segments, ``τ = exp(−Σ_j γ_j R_j)`` (§7.8).
 
     Parameters
@@ -134,7 +135,7 @@ def path_transmittance(extinctions: Any, lengths: Any, axis: int = -1) -> Any:
 
 
 def cloud_transmittance(
-    extinction: Any, range: Any, cloud_extinction: Any, cloud_length: Any
+    extinction: Array, range: Array, cloud_extinction: Array, cloud_length: Array
 ) -> Any:
     """Transmittance with a local obscurant cloud crossed over part of the path (§7.5–7.7).
 
@@ -175,7 +176,7 @@ def cloud_transmittance(
     return _arrays.result(xp.exp(-g * r - gc * xp.minimum(lc, r)))
 
 
-def foliage_transmittance(depth: Any, extinction: Any) -> Any:
+def foliage_transmittance(depth: Array, extinction: Array) -> Any:
     """Transmittance through foliage in front of a target (§6.8), ``τ_f = exp(−κ d)``.
 
     The thesis proposes modelling occlusion by trees and leaves as a transmittance that depends
@@ -206,7 +207,7 @@ def foliage_transmittance(depth: Any, extinction: Any) -> Any:
     return _arrays.result(xp.exp(-k * d))
 
 
-def band_transmittance(extinction: Any, wavelength: Any, range: Any) -> Any:
+def band_transmittance(extinction: Array, wavelength: Array, range: Array) -> Any:
     """Band-mean transmittance, Eq. (7.4): ``τ = 1/(λ2−λ1) ∫ exp(−γ(λ) R) dλ``.
 
     γ(λ) is given on a wavelength grid spanning the band; the integral is the trapezoid rule on
@@ -288,7 +289,7 @@ def _convention(convention: str | None) -> float:
     return VISIBILITY_CONVENTIONS[convention]
 
 
-def extinction_from_visibility(visibility: Any, convention: str | None = None) -> Any:
+def extinction_from_visibility(visibility: Array, convention: str | None = None) -> Any:
     """Visible-band extinction from a visibility, ``γ = −ln(C_threshold) / V``.
 
     Parameters
@@ -478,7 +479,7 @@ def extinction_term(extinction: float) -> tuple[str, str]:
     raise ValueError(f"Table 7.2 has no row for an extinction of {value:g} Np/m")
 
 
-def snr_from_transmittance(tau: Any) -> Any:
+def snr_from_transmittance(tau: Array) -> Any:
     """Signal-to-noise ratio of an attenuated signal, Eqs. (7.5)–(7.7) in Sonesson (2004).
 
     ``SNR = 20 log10(τ / (1 − τ))`` dB: the part of the signal lost, ``(1 − τ)·o``, counts as noise.
@@ -512,7 +513,7 @@ def snr_from_transmittance(tau: Any) -> Any:
     return _arrays.result(xp.where(xp.isnan(t), t, snr))
 
 
-def snr_from_optical_depth(depth: Any) -> Any:
+def snr_from_optical_depth(depth: Array) -> Any:
     """SNR of Eq. (7.7) from the optical depth ``d = γR`` (or ``Σ γ_j R_j``) directly [dB].
 
     ``−20 log10(e^d − 1) = 20 (−d / ln 10 − log10(1 − e^{−d}))``: the same as
@@ -559,7 +560,7 @@ def snr_db(d: Any, xp: Any) -> Any:
     return xp.where(xp.isnan(d), d, snr)
 
 
-def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
+def sphere_chord_length(start: Array, end: Array, center: Array, radius: Any) -> Any:
     """Length of the segment from ``start`` to ``end`` inside a sphere [m].
 
     Used for a local cloud crossed by a line of sight (:func:`cloud_transmittance`).
@@ -599,7 +600,7 @@ def sphere_chord_length(start: Any, end: Any, center: Any, radius: Any) -> Any:
 
 
 def segmented_optical_depth(
-    range: Any, extinction: Any, segment_lengths: Any = (), segment_extinctions: Any = ()
+    range: Array, extinction: Array, segment_lengths: Any = (), segment_extinctions: Any = ()
 ) -> Any:
     """Optical depth of a line of sight through stretches of different extinction (§7.8).
 

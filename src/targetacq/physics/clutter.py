@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 
 __all__ = [
     "CHANNELS",
@@ -35,7 +36,7 @@ __all__ = [
 ]
 
 
-def signal_to_clutter_ratio(target_signal: Any, background_mean: Any, clutter: Any) -> Any:
+def signal_to_clutter_ratio(target_signal: Array, background_mean: Array, clutter: Array) -> Any:
     """Signal-to-clutter ratio, Eqs. (3.14), (3.15) and (6.9) in Sonesson (2004).
 
     ``SCR = |target − background_mean| / clutter``. Pass the target's maximum for positive
@@ -79,7 +80,7 @@ def signal_to_clutter_ratio(target_signal: Any, background_mean: Any, clutter: A
 
 
 def temperature_spread_clutter(
-    emissivity: Any, temperature: Any, temperature_std: Any, band: Any
+    emissivity: Array, temperature: Array, temperature_std: Array, band: Any
 ) -> Any:
     """Clutter of a thermal background given as a spread of temperatures [W/m²].
 
@@ -124,7 +125,7 @@ def temperature_spread_clutter(
     return _arrays.result(eps * band_exitance_derivative(t, band) * spread)
 
 
-def terrain_clutter(weights: Any, variances: Any, axis: int = -1) -> Any:
+def terrain_clutter(weights: Array, variances: Array, axis: int = -1) -> Any:
     """Clutter from a terrain description, ``(Σ_i k_i σ_i²)^(1/2)``, Eqs. (6.10)–(6.11).
 
     Parameters
@@ -290,7 +291,7 @@ def _rect_sum(table: Any, x0: Any, y0: Any, x1: Any, y1: Any) -> Any:
     return table[y1, x1] - table[y0, x1] - table[y1, x0] + table[y0, x0]
 
 
-def image_clutter(image: Any, boxes: Any, cell_factor: float = 2.0) -> ImageClutter:
+def image_clutter(image: Array, boxes: Array, cell_factor: float = 2.0) -> ImageClutter:
     """Clutter, SCR and clutter region of targets in an image, Eqs. (3.12)–(3.15), Fig. 3.6.
 
     Around each box, a 3 × 3 grid of square cells of side ``round(cell_factor · min(w, h))``
@@ -430,7 +431,7 @@ CHANNELS: tuple[str, ...] = ("luminance", "red", "green", "blue")
 """How to make one channel of a colour image: ITU-R BT.601 luminance or one colour."""
 
 
-def gray(image: Any, channel: str | None = None) -> Any:
+def gray(image: Array, channel: str | None = None) -> Any:
     """One channel of an image: a 2-D image unchanged; for colour (H, W, 3|4), ``channel``.
 
     Parameters

@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 
 __all__ = [
     "combined_snr",
@@ -49,7 +50,7 @@ __all__ = [
 ]
 
 
-def netd_exitance(netd: Any, band: Any, reference_temperature: Any = 300.0) -> Any:
+def netd_exitance(netd: Array, band: Any, reference_temperature: Array = 300.0) -> Any:
     """Noise-equivalent exitance difference of a thermal sensor [W/m²].
 
     ``NEΔM = NETD · ∂M_bb,band/∂T`` at the reference temperature at which the NETD is quoted
@@ -87,7 +88,7 @@ def netd_exitance(netd: Any, band: Any, reference_temperature: Any = 300.0) -> A
     return _arrays.result(noise * band_exitance_derivative(reference, band))
 
 
-def pixels_on_target(area: Any, range: Any, ifov: Any) -> Any:
+def pixels_on_target(area: Array, range: Array, ifov: Array) -> Any:
     """Number of pixels a target covers, ``n = A / (R · IFOV)²`` [1].
 
     Parameters
@@ -117,7 +118,7 @@ def pixels_on_target_unchecked(a: Any, r: Any, i: Any) -> Any:
     return a / (footprint * footprint)
 
 
-def pixel_gain(pixels: Any) -> Any:
+def pixel_gain(pixels: Array) -> Any:
     """SNR gain of integrating over the pixels on target: ``sqrt(n)`` for n >= 1, ``n`` below.
 
     The Rose model's spatial integration (module docstring, item 2).
@@ -141,7 +142,9 @@ def _gain(n: Any, xp: Any) -> Any:
     return xp.where(n >= 1.0, xp.sqrt(xp.maximum(n, 1.0)), n)
 
 
-def sensor_snr(contrast: Any, noise_equivalent: Any, transmittance: Any, pixels: Any) -> Any:
+def sensor_snr(
+    contrast: Array, noise_equivalent: Array, transmittance: Array, pixels: Array
+) -> Any:
     """The sensor's SNR of a target [dB]: ``20 log10(τ |C| g(n) / NEC)``.
 
     Parameters

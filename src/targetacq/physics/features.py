@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy import ndimage
 
+from targetacq.base.arrays import Array
 from targetacq.physics.clutter import as_boxes, image_clutter
 
 __all__ = ["EDGE_DETECTORS", "TargetFeatures", "target_features"]
@@ -61,9 +61,9 @@ def _crack_length(mask: np.ndarray) -> int:
 
 
 def target_features(
-    image: Any,
-    box: Any,
-    mask: Any = None,
+    image: Array,
+    box: Array,
+    mask: Array = None,
     cell_factor: float = 2.0,
     edge_detector: str = "sobel",
     eps: float = 1e-12,

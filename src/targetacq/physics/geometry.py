@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 
-def slant_range(height: Any, ground_distance: Any) -> Any:
+def slant_range(height: Array, ground_distance: Array) -> Any:
     """Slant range from a sensor at a height above the ground to a point on the ground.
 
     Parameters
@@ -62,7 +62,7 @@ def slant_range(height: Any, ground_distance: Any) -> Any:
     return _arrays.result(xp.sqrt(h * h + r * r))
 
 
-def solid_angle(height: Any, ground_distance: Any, area: Any) -> Any:
+def solid_angle(height: Array, ground_distance: Array, area: Array) -> Any:
     """Solid angle of a flat target on the ground seen from an airborne sensor.
 
     ``φ = h·A_T / (π (h² + r²)^(3/2))``, Eq. (3.5) in Sonesson (2004), written as printed
@@ -105,7 +105,11 @@ def solid_angle(height: Any, ground_distance: Any, area: Any) -> Any:
 
 
 def projected_extents(
-    length: Any, width: Any, height: Any, aspect: Any = 1.5707963267948966, depression: Any = 0.0
+    length: Array,
+    width: Array,
+    height: Array,
+    aspect: Array = 1.5707963267948966,
+    depression: Array = 0.0,
 ) -> tuple[Any, Any]:
     """Sides of the rectangle circumscribing a box target as seen by the sensor.
 
@@ -223,7 +227,7 @@ def critical_dimension(
     return _arrays.result(CRITICAL_DIMENSION_METHODS[method](h, v, xp))
 
 
-def positions_at(times: Any, waypoint_times: Any, waypoint_positions: Any) -> Any:
+def positions_at(times: Array, waypoint_times: Array, waypoint_positions: Array) -> Any:
     """Positions along a path at times, linear between waypoints, held outside them.
 
     Parameters
@@ -285,7 +289,7 @@ _OUTLINE_INPUTS = ("x", "y", "z", "heading", "length", "width", "height")
 
 
 def box_outline(
-    x: Any, y: Any, z: Any, heading: Any, length: Any, width: Any, height: Any
+    x: Array, y: Array, z: Array, heading: Array, length: Array, width: Array, height: Array
 ) -> tuple[Any, Any, Any]:
     """Range and the outline of box targets seen along lines of sight, from the components.
 
@@ -425,7 +429,7 @@ def outline_numpy(
 
 
 def box_extents_seen(
-    line_of_sight: Any, heading: Any, length: Any, width: Any, height: Any
+    line_of_sight: Array, heading: Array, length: Array, width: Array, height: Array
 ) -> tuple[Any, Any, Any]:
     """Range and the outline of box targets seen along lines of sight ``(..., 3)``.
 
@@ -462,7 +466,9 @@ def box_extents_seen(
     return box_outline(los[..., 0], los[..., 1], los[..., 2], heading, length, width, height)
 
 
-def critical_dimension_seen(horizontal: Any, vertical: Any, visible_fraction: Any = 1.0) -> Any:
+def critical_dimension_seen(
+    horizontal: Array, vertical: Array, visible_fraction: Array = 1.0
+) -> Any:
     """Critical dimension of a partly hidden target: ``min(horizontal, visible · vertical)``.
 
     Johnson's cycles are counted across the smaller side of the outline (Sonesson 2004, §3.2 and
@@ -492,7 +498,7 @@ def critical_dimension_seen(horizontal: Any, vertical: Any, visible_fraction: An
     return _arrays.result(xp.minimum(h, v * f))
 
 
-def pointing_direction(azimuth: Any, depression: Any) -> tuple[Any, Any, Any]:
+def pointing_direction(azimuth: Array, depression: Array) -> tuple[Any, Any, Any]:
     """Unit boresight vector of a sensor pointed at an azimuth and a depression.
 
     ``(cos e sin a, cos e cos a, −sin e)`` in (east, north, up): azimuth ``a`` from north,
@@ -523,7 +529,9 @@ def pointing_direction(azimuth: Any, depression: Any) -> tuple[Any, Any, Any]:
     )
 
 
-def view_offsets(x: Any, y: Any, z: Any, forward: tuple[Any, Any, Any]) -> tuple[Any, Any, Any]:
+def view_offsets(
+    x: Array, y: Array, z: Array, forward: tuple[Any, Any, Any]
+) -> tuple[Any, Any, Any]:
     """Components of lines of sight in a sensor's frame: ahead, right and up.
 
     The sensor frame: ``forward`` (the boresight, any length), ``right = forward × up``
@@ -629,7 +637,7 @@ def _in_view(ahead: Array, right: Array, up: Array, tan_h: Array, tan_v: Array, 
     return (ahead > 0) & (xp.abs(right) <= tan_h * ahead) & (xp.abs(up) <= tan_v * ahead)
 
 
-def in_field_of_view(line_of_sight: Any, forward: Any, half_tangents: tuple[Any, Any]) -> Any:
+def in_field_of_view(line_of_sight: Array, forward: Array, half_tangents: tuple[Any, Any]) -> Any:
     """Whether lines of sight fall inside sensors' rectangular fields of view.
 
     A target is in view when it is in front and its horizontal and vertical angles off the

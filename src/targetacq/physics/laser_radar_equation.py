@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.constants import SPEED_OF_LIGHT
 
 __all__ = [
@@ -86,7 +87,7 @@ __all__ = [
 _ROOT_12 = math.sqrt(12.0)
 
 
-def range_resolution(timing: Any) -> Any:
+def range_resolution(timing: Array) -> Any:
     """Range resolution of a laser radar, ``Δr = c t / 2`` [m] (module docstring, item 1).
 
     Parameters
@@ -113,7 +114,7 @@ def range_resolution(timing: Any) -> Any:
     return _arrays.result(0.5 * SPEED_OF_LIGHT * t)
 
 
-def cross_range_resolution(range: Any, detector_ifov: Any) -> Any:
+def cross_range_resolution(range: Array, detector_ifov: Array) -> Any:
     """Cross-range resolution, the footprint of one detector element, ``R · IFOV`` [m].
 
     Parameters
@@ -142,7 +143,7 @@ def cross_range_resolution(range: Any, detector_ifov: Any) -> Any:
     return _arrays.result(r * i)
 
 
-def relief_seen(height: Any, visible_fraction: Any) -> Any:
+def relief_seen(height: Array, visible_fraction: Array) -> Any:
     """The target's relief that the laser radar sees, ``f · h`` [m] (module docstring, item 3).
 
     Parameters
@@ -169,7 +170,7 @@ def relief_seen(height: Any, visible_fraction: Any) -> Any:
     return _arrays.result(h * f)
 
 
-def range_cells_on_target(relief: Any, range_resolution: Any) -> Any:
+def range_cells_on_target(relief: Array, range_resolution: Array) -> Any:
     """Range cells across the target's relief, ``h / Δr`` [1]: the depth analogue of pixels.
 
     Parameters
@@ -196,7 +197,7 @@ def range_cells_on_target(relief: Any, range_resolution: Any) -> Any:
     return _arrays.result(h / dr)
 
 
-def relief_scr(target_relief: Any, background_relief_std: Any, range_resolution: Any) -> Any:
+def relief_scr(target_relief: Array, background_relief_std: Array, range_resolution: Array) -> Any:
     """The 3-D signal-to-clutter ratio, ``h / sqrt(σ_z² + Δr²/12)`` [1] (module docstring, item 4).
 
     Parameters
@@ -245,12 +246,12 @@ def relief_scr(target_relief: Any, background_relief_std: Any, range_resolution:
 
 
 def received_power(
-    range: Any,
-    power: Any,
-    reflectance: Any,
-    aperture_area: Any,
-    transmittance: Any,
-    efficiency: Any = 1.0,
+    range: Array,
+    power: Array,
+    reflectance: Array,
+    aperture_area: Array,
+    transmittance: Array,
+    efficiency: Array = 1.0,
 ) -> Any:
     """Power received from an extended Lambertian target, ``P_t ρ τ² A_r η / (π R²)`` [W].
 
@@ -312,7 +313,7 @@ def received_power(
     return _arrays.result(out)
 
 
-def laser_snr(received_power: Any, noise_equivalent_power: Any) -> Any:
+def laser_snr(received_power: Array, noise_equivalent_power: Array) -> Any:
     """The detector's SNR of the return, ``20 log10(P_r / NEP)`` [dB] (module docstring, item 6).
 
     Parameters
@@ -351,7 +352,7 @@ def laser_snr(received_power: Any, noise_equivalent_power: Any) -> Any:
     return _arrays.result(xp.where(unknown, xp.nan, db))
 
 
-def two_way_optical_depth(optical_depth: Any) -> Any:
+def two_way_optical_depth(optical_depth: Array) -> Any:
     """Optical depth of the path there and back, ``2 d`` [Np] (module docstring, item 7).
 
     The return's transmittance is ``exp(−2d) = τ²``; the atmosphere's noise of Eq. (7.7) for a

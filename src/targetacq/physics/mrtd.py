@@ -254,7 +254,7 @@ class MrtdCurve:
         return _parse_csv(resource.read_text("utf-8"), "targetacq/data/example_mrtd.csv")
 
     @classmethod
-    def from_parametric(cls, frequencies: Any, **sensor: Any) -> MrtdCurve:
+    def from_parametric(cls, frequencies: Array, **sensor: Any) -> MrtdCurve:
         """Sample :func:`parametric_mrtd` at the given frequencies.
 
         Parameters
@@ -415,7 +415,7 @@ def _frequency_law(delta_t: Array, curve: MrtdCurve, xp: Any) -> Array:
     return xp.reshape(out, delta_t.shape)
 
 
-def mrtd(frequency: Any, curve: MrtdCurve) -> Any:
+def mrtd(frequency: Array, curve: MrtdCurve) -> Any:
     """The MRTD of a tabulated curve at any bar frequency.
 
     The law between and beyond the tabulated points ``(f_i, M_i)``:
@@ -458,7 +458,7 @@ def mrtd(frequency: Any, curve: MrtdCurve) -> Any:
     return _arrays.result(_mrtd_law(f, curve, xp))
 
 
-def resolved_frequency(apparent_delta_t: Any, curve: MrtdCurve) -> Any:
+def resolved_frequency(apparent_delta_t: Array, curve: MrtdCurve) -> Any:
     """The bar frequency resolved at a given temperature difference: the inverse of :func:`mrtd`.
 
     ``f*`` is the largest frequency with ``MRTD(f*) = ΔT`` under the law of :func:`mrtd`
@@ -492,10 +492,10 @@ def resolved_frequency(apparent_delta_t: Any, curve: MrtdCurve) -> Any:
 
 
 def mrtd_cycles(
-    range: Any,
-    critical_dimension: Any,
-    delta_t: Any,
-    transmittance: Any,
+    range: Array,
+    critical_dimension: Array,
+    delta_t: Array,
+    transmittance: Array,
     curve: MrtdCurve,
 ) -> Any:
     """Resolved cycles across the target for an MRTD-limited thermal imager.
@@ -557,7 +557,7 @@ def mrtd_cycles(
 # The parametric MRTD and its MTFs.
 
 
-def diffraction_mtf(frequency: Any, wavelength: Any, aperture: Any) -> Any:
+def diffraction_mtf(frequency: Array, wavelength: Array, aperture: Array) -> Any:
     """Diffraction MTF of an aberration-free circular aperture in incoherent light.
 
     ``MTF(ν) = (2/π) (acos ν − ν sqrt(1 − ν²))`` for ``ν = f λ / D < 1``, 0 from the cut-off
@@ -601,7 +601,7 @@ def _diffraction_mtf(f: Array, lam: Array, d: Array, xp: Any) -> Array:
     return xp.where(inside, value, xp.where(xp.isnan(nu), nu, 0.0))
 
 
-def detector_mtf(frequency: Any, ifov: Any) -> Any:
+def detector_mtf(frequency: Array, ifov: Array) -> Any:
     """MTF of the detector footprint, a square pixel of angular width IFOV (100 % fill).
 
     ``MTF(f) = |sinc(f · IFOV)| = |sin(π f IFOV) / (π f IFOV)|``, the Fourier transform of the
@@ -638,7 +638,7 @@ def _detector_mtf(f: Array, ifov: Array, xp: Any) -> Array:
     return xp.where(x == 0, 1.0, xp.abs(xp.sin(safe) / safe))
 
 
-def blur_mtf(frequency: Any, blur_sigma: Any) -> Any:
+def blur_mtf(frequency: Array, blur_sigma: Array) -> Any:
     """MTF of a Gaussian blur of angular standard deviation σ, ``exp(−2π² σ² f²)``.
 
     The Fourier transform of the Gaussian point-spread function of Eq. (5.2) in Sonesson (2004)
@@ -673,7 +673,7 @@ def _blur_mtf(f: Array, sigma: Array, xp: Any) -> Array:
 
 
 def system_mtf(
-    frequency: Any, *, ifov: Any, aperture: Any, wavelength: Any, blur_sigma: Any = 0.0
+    frequency: Array, *, ifov: Array, aperture: Array, wavelength: Array, blur_sigma: Array = 0.0
 ) -> Any:
     """System MTF: the product of :func:`diffraction_mtf`, :func:`detector_mtf` and
     :func:`blur_mtf` (the MTFs of cascaded linear stages multiply).
@@ -717,17 +717,17 @@ def _system_mtf(f: Array, i: Array, d: Array, lam: Array, s: Array, xp: Any) -> 
 
 
 def parametric_mrtd(
-    frequency: Any,
+    frequency: Array,
     *,
-    netd: Any,
-    ifov: Any,
-    aperture: Any,
-    wavelength: Any,
-    blur_sigma: Any = 0.0,
-    frame_rate: Any = DEFAULT_FRAME_RATE,
-    eye_integration_time: Any = DEFAULT_EYE_INTEGRATION_TIME,
-    snr_threshold: Any = DEFAULT_SNR_THRESHOLD,
-    noise_bandwidth_dwell: Any = DEFAULT_NOISE_BANDWIDTH_DWELL,
+    netd: Array,
+    ifov: Array,
+    aperture: Array,
+    wavelength: Array,
+    blur_sigma: Array = 0.0,
+    frame_rate: Array = DEFAULT_FRAME_RATE,
+    eye_integration_time: Array = DEFAULT_EYE_INTEGRATION_TIME,
+    snr_threshold: Array = DEFAULT_SNR_THRESHOLD,
+    noise_bandwidth_dwell: Array = DEFAULT_NOISE_BANDWIDTH_DWELL,
 ) -> Any:
     """MRTD of a staring thermal imager from its NETD, system MTF and the observer's integration.
 

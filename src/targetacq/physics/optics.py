@@ -69,7 +69,7 @@ BLUR_CYCLE_PER_SIGMA = math.pi * math.sqrt(2.0 / -math.log(DIFFRACTION_THRESHOLD
 """Resolvable cycle of a Gaussian blur per unit standard deviation (≈ 2.86), see module doc."""
 
 
-def ifov(pitch: Any, focal_length: Any) -> Any:
+def ifov(pitch: Array, focal_length: Array) -> Any:
     """Instantaneous field of view of one detector pixel.
 
     ``IFOV = p / f`` (small angle), Sonesson (2004) §5.2 with Eq. (5.1).
@@ -100,7 +100,7 @@ def ifov(pitch: Any, focal_length: Any) -> Any:
     return _arrays.result(p / f)
 
 
-def field_of_view(detector_size: Any, focal_length: Any) -> Any:
+def field_of_view(detector_size: Array, focal_length: Array) -> Any:
     """Full field of view of a pinhole camera, ``FOV = 2 arctan(A / (2f))``, Eq. (5.1).
 
     Parameters
@@ -144,7 +144,9 @@ FIELD_OF_VIEW_PROJECTIONS: Mapping[str, str] = MappingProxyType(
 """How a field of view over a number of pixels gives the IFOV, by name (read-only)."""
 
 
-def ifov_from_field_of_view(field_of_view: Any, pixels: Any, projection: str = "angular") -> Any:
+def ifov_from_field_of_view(
+    field_of_view: Array, pixels: Array, projection: str = "angular"
+) -> Any:
     """IFOV of a camera given by its field of view and pixels across it.
 
     ``angular`` (default): ``IFOV = FOV / n``, the mean angle per pixel (the datasheet
@@ -204,7 +206,7 @@ def field_of_view_from_ifov(ifov: Any, pixels: Any, projection: str = "angular")
     return _arrays.result(2.0 * xp.atan(n * i / 2.0))
 
 
-def diffraction_angle(wavelength: Any, aperture: Any) -> Any:
+def diffraction_angle(wavelength: Array, aperture: Array) -> Any:
     """Smallest resolvable angle of a circular aperture, ``sin Δθ = 1.22 λ / D``, Eq. (5.3).
 
     Parameters
@@ -240,7 +242,7 @@ def _diffraction_angle(lam: Array, d: Array, xp: Any) -> Array:
     return xp.asin(ratio)
 
 
-def diffraction_spot(wavelength: Any, aperture: Any, focal_length: Any) -> Any:
+def diffraction_spot(wavelength: Array, aperture: Array, focal_length: Array) -> Any:
     """Minimum resolvable separation on the focal plane, ``Δx = f·1.22 λ / D``, Eq. (5.4).
 
     Parameters
@@ -270,7 +272,7 @@ def diffraction_spot(wavelength: Any, aperture: Any, focal_length: Any) -> Any:
     return _arrays.result(f * RAYLEIGH_FACTOR * lam / d)
 
 
-def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
+def gaussian_psf(x: Array, y: Array, sigma_x: Array, sigma_y: Array) -> Any:
     """Gaussian point-spread function of the optics, peak-normalised to 1.
 
     ``h(x, y) = exp(-x²/(2σx²) - y²/(2σy²))``: Eq. (5.2) in Sonesson (2004) with the erratum
@@ -305,7 +307,7 @@ def gaussian_psf(x: Any, y: Any, sigma_x: Any, sigma_y: Any) -> Any:
     return _arrays.result(xp.exp(-(xx * xx) / (2 * sx * sx) - (yy * yy) / (2 * sy * sy)))
 
 
-def blur_cycle_angle(blur_sigma: Any) -> Any:
+def blur_cycle_angle(blur_sigma: Array) -> Any:
     """Resolvable cycle of a Gaussian optics blur, ``≈ 2.86 σ`` (see the module docstring).
 
     Parameters
@@ -362,7 +364,7 @@ def _cycle_angle(ifov_: Array, wavelength: Any, aperture: Any, blur_sigma: Any, 
 
 
 def resolvable_cycle_angle(
-    ifov: Any, wavelength: Any = None, aperture: Any = None, blur_sigma: Any = None
+    ifov: Array, wavelength: Array = None, aperture: Array = None, blur_sigma: Array = None
 ) -> Any:
     """Angle of one resolvable cycle: the coarser of the sampling and the optics limits.
 
@@ -402,13 +404,13 @@ def resolvable_cycle_angle(
 
 
 def cycles_on_target(
-    critical_dimension: Any,
-    range: Any,
-    ifov: Any,
+    critical_dimension: Array,
+    range: Array,
+    ifov: Array,
     *,
-    wavelength: Any = None,
-    aperture: Any = None,
-    blur_sigma: Any = None,
+    wavelength: Array = None,
+    aperture: Array = None,
+    blur_sigma: Array = None,
 ) -> Any:
     """Resolvable cycles (line pairs) across the target's critical dimension.
 
@@ -454,13 +456,13 @@ def cycles_on_target(
 
 
 def range_for_cycles(
-    critical_dimension: Any,
-    cycles: Any,
-    ifov: Any,
+    critical_dimension: Array,
+    cycles: Array,
+    ifov: Array,
     *,
-    wavelength: Any = None,
-    aperture: Any = None,
-    blur_sigma: Any = None,
+    wavelength: Array = None,
+    aperture: Array = None,
+    blur_sigma: Array = None,
 ) -> Any:
     """Range at which the target spans a given number of cycles: the inverse of
     :func:`cycles_on_target`, ``R = d / (N · cycle)``.
@@ -502,7 +504,7 @@ def range_for_cycles(
     return _arrays.result(xp.where(denominator == 0, xp.inf, d / safe))
 
 
-def pixels_per_metre(range: Any, ifov: Any) -> Any:
+def pixels_per_metre(range: Array, ifov: Array) -> Any:
     """Pixel density on a target plane at a range, ``1 / (R · IFOV)`` [pixels/m].
 
     The quantity of the EN 62676-4 thresholds (small angle).
@@ -526,7 +528,7 @@ def pixels_per_metre(range: Any, ifov: Any) -> Any:
     return _arrays.result(1.0 / (r * i))
 
 
-def range_for_pixel_density(pixel_density: Any, ifov: Any) -> Any:
+def range_for_pixel_density(pixel_density: Array, ifov: Array) -> Any:
     """Range at which the pixel density on the target falls to a threshold,
     ``R = 1 / (density · IFOV)`` [m]; inverse of :func:`pixels_per_metre`.
 

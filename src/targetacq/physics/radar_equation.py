@@ -31,6 +31,7 @@ import array_api_compat
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.constants import BOLTZMANN, SPEED_OF_LIGHT
 from targetacq.base.registry import lookup
 from targetacq.base.tables import load_table
@@ -77,7 +78,7 @@ def _finite_positive(name: str, value: Any, xp: Any, unit: str) -> None:
     _arrays.require_finite(name, value, xp, unit)
 
 
-def along_track_resolution(range: Any, beamwidth: Any) -> Any:
+def along_track_resolution(range: Array, beamwidth: Array) -> Any:
     """Resolution along track (cross range) of a real-aperture radar, Eq. (9.1) in Sonesson (2004).
 
     ``r_a = 2 R sin(θ_a / 2)`` [m]: the width of the beam at the target.
@@ -103,7 +104,7 @@ def along_track_resolution(range: Any, beamwidth: Any) -> Any:
     return _arrays.result(2.0 * r * xp.sin(0.5 * b))
 
 
-def range_resolution(pulse_length: Any, nadir_angle: Any) -> Any:
+def range_resolution(pulse_length: Array, nadir_angle: Array) -> Any:
     """Resolution across track on the ground, Eq. (9.2) in Sonesson (2004).
 
     ``r_r = c τ / (2 sin θ)`` with θ the angle of the line of sight from nadir: the slant-range
@@ -144,7 +145,7 @@ def range_resolution(pulse_length: Any, nadir_angle: Any) -> Any:
     return _arrays.result(xp.where(xp.isnan(tau), xp.nan, cell))
 
 
-def cells_on_target(critical_dimension: Any, along_track: Any, across_track: Any) -> Any:
+def cells_on_target(critical_dimension: Array, along_track: Array, across_track: Array) -> Any:
     """Resolution cells across a target's critical dimension, ``n = d / sqrt(r_a · r_r)`` [1].
 
     The project's assumption (the thesis gives no formula): the cells on target are the critical
@@ -182,13 +183,13 @@ def cells_on_target(critical_dimension: Any, along_track: Any, across_track: Any
 
 
 def radar_constant(
-    power: Any,
-    gain: Any,
-    wavelength: Any,
-    pulse_length: Any,
-    noise_figure: Any,
-    losses: Any,
-    temperature: Any = 290.0,
+    power: Array,
+    gain: Array,
+    wavelength: Array,
+    pulse_length: Array,
+    noise_figure: Array,
+    losses: Array,
+    temperature: Array = 290.0,
 ) -> Any:
     """The radar's constant K of the range equation, ``SNR = K σ / R⁴`` [m²].
 
@@ -251,7 +252,7 @@ def radar_constant(
     return _arrays.result(p * g * g * lam * lam * tau / (_FOUR_PI_CUBED * BOLTZMANN * t * f * loss))
 
 
-def radar_snr(range: Any, rcs: Any, constant: Any, transmittance: Any = 1.0) -> Any:
+def radar_snr(range: Array, rcs: Array, constant: Array, transmittance: Array = 1.0) -> Any:
     """Signal-to-noise ratio of a target by the radar range equation, ``SNR = K σ τ² / R⁴`` [1].
 
     The radar equation (Mahafza & Elsherbeni 2004, Eq. (1.56); :func:`radar_constant`) with the
@@ -295,7 +296,7 @@ def radar_snr(range: Any, rcs: Any, constant: Any, transmittance: Any = 1.0) -> 
         return _arrays.result(k * s * tr * tr / square / square)
 
 
-def clutter_area(along_track: Any, across_track: Any) -> Any:
+def clutter_area(along_track: Array, across_track: Array) -> Any:
     """Area of the ground-clutter resolution cell, ``A = r_a · r_r`` [m²].
 
     The ground seen in one cell behind (or around) the target: its clutter echo is ``σ⁰ A``.
@@ -316,7 +317,7 @@ def clutter_area(along_track: Any, across_track: Any) -> Any:
     return _arrays.result(ra * rr)
 
 
-def signal_to_clutter(rcs: Any, sigma0: Any, area: Any) -> Any:
+def signal_to_clutter(rcs: Array, sigma0: Array, area: Array) -> Any:
     """Signal-to-clutter power ratio of a target in its resolution cell, ``σ / (σ⁰ A)`` [1].
 
     A power ratio of echoes (unlike the Schmieder–Weathersby SCR of §3.7, a ratio of contrasts).
@@ -416,7 +417,7 @@ def _coefficients(f: Any, e: Any, cos_2tau: float, xp: Any) -> tuple[Any, Any]:
 
 
 def rain_coefficients(
-    frequency: Any, polarization: str = "horizontal", *, elevation: Any = 0.0
+    frequency: Array, polarization: str = "horizontal", *, elevation: Array = 0.0
 ) -> tuple[Any, Any]:
     """Coefficients k and α of the rain attenuation ``γ_R = k R^α``, ITU-R P.838-3.
 
@@ -457,7 +458,7 @@ def rain_coefficients(
 
 
 def rain_specific_attenuation(
-    rain_rate: Any, frequency: Any, polarization: str = "horizontal", *, elevation: Any = 0.0
+    rain_rate: Array, frequency: Array, polarization: str = "horizontal", *, elevation: Array = 0.0
 ) -> Any:
     """Specific attenuation of rain, ``γ_R = k R^α`` [dB/km], ITU-R P.838-3 Eq. (1).
 
@@ -644,7 +645,7 @@ def _detection_inputs(
 
 
 def detection_probability(
-    snr: Any, false_alarm: Any, pulses: Any = 1, method: str = "albersheim"
+    snr: Array, false_alarm: Array, pulses: Any = 1, method: str = "albersheim"
 ) -> Any:
     """Probability of detecting a target from its per-pulse SNR and the false-alarm probability.
 
@@ -694,7 +695,7 @@ def detection_probability(
 
 
 def required_snr(
-    detection: Any, false_alarm: Any, pulses: Any = 1, method: str = "albersheim"
+    detection: Array, false_alarm: Any, pulses: Any = 1, method: str = "albersheim"
 ) -> Any:
     """Per-pulse SNR (linear) needed for a detection probability: the inverse of
     :func:`detection_probability`.

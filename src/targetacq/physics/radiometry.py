@@ -70,6 +70,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.constants import (
     BOLTZMANN,
     FIRST_RADIATION_CONSTANT,
@@ -462,7 +463,7 @@ def _band_exitance_numpy(t: np.ndarray, low: float, high: float) -> np.ndarray:
     return out.reshape(t.shape)
 
 
-def spectral_exitance(wavelength: Any, temperature: Any) -> Any:
+def spectral_exitance(wavelength: Array, temperature: Array) -> Any:
     """Planck's spectral exitance of a blackbody, Eq. (6.2) in Sonesson (2004).
 
     ``M_λ = 2π h c² / λ⁵ · 1 / (exp(hc / (λ k T)) − 1)``.
@@ -523,7 +524,7 @@ def wien_spectral_exitance(wavelength: Any, temperature: Any) -> Any:
     return _arrays.result(FIRST_RADIATION_CONSTANT / lam**5 * xp.exp(-_x_from(lam * t, xp)))
 
 
-def band_exitance(temperature: Any, band: Any, method: str = "planck") -> Any:
+def band_exitance(temperature: Array, band: Any, method: str = "planck") -> Any:
     """Blackbody exitance in a spectral band, Eq. (6.12) (``method="wien"``: Eq. (6.13)).
 
     Closed form (module docstring): for float64 NumPy input, tables of the series with a
@@ -604,7 +605,7 @@ def _planck_hot_or_cool(t: Any, x_short: Any, x_long: Any, low: float, high: flo
     return xp.where(hot, BAND_CONSTANT * t * scaled, cooled)
 
 
-def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
+def grey_body_exitance(emissivity: Array, temperature: Array, band: Any) -> Any:
     """Exitance of a grey body in a band, ``ε · M_band(T)`` [W/m²], Eqs. (6.4) and (6.12).
 
     Parameters
@@ -631,7 +632,7 @@ def grey_body_exitance(emissivity: Any, temperature: Any, band: Any) -> Any:
     return _arrays.result(eps * band_exitance(t, band))
 
 
-def band_exitance_derivative(temperature: Any, band: Any) -> Any:
+def band_exitance_derivative(temperature: Array, band: Any) -> Any:
     """Temperature derivative of the blackbody band exitance, ``dM/dT`` [W m⁻² K⁻¹].
 
     Differentiating the closed form (module docstring) under ``x = c2/(λT)``, ``dx/dT = −x/T``:
@@ -702,7 +703,7 @@ def stefan_boltzmann_exitance(temperature: Any) -> Any:
     return _arrays.result(STEFAN_BOLTZMANN * t**4)
 
 
-def peak_wavelength(temperature: Any) -> Any:
+def peak_wavelength(temperature: Array) -> Any:
     """Wavelength of maximum spectral exitance, ``λ_peak = b / T`` (Wien's displacement law).
 
     Parameters
@@ -747,7 +748,7 @@ def emissivity(exitance: Any, blackbody_exitance: Any) -> Any:
     return _arrays.result(eps)
 
 
-def emissivity_from_reflectance(reflectance: Any, transmittance: Any = 0.0) -> Any:
+def emissivity_from_reflectance(reflectance: Array, transmittance: Array = 0.0) -> Any:
     """``ε = a = 1 − r − t``: Eq. (6.5) ``r + a + t = 1`` with Kirchhoff's law ``ε = a``.
 
     Parameters
@@ -838,7 +839,7 @@ def material_emissivity(material: str, band: Any, bound: str = "nominal") -> flo
     return 1.0 - material_reflectance(material, band, bound)
 
 
-def reflected_exitance(reflectance: Any, irradiance: Any) -> Any:
+def reflected_exitance(reflectance: Array, irradiance: Array) -> Any:
     """Exitance of reflected light, ``M = r · E`` (visible band, §6.2) [W/m²].
 
     Parameters
@@ -860,7 +861,7 @@ def reflected_exitance(reflectance: Any, irradiance: Any) -> Any:
     return _arrays.result(r * e)
 
 
-def lambert_intensity(intensity: Any, angle: Any) -> Any:
+def lambert_intensity(intensity: Array, angle: Array) -> Any:
     """Lambert's cosine law, ``I_φ = I_object cos φ``, Eq. (6.14).
 
     Parameters
@@ -884,10 +885,10 @@ def lambert_intensity(intensity: Any, angle: Any) -> Any:
 
 
 def irradiance_at_sensor(
-    intensity: Any,
-    range: Any,
-    emission_angle: Any = 0.0,
-    off_axis_angle: Any = 0.0,
+    intensity: Array,
+    range: Array,
+    emission_angle: Array = 0.0,
+    off_axis_angle: Array = 0.0,
     lens: bool = True,
 ) -> Any:
     """Irradiance at the sensor from a Lambertian source, Eqs. (6.15)–(6.17).
@@ -935,7 +936,9 @@ def irradiance_at_sensor(
     return _arrays.result(i * factor / (r * r))
 
 
-def target_signal(emissivity: Any, exitance: Any, range: Any, off_axis_angle: Any = 0.0) -> Any:
+def target_signal(
+    emissivity: Array, exitance: Array, range: Array, off_axis_angle: Array = 0.0
+) -> Any:
     """Signal of a homogeneous target at the sensor, ``o_max = ε M cos⁴θ / R²``, Eq. (6.18).
 
     The same applies to background cells; only ratios (SCR) and differences of such signals are
@@ -978,7 +981,7 @@ def target_signal(emissivity: Any, exitance: Any, range: Any, off_axis_angle: An
     return _arrays.result(eps * m * xp.cos(theta) ** 4 / (r * r))
 
 
-def diurnal_temperature(hour: Any, mean: Any, amplitude: Any, peak_hour: Any = 14.0) -> Any:
+def diurnal_temperature(hour: Array, mean: Array, amplitude: Array, peak_hour: Array = 14.0) -> Any:
     """A simple thermal daily cycle (§6.5): ``T = mean + amplitude · cos(2π (hour − peak)/24)``.
 
     The thesis names the daily cycle without a formula; a sinusoid per material with its own
@@ -1023,7 +1026,7 @@ def diurnal_temperature(hour: Any, mean: Any, amplitude: Any, peak_hour: Any = 1
     return _arrays.result(m + a * xp.cos(2.0 * xp.pi * (h - p) / 24.0))
 
 
-def quantisation_step(bits: int, span: Any) -> Any:
+def quantisation_step(bits: int, span: Array) -> Any:
     """Smallest contrast step of an n-bit detector over its signal span (§6.8).
 
     ``step = span / (2ⁿ − 1)``: an n-bit detector has 2ⁿ levels, 2ⁿ − 1 steps between the

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 
 __all__ = ["TerrainClass", "TerrainMap", "read_class_map", "resolution_variance"]
 
@@ -90,7 +91,7 @@ def read_class_map(path: Any) -> np.ndarray:
         raise ValueError(f"{source}: not a CSV map of whole class indices: {reason}") from None
 
 
-def resolution_variance(variance: Any, reference: Any, footprint: Any) -> Any:
+def resolution_variance(variance: Array, reference: Array, footprint: Array) -> Any:
     """Variance seen at a coarser ground footprint, ``σ² · min(1, (r0/g)²)`` (module docstring).
 
     Parameters
@@ -174,7 +175,7 @@ class TerrainMap:
             + fu * fv * t[:, j + 1, i + 1]
         )
 
-    def weights(self, x: Any, y: Any, window: Any) -> Any:
+    def weights(self, x: Array, y: Array, window: Array) -> Any:
         """Occurrence fractions ``k_i`` of the classes in a square window, Eq. (6.11).
 
         Parameters
@@ -209,7 +210,7 @@ class TerrainMap:
             fractions = np.where(total > 0, area / np.where(total > 0, total, 1.0), np.nan)
         return np.moveaxis(fractions, 0, -1)
 
-    def clutter(self, x: Any, y: Any, window: Any, footprint: Any) -> tuple[Any, Any]:
+    def clutter(self, x: Array, y: Array, window: Array, footprint: Array) -> tuple[Any, Any]:
         """Clutter (6.10) and background mean around targets, at the sensor's resolution.
 
         Parameters

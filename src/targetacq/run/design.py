@@ -46,6 +46,7 @@ import numpy as np
 
 from targetacq.acquisition.criteria import get_criterion
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.core.cases import RangeCase, case_acquisition, case_probability
 from targetacq.core.ranges import case_ranges
 
@@ -232,9 +233,9 @@ def _solve(case_at: CaseAt, distance: Any, probability: Any, task: str) -> Any:
 
 
 def required_ifov(
-    critical_dimension: Any,
-    range: Any,
-    probability: Any = 0.5,
+    critical_dimension: Array,
+    range: Array,
+    probability: Array = 0.5,
     task: str = "recognition",
     **model: Any,
 ) -> Any:

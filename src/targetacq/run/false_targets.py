@@ -80,6 +80,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.limits import check_seed
 from targetacq.base.sampling import philox4x32, stream_key
 from targetacq.physics import geometry
@@ -110,7 +111,7 @@ _MAX_ATTEMPTS = 10_000  # rejection rounds; at least half of each box is accepte
 # ------------------------------------------------------------------------------------------------
 
 
-def false_target_rate(density: Any, probability: Any, area: Any, search_time: Any) -> Any:
+def false_target_rate(density: Array, probability: Array, area: Array, search_time: Array) -> Any:
     """Rate of false detections of one sensor: ``density · area · probability / search_time``.
 
     Parameters
@@ -752,7 +753,7 @@ class FalseTargetSampler:
         self._keys = {g: _key(self.seed, g) for g in self.groups}
 
     def footprints(
-        self, sensor_positions: Any, pointing: Any = None
+        self, sensor_positions: Array, pointing: Array = None
     ) -> list[tuple[str, Footprint, float]]:
         """Each reporting sensor's footprint and rate [1/s] at positions (and pointing).
 

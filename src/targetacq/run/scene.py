@@ -117,15 +117,15 @@ class Scene:
 
 def scene_signature(
     band: Any,
-    target_temperature: Any,
-    background_temperature: Any,
+    target_temperature: Array,
+    background_temperature: Array,
     *,
-    target_emissivity: Any = 1.0,
-    background_emissivity: Any = 1.0,
-    target_exitance: Any = None,
-    background_exitance: Any = None,
-    clutter_std: Any = None,
-    clutter_exitance_std: Any = None,
+    target_emissivity: Array = 1.0,
+    background_emissivity: Array = 1.0,
+    target_exitance: Array = None,
+    background_exitance: Array = None,
+    clutter_std: Array = None,
+    clutter_exitance_std: Array = None,
 ) -> SceneSignature:
     """Signals of a target and its background in a band, their contrast, clutter and SCR.
 

@@ -77,6 +77,7 @@ import numpy as np
 from targetacq.acquisition.engagement import RedrawRule, get_redraw_rule, view_crossings
 from targetacq.base import arrays as _arrays
 from targetacq.base import limits
+from targetacq.base.arrays import Array
 from targetacq.base.sampling import stream_key, uniforms
 from targetacq.core.evaluation import boresight
 from targetacq.run.false_targets import FalseDetections, FalseTargetSampler
@@ -101,7 +102,7 @@ _CAPABILITY, _CLOCK = 3, 4
 _SMALL = 8
 
 
-def search_probability(time: Any, p_infinity: Any, search_time: float = 3.4) -> Any:
+def search_probability(time: Array, p_infinity: Array, search_time: float = 3.4) -> Any:
     """Probability of detection by time t of the field-of-view search model.
 
     ``P(t) = P∞ (1 − exp(−t P∞ / t_s))``, i.e. ``τ = t_s / P∞``.

@@ -68,6 +68,7 @@ from pydantic import ValidationError
 
 from targetacq import core
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.core import engines
 from targetacq.core.evaluation import footprint_scr
@@ -581,10 +582,10 @@ class Simulation:
     def probabilities(
         self,
         time: Any,
-        sensor_positions: Any,
-        target_positions: Any,
-        target_headings: Any = None,
-        sensor_pointing: Any = None,
+        sensor_positions: Array,
+        target_positions: Array,
+        target_headings: Array = None,
+        sensor_pointing: Array = None,
     ) -> core.Probabilities:
         """The probabilities of every pair at positions: pure (no draws, no change of state).
 
@@ -655,11 +656,11 @@ class Simulation:
     def probabilities_at(
         self,
         time: Any,
-        sensor_positions: Any,
-        target_positions: Any,
-        targets: Any,
-        target_headings: Any = None,
-        sensor_pointing: Any = None,
+        sensor_positions: Array,
+        target_positions: Array,
+        targets: Array,
+        target_headings: Array = None,
+        sensor_pointing: Array = None,
     ) -> core.Probabilities:
         """The probabilities of targets at arbitrary positions: pure (no draws, no state).
 
@@ -774,8 +775,8 @@ class Simulation:
         target_headings: Any = None,
         sensor_pointing: Any = None,
         *,
-        moving: Any = None,
-        visible_fraction: Any = None,
+        moving: Array = None,
+        visible_fraction: Array = None,
     ) -> StepResult:
         """Advance over ``(time − dt, time]`` with the positions at ``time``.
 

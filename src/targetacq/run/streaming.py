@@ -51,6 +51,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.base.arrays import Array
 from targetacq.io.datasets import (
     Output,
     csv_head,
@@ -232,7 +233,7 @@ def _run(
 def write_chunks(
     chain: ModelChain,
     path: str | Path,
-    times: Any = None,
+    times: Array = None,
     *,
     meta: Mapping[str, Any] | None = None,
     targets_per_chunk: int | None = None,

@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.acquisition.criteria import Criterion
+from targetacq.base.arrays import Array
 from targetacq.base.limits import check_size
 from targetacq.core.cases import case_acquisition
 from targetacq.core.ranges import case_ranges
@@ -273,7 +274,7 @@ def _group_values(
 def sweep(
     options: Mapping[str, Any],
     *,
-    ranges: Any = None,
+    ranges: Array = None,
     scheduler: Any = None,
     workers: int | None = None,
     chunk_size: int | None = None,

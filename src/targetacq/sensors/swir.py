@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.base.arrays import Array
 from targetacq.physics import radiometry
 from targetacq.sensors.imaging import reflective_requirements
 from targetacq.sensors.signature import Signature
@@ -39,7 +40,7 @@ SWIR_BAND: tuple[float, float] = (0.9e-6, 2.5e-6)
 """The short-wave IR band [m]: a SWIR sensor's band lies within it (and is it when not given)."""
 
 
-def exitance(reflectance: Any, irradiance: Any, temperature: Any, band: Any) -> Any:
+def exitance(reflectance: Array, irradiance: Array, temperature: Array, band: Any) -> Any:
     """Signal of an opaque surface in a SWIR band: reflected plus emitted [W/m²].
 
     ``S = r · E + (1 − r) · M_band(T)``: the reflected exitance of §6.2

@@ -48,6 +48,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any, Protocol
 
+from targetacq.base.arrays import Array
 from targetacq.base.registry import lookup
 from targetacq.core.evaluation import evaluate_step, factors, probabilities
 
@@ -78,13 +79,13 @@ class BoundEngine(Protocol):
 
     def step(
         self,
-        sensor_positions: Any,
-        target_positions: Any,
-        headings: Any = None,
-        pointing: Any = None,
-        visible_fraction: Any = None,
-        moving: Any = None,
-        scr: Any = None,
+        sensor_positions: Array,
+        target_positions: Array,
+        headings: Array = None,
+        pointing: Array = None,
+        visible_fraction: Array = None,
+        moving: Array = None,
+        scr: Array = None,
     ) -> tuple[Any, Any, Any]:
         """One time, lean: :func:`targetacq.core.evaluate_step` of the scene.
 

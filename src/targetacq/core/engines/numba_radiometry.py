@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.base.constants import SECOND_RADIATION_CONSTANT
 from targetacq.physics import radiometry
 from targetacq.physics.bands import band_limits
@@ -135,7 +136,7 @@ def _kernel(
             out[j] = integral * power
 
 
-def band_exitance_numba(temperature: Any, low: float, high: float) -> Any:
+def band_exitance_numba(temperature: Array, low: float, high: float) -> Any:
     """Blackbody exitance between two wavelengths, Eq. (6.12), compiled by numba.
 
     :func:`targetacq.physics.radiometry.band_exitance` (method "planck") element by element: the

@@ -600,7 +600,10 @@ class Sensor(_Strict):
 class Target(_Strict):
     """A target: a box ``dimensions`` = [length, width, height] with its long axis along
     ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
-    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``."""
+    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``. ``foliage``:
+    the transmittance of foliage in front of the target, in [0, 1] (§6.8; 0 hides it), which
+    multiplies the path's transmittance for every imaging sensor (left out: none); radars and
+    laser radars take none."""
 
     name: Name
     dimensions: tuple[Length, Length, Length]
@@ -616,6 +619,7 @@ class Target(_Strict):
     moving: Flag = False
     visible_fraction: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
     hot_spot: Flag = False
+    foliage: Fraction | None = None
     image_box: tuple[PixelIndex, PixelIndex, PixelIndex, PixelIndex] | None = None
 
     @field_validator("criterion")
@@ -1103,6 +1107,7 @@ class Scenario(_Strict):
             for k, s in enumerate(self.sensors)
             if s.mrtd is not None and s.type != "thermal"
         ]
+        problems += _foliage_problems(self)
         if self.false_targets is not None:
             problems += false_target_problems(self)
         image = self.background.image is not None
@@ -1118,6 +1123,27 @@ class Scenario(_Strict):
                     "the image"
                 )
         return problems
+
+
+def _foliage_problems(scenario: Scenario) -> list[str]:
+    """Foliage (§6.8) is a transmittance in an imaging sensor's band: a scene with a radar or a
+    laser radar takes none (their paths are their own)."""
+    shaded = [k for k, t in enumerate(scenario.targets) if t.foliage is not None]
+    active = [
+        (k, s, get_sensor_type(s.type).kind)
+        for k, s in enumerate(scenario.sensors)
+        if get_sensor_type(s.type).kind != "imaging"
+    ]
+    if not shaded or not active:
+        return []
+    k_s, sensor, kind = active[0]
+    return [
+        f"targets[{k}].foliage: foliage (a transmittance in an imaging sensor's band, §6.8) "
+        f"applies to imaging sensors only; target {scenario.targets[k].name!r} is seen by "
+        f"sensors[{k_s}] {sensor.name!r}, a {kind.replace('_', ' ')}: leave foliage out, or "
+        "evaluate the imaging sensors in a scenario of their own"
+        for k in shaded
+    ]
 
 
 def _fields_of(model: Any) -> dict[str, Any]:

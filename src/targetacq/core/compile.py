@@ -206,7 +206,16 @@ def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
         names=tuple(t.name for t in targets),
         hot_spot=tuple(bool(t.hot_spot) for t in targets),
         moving=tuple(bool(t.moving) for t in targets),
+        foliage=_foliage(scenario),
     )
+
+
+def _foliage(scenario: Any) -> np.ndarray | None:
+    """Each target's foliage transmittance (n_g,), 1 where it has none; None where none has."""
+    given = [t.foliage for t in scenario.targets]
+    if all(f is None for f in given):
+        return None
+    return np.array([1.0 if f is None else f for f in given], dtype=float)
 
 
 def _path(scenario: Any) -> PathArrays:
@@ -216,7 +225,8 @@ def _path(scenario: Any) -> PathArrays:
         cloud_center=np.array([c.center for c in atm.clouds], dtype=float).reshape(-1, 3),
         cloud_radius=np.array([c.radius for c in atm.clouds], dtype=float),
         cloud_extinction=np.array([c.extinction for c in atm.clouds], dtype=float),
-        attenuates=bool(atm.present),
+        # Foliage in front of a target attenuates the path too: its noise counts (§6.8).
+        attenuates=bool(atm.present) or _foliage(scenario) is not None,
     )
 
 

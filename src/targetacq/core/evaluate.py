@@ -13,9 +13,10 @@ module wires them together:
 2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type),
    or MRTD-limited ``N = f*(τ ΔT) · d / R`` for a thermal sensor with an MRTD curve
    (:mod:`targetacq.core.mrtd_rows`);
-3. path: optical depth with segments and local clouds
+3. path: optical depth with segments, local clouds
    (:func:`targetacq.atmosphere.segmented_optical_depth`,
-   :func:`targetacq.atmosphere.sphere_chord_length`), transmittance and the SNR of Eq. (7.7);
+   :func:`targetacq.atmosphere.sphere_chord_length`) and foliage in front of a target (§6.8,
+   ``−ln τ_f``), transmittance and the SNR of Eq. (7.7);
 4. probabilities: the transforms with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform (:func:`task_probabilities`), ordered
    ``P_id <= P_rec <= P_det``, zero outside the field of view;
@@ -130,7 +131,7 @@ class Factors:
         N [cycles].
     in_view : array of bool
     optical_depth : array
-        [Np].
+        [Np]: the atmosphere's and, where a target has foliage, ``−ln τ_f`` (§6.8).
     transmittance : array
         τ [1].
     snr : array
@@ -552,6 +553,7 @@ class _Parts:
     segments: tuple[np.ndarray, ...]  # (n_s, 1, 1) each segment's extinction
     lengths: tuple[float, ...]
     contrast: np.ndarray  # (n_s, n_g, 1)
+    foliage: np.ndarray | None = None  # (n_g, 1): −ln τ_f of the targets' foliage; None: none
 
 
 def _scene_parts(scene: SceneArrays) -> _Parts:
@@ -579,7 +581,15 @@ def _scene_parts(scene: SceneArrays) -> _Parts:
         tuple(per_sensor(segments[:, j]) for j in range(len(lengths))),
         lengths,
         scene.signature.contrast.reshape(n_s, n_g, 1),
+        foliage=None if targets.foliage is None else _foliage_depth(targets.foliage, np)[:, None],
     )
+
+
+def _foliage_depth(foliage: Any, xp: Any) -> Any:
+    """The optical depth ``−ln τ_f`` of foliage of transmittance ``τ_f`` (§6.8): it multiplies
+    the path's transmittance ``e^−d``, so it adds to the depth (+inf where τ_f = 0)."""
+    with np.errstate(divide="ignore"):
+        return -xp.log(_arrays.as_float(foliage, xp))
 
 
 def _factors_numpy(
@@ -641,6 +651,7 @@ def _factors_numpy(
                 parts.ifov[sb],
                 parts.noise_equivalent[sb],
                 parts.contrast[sb, gb],
+                None if parts.foliage is None else parts.foliage[gb],
             )
 
             def ends(
@@ -708,6 +719,7 @@ class _Chain(NamedTuple):
     ifov: Any
     noise_equivalent: Any
     contrast: Any
+    foliage: Any = None  # −ln τ_f of the targets' foliage (§6.8); None: none
 
 
 def _chain_numpy(
@@ -749,6 +761,8 @@ def _chain_numpy(
                 start, end, path.cloud_center[c], path.cloud_radius[c]
             )
             depth = depth + path.cloud_extinction[c] * chord
+    if chain.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
+        depth = depth + chain.foliage
     tau = np.negative(depth)
     np.exp(tau, out=tau)
     snr = atmosphere.snr_db(depth, np)
@@ -1154,6 +1168,8 @@ def _factors_generic(
             s_pos[:, None], t_pos[None], centers[c], path.cloud_radius[c]
         )
         depth = depth + path.cloud_extinction[c] * chord
+    if targets.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
+        depth = depth + _per_target(_foliage_depth(targets.foliage, xp), batch, xp)
     if scr is None and scene.signature.scr is not None:
         scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
     tau = xp.exp(-depth)
@@ -1532,6 +1548,7 @@ def _step_numpy(
             per_sensor(parts.ifov),
             per_sensor(parts.noise_equivalent),
             contrast,
+            None if parts.foliage is None else parts.foliage[g_of, 0],
         )
         cycles = np.empty(shape)
         r, _, cycles, depth, _, snr, ratio = _chain_numpy(

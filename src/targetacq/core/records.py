@@ -221,6 +221,12 @@ class TargetArrays:
         Cycles for P = 0.5 of detection, recognition, identification.
     names : tuple of str
     hot_spot, moving : tuple of bool
+    foliage : array (n_g,) or None
+        Transmittance ``τ_f`` of foliage in front of each target, in [0, 1] [1] (§6.8): it
+        multiplies the path's transmittance, so the pair's optical depth gains ``−ln τ_f`` (an
+        imaging sensor's path; τ_f = 0 hides the target: P = 0). 1 where a target has none;
+        None where no target has any. Where it is given the path adds noise
+        (:attr:`PathArrays.attenuates` must then be True, as the compiled scenario has it).
     """
 
     dimensions: Any
@@ -230,6 +236,7 @@ class TargetArrays:
     names: tuple[str, ...] = _static()
     hot_spot: tuple[bool, ...] = _static()
     moving: tuple[bool, ...] = _static()
+    foliage: Any = None
 
 
 @pytree_record
@@ -248,7 +255,8 @@ class PathArrays:
     cloud_extinction : array (n_c,)
         [Np/m].
     attenuates : bool
-        Whether the path has an atmosphere at all (no atmosphere: no path noise).
+        Whether the path has an atmosphere at all, or foliage in front of a target (neither:
+        no path noise).
     """
 
     segment_length: Any
@@ -445,7 +453,7 @@ def take_targets(scene: SceneArrays, index: Any) -> SceneArrays:
     """The scene whose targets are ``scene.targets[index]``, in that order.
 
     Every per-target array is taken along its target axis: the targets' fields (dimensions,
-    visible fraction, heading, N50s, names, hot-spot and moving flags) and the signature's
+    visible fraction, heading, N50s, names, hot-spot and moving flags, foliage) and the signature's
     ``contrast``, ``target`` and ``scr`` (axis 1 of their ``(n_s, n_g)``). The sensors, the path,
     the model choices and the radar and laser-radar rows are per sensor and are kept. Evaluating
     the subset at ``target_positions[index]`` gives the whole scene's numbers at
@@ -507,6 +515,7 @@ def take_targets(scene: SceneArrays, index: Any) -> SceneArrays:
         names=tuple(t.names[k] for k in picked),
         hot_spot=tuple(t.hot_spot[k] for k in picked),
         moving=tuple(t.moving[k] for k in picked),
+        foliage=_take(t.foliage, chosen, 0),
     )
     signature = dataclasses.replace(
         sig,

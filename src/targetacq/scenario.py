@@ -447,6 +447,11 @@ class Sensor(_Strict):
     folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
     resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
     ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    The digitiser (§6.8): ``quantisation_step`` (e.g. "0.01 W/m^2"), or ``adc_bits`` with
+    ``adc_span`` (the signal span its levels cover, step = span / (2^bits − 1),
+    :func:`targetacq.radiometry.quantisation_step`); a pair whose contrast at the scene, in the
+    signal unit of the sensor's type (W/m²), is below the step has every probability 0. Imaging
+    sensors only.
     """
 
     name: Name
@@ -472,10 +477,14 @@ class Sensor(_Strict):
     radar: Radar | None = None
     laser: Laser | None = None
     mrtd: str | None = None
+    quantisation_step: Irradiance | None = None
+    adc_bits: Annotated[WholeNumber, Field(ge=1, le=64)] | None = None
+    adc_span: Irradiance | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
         self._check_type_tables()
+        self._check_digitiser()
         if self.type == "radar":
             return self._check_radar()
         ways = [
@@ -525,6 +534,33 @@ class Sensor(_Strict):
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
         check_sensor_noise(self)  # netd or nec: the one the type takes
         return self
+
+    def _check_digitiser(self) -> None:
+        """The digitiser's step: given once, one way, by an imaging sensor (it is compared with
+        the contrast, which radars and laser radars have none of)."""
+        given = [
+            key
+            for key in ("quantisation_step", "adc_bits", "adc_span")
+            if getattr(self, key) is not None
+        ]
+        if not given:
+            return
+        kind = get_sensor_type(self.type).kind
+        if kind != "imaging":
+            raise ValueError(
+                f"{given[0]}: a digitiser's step is compared with an imaging sensor's contrast; "
+                f"a {kind.replace('_', ' ')} has none (leave {given[0]} out)"
+            )
+        if self.quantisation_step is not None and len(given) > 1:
+            raise ValueError("give quantisation_step, or adc_bits with adc_span, not both")
+        if (self.adc_bits is None) != (self.adc_span is None):
+            raise ValueError(
+                "adc_bits and adc_span go together (step = adc_span / (2^adc_bits − 1))"
+            )
+        if self.quantisation_step is not None and not self.quantisation_step >= 0:
+            raise ValueError("quantisation_step must be >= 0 W/m^2")
+        if self.adc_span is not None and not self.adc_span > 0:
+            raise ValueError("adc_span must be > 0 W/m^2")
 
     def _check_type_tables(self) -> None:
         """The tables that belong to one sensor type: bands (colour), radar, laser."""

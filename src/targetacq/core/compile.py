@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from targetacq import atmosphere, geometry
+from targetacq import atmosphere, geometry, radiometry
 from targetacq.clutter import signal_to_clutter_ratio
 from targetacq.constants import SPEED_OF_LIGHT
 from targetacq.core.records import (
@@ -193,7 +193,26 @@ def _sensors(
         ),
         has_noise=bool(np.any(noise > 0)),
         groups=groups if len(sensors) > len(scenario.sensors) else (),
+        quantisation_step=_quantisation_steps(sensors),
     )
+
+
+def _quantisation_steps(sensors: list[Any]) -> np.ndarray | None:
+    """Each row's digitiser step [W/m²], 0 where it has none; None where no row has one."""
+    steps = [_quantisation_step(s) for s in sensors]
+    if all(step is None for step in steps):
+        return None
+    return np.array([0.0 if step is None else step for step in steps], dtype=float)
+
+
+def _quantisation_step(sensor: Any) -> float | None:
+    """A row's digitiser step [W/m²]: the step given, or that of its bits over its span
+    (:func:`targetacq.radiometry.quantisation_step`); None for none."""
+    if sensor.quantisation_step is not None:
+        return float(sensor.quantisation_step)
+    if sensor.adc_bits is not None:
+        return float(radiometry.quantisation_step(sensor.adc_bits, sensor.adc_span))
+    return None
 
 
 def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:

@@ -19,7 +19,8 @@ module wires them together:
    ``−ln τ_f``), transmittance and the SNR of Eq. (7.7);
 4. probabilities: the transforms with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform (:func:`task_probabilities`), ordered
-   ``P_id <= P_rec <= P_det``, zero outside the field of view;
+   ``P_id <= P_rec <= P_det``, zero outside the field of view and where the contrast is below
+   the sensor's digitiser step (§6.8);
 5. sensor-level fusion (8.4).
 
 NumPy. With NumPy arrays :func:`factors` computes the pairs block by block (temporaries in the
@@ -1286,8 +1287,10 @@ def task_probabilities(
 
 
 def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Probabilities:
-    """Probabilities of every pair from its factors, zero outside the field of view, NaN where
-    the geometry (the range or the cycles) is NaN, and their sensor-level fusion (8.4).
+    """Probabilities of every pair from its factors, zero outside the field of view and where
+    the contrast is below the sensor's digitiser step (:attr:`SensorArrays.quantisation_step`),
+    NaN where the geometry (the range or the cycles) is NaN, and their sensor-level fusion
+    (8.4).
 
     With NumPy the transforms run on the pairs in view only, and the noise comes from the optical
     depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
@@ -1321,6 +1324,8 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Pro
         found_p = _probabilities_numpy(scene, found, _host_flags(moving))
     else:
         found_p = _probabilities_generic(scene, found, moving=moving)
+    if scene.sensors.quantisation_step is not None:  # contrasts below a digitiser's step
+        found_p = _quantised(scene, found_p)
     if scene.sensors.groups:  # colour cameras: their bands are one look, not several
         groups = scene.sensors.groups
         found_p = dataclasses.replace(
@@ -1330,6 +1335,26 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Any = None) -> Pro
             fused_identification=fuse_groups(found_p.identification, groups),
         )
     return found_p
+
+
+def _below_step(scene: SceneArrays, xp: Any) -> Any:
+    """``(n_s, n_g)`` bool: the pairs whose contrast at the scene is below their sensor's
+    digitiser step (:attr:`SensorArrays.quantisation_step`; §6.8): they are not seen."""
+    step = _arrays.as_float(scene.sensors.quantisation_step, xp)
+    return _arrays.as_float(scene.signature.contrast, xp) < xp.reshape(step, (-1, 1))
+
+
+def _quantised(scene: SceneArrays, found: Probabilities) -> Probabilities:
+    """The probabilities with every task 0 at the pairs below their sensor's digitiser step
+    (NaN stays NaN), and their fusion (8.4) again."""
+    xp, (p,) = _arrays.arrays(found.detection)
+    below = _below_step(scene, xp)
+    below = xp.reshape(below, tuple(below.shape) + (1,) * (p.ndim - 2))
+    tasks = [
+        xp.where(below, 0.0 * task, task)
+        for task in (found.detection, found.recognition, found.identification)
+    ]
+    return Probabilities(*tasks, *(fuse(task, axis=0) for task in tasks))
 
 
 def _host_flags(moving: Any) -> np.ndarray | None:
@@ -1596,6 +1621,8 @@ def _step_numpy(
             out = np.zeros((len(TASKS), size))
             out[:, picked] = values
             probabilities_ = out.reshape(len(TASKS), n_s, n_g)
+        if sensors.quantisation_step is not None:  # contrasts below a digitiser's step
+            probabilities_ = np.where(_below_step(scene, np), 0.0 * probabilities_, probabilities_)
         if sensors.groups:  # colour cameras: their bands are one look, not several
             fused = np.stack([np.asarray(fuse_groups(p, sensors.groups)) for p in probabilities_])
         else:

@@ -156,6 +156,11 @@ class SensorArrays:
     mrtd : MrtdArrays or None
         The rows whose resolution is MRTD-limited (thermal sensors with an ``mrtd`` curve);
         None where no sensor has one.
+    quantisation_step : array (n_s,) or None
+        The smallest contrast each row's digitiser resolves [W/m²] (§6.8,
+        :func:`targetacq.radiometry.quantisation_step`): a pair whose contrast at the scene
+        (:attr:`SignatureArrays.contrast`) is below it has every probability 0. 0 where a row
+        has none; None where no row has one.
     """
 
     cycle: Any
@@ -172,6 +177,7 @@ class SensorArrays:
     has_noise: bool = _static(False)
     groups: tuple[str, ...] = _static(())
     mrtd: MrtdArrays | None = None
+    quantisation_step: Any = None
 
     @property
     def group_names(self) -> tuple[str, ...]:

@@ -20,7 +20,8 @@ that evaluate (``--engine``):
     'targetacq[jax]'``.
 ``auto``
     ``numba`` where it is installed and compiles the scene (its choices; no radars, laser
-    radars, MRTD-limited sensors or foliage: :func:`targetacq.engines.numba_engine.supported`),
+    radars, MRTD-limited sensors, foliage or a digitiser's step:
+    :func:`targetacq.engines.numba_engine.supported`),
     else ``numpy``; the step API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a
     time's pairs go through the numba engine's pair kernels in one call each
     (``benchmarks/bench_step.py``).

@@ -37,7 +37,7 @@ from targetacq.core.records import (
     SignatureArrays,
     TargetArrays,
 )
-from targetacq.physics import atmosphere, geometry
+from targetacq.physics import atmosphere, geometry, radiometry
 from targetacq.physics.clutter import signal_to_clutter_ratio
 from targetacq.scenario.schema import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
@@ -194,7 +194,26 @@ def _sensors(
         ),
         has_noise=bool(np.any(noise > 0)),
         groups=groups if len(sensors) > len(scenario.sensors) else (),
+        quantisation_step=_quantisation_steps(sensors),
     )
+
+
+def _quantisation_steps(sensors: list[Any]) -> np.ndarray | None:
+    """Each row's digitiser step [W/m²], 0 where it has none; None where no row has one."""
+    steps = [_quantisation_step(s) for s in sensors]
+    if all(step is None for step in steps):
+        return None
+    return np.array([0.0 if step is None else step for step in steps], dtype=float)
+
+
+def _quantisation_step(sensor: Any) -> float | None:
+    """A row's digitiser step [W/m²]: the step given, or that of its bits over its span
+    (:func:`targetacq.physics.radiometry.quantisation_step`); None for none."""
+    if sensor.quantisation_step is not None:
+        return float(sensor.quantisation_step)
+    if sensor.adc_bits is not None:
+        return float(radiometry.quantisation_step(sensor.adc_bits, sensor.adc_span))
+    return None
 
 
 def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
@@ -207,7 +226,16 @@ def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
         names=tuple(t.name for t in targets),
         hot_spot=tuple(bool(t.hot_spot) for t in targets),
         moving=tuple(bool(t.moving) for t in targets),
+        foliage=_foliage(scenario),
     )
+
+
+def _foliage(scenario: Any) -> np.ndarray | None:
+    """Each target's foliage transmittance (n_g,), 1 where it has none; None where none has."""
+    given = [t.foliage for t in scenario.targets]
+    if all(f is None for f in given):
+        return None
+    return np.array([1.0 if f is None else f for f in given], dtype=float)
 
 
 def _path(scenario: Any) -> PathArrays:
@@ -217,7 +245,8 @@ def _path(scenario: Any) -> PathArrays:
         cloud_center=np.array([c.center for c in atm.clouds], dtype=float).reshape(-1, 3),
         cloud_radius=np.array([c.radius for c in atm.clouds], dtype=float),
         cloud_extinction=np.array([c.extinction for c in atm.clouds], dtype=float),
-        attenuates=bool(atm.present),
+        # Foliage in front of a target attenuates the path too: its noise counts (§6.8).
+        attenuates=bool(atm.present) or _foliage(scenario) is not None,
     )
 
 

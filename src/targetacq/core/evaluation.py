@@ -14,13 +14,14 @@ module wires them together:
 2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type),
    or MRTD-limited ``N = f*(τ ΔT) · d / R`` for a thermal sensor with an MRTD curve
    (:mod:`targetacq.core.mrtd_rows`);
-3. path: optical depth with segments and local clouds
+3. path: optical depth with segments, local clouds
    (:func:`targetacq.physics.atmosphere.segmented_optical_depth`,
-   :func:`targetacq.physics.atmosphere.sphere_chord_length`), transmittance and the SNR of Eq.
-   (7.7);
+   :func:`targetacq.physics.atmosphere.sphere_chord_length`) and foliage in front of a target (§6.8,
+   ``−ln τ_f``), transmittance and the SNR of Eq. (7.7);
 4. probabilities: the transforms with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform (:func:`task_probabilities`), ordered
-   ``P_id <= P_rec <= P_det``, zero outside the field of view;
+   ``P_id <= P_rec <= P_det``, zero outside the field of view and where the contrast is below
+   the sensor's digitiser step (§6.8);
 5. sensor-level fusion (8.4).
 
 NumPy. With NumPy arrays :func:`factors` computes the pairs block by block (temporaries in the
@@ -136,7 +137,7 @@ class Factors:
         N [cycles].
     in_view : array of bool
     optical_depth : array
-        [Np].
+        [Np]: the atmosphere's and, where a target has foliage, ``−ln τ_f`` (§6.8).
     transmittance : array
         τ [1].
     snr : array
@@ -559,6 +560,7 @@ class _Parts:
     segments: tuple[np.ndarray, ...]  # (n_s, 1, 1) each segment's extinction
     lengths: tuple[float, ...]
     contrast: np.ndarray  # (n_s, n_g, 1)
+    foliage: np.ndarray | None = None  # (n_g, 1): −ln τ_f of the targets' foliage; None: none
 
 
 def _scene_parts(scene: SceneArrays) -> _Parts:
@@ -586,7 +588,15 @@ def _scene_parts(scene: SceneArrays) -> _Parts:
         tuple(per_sensor(segments[:, j]) for j in range(len(lengths))),
         lengths,
         scene.signature.contrast.reshape(n_s, n_g, 1),
+        foliage=None if targets.foliage is None else _foliage_depth(targets.foliage, np)[:, None],
     )
+
+
+def _foliage_depth(foliage: Any, xp: Any) -> Any:
+    """The optical depth ``−ln τ_f`` of foliage of transmittance ``τ_f`` (§6.8): it multiplies
+    the path's transmittance ``e^−d``, so it adds to the depth (+inf where τ_f = 0)."""
+    with np.errstate(divide="ignore"):
+        return -xp.log(_arrays.as_float(foliage, xp))
 
 
 def _factors_numpy(
@@ -648,6 +658,7 @@ def _factors_numpy(
                 parts.ifov[sb],
                 parts.noise_equivalent[sb],
                 parts.contrast[sb, gb],
+                None if parts.foliage is None else parts.foliage[gb],
             )
 
             def ends(
@@ -715,6 +726,7 @@ class _Chain(NamedTuple):
     ifov: Any
     noise_equivalent: Any
     contrast: Any
+    foliage: Any = None  # −ln τ_f of the targets' foliage (§6.8); None: none
 
 
 def _chain_numpy(
@@ -756,6 +768,8 @@ def _chain_numpy(
                 start, end, path.cloud_center[c], path.cloud_radius[c]
             )
             depth = depth + path.cloud_extinction[c] * chord
+    if chain.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
+        depth = depth + chain.foliage
     tau = np.negative(depth)
     np.exp(tau, out=tau)
     snr = atmosphere.snr_db(depth, np)
@@ -1161,6 +1175,8 @@ def _factors_generic(
             s_pos[:, None], t_pos[None], centers[c], path.cloud_radius[c]
         )
         depth = depth + path.cloud_extinction[c] * chord
+    if targets.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
+        depth = depth + _per_target(_foliage_depth(targets.foliage, xp), batch, xp)
     if scr is None and scene.signature.scr is not None:
         scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
     tau = xp.exp(-depth)
@@ -1277,8 +1293,10 @@ def task_probabilities(
 
 
 def probabilities(scene: SceneArrays, found: Factors, moving: Array = None) -> Probabilities:
-    """Probabilities of every pair from its factors, zero outside the field of view, NaN where
-    the geometry (the range or the cycles) is NaN, and their sensor-level fusion (8.4).
+    """Probabilities of every pair from its factors, zero outside the field of view and where
+    the contrast is below the sensor's digitiser step (:attr:`SensorArrays.quantisation_step`),
+    NaN where the geometry (the range or the cycles) is NaN, and their sensor-level fusion
+    (8.4).
 
     With NumPy the transforms run on the pairs in view only, and the noise comes from the optical
     depth without the decibels where ``found`` was made by :func:`factors`; the numbers are the
@@ -1312,6 +1330,8 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Array = None) -> P
         found_p = _probabilities_numpy(scene, found, _host_flags(moving))
     else:
         found_p = _probabilities_generic(scene, found, moving=moving)
+    if scene.sensors.quantisation_step is not None:  # contrasts below a digitiser's step
+        found_p = _quantised(scene, found_p)
     if scene.sensors.groups:  # colour cameras: their bands are one look, not several
         groups = scene.sensors.groups
         found_p = dataclasses.replace(
@@ -1321,6 +1341,26 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Array = None) -> P
             fused_identification=fuse_groups(found_p.identification, groups),
         )
     return found_p
+
+
+def _below_step(scene: SceneArrays, xp: Any) -> Any:
+    """``(n_s, n_g)`` bool: the pairs whose contrast at the scene is below their sensor's
+    digitiser step (:attr:`SensorArrays.quantisation_step`; §6.8): they are not seen."""
+    step = _arrays.as_float(scene.sensors.quantisation_step, xp)
+    return _arrays.as_float(scene.signature.contrast, xp) < xp.reshape(step, (-1, 1))
+
+
+def _quantised(scene: SceneArrays, found: Probabilities) -> Probabilities:
+    """The probabilities with every task 0 at the pairs below their sensor's digitiser step
+    (NaN stays NaN), and their fusion (8.4) again."""
+    xp, (p,) = _arrays.arrays(found.detection)
+    below = _below_step(scene, xp)
+    below = xp.reshape(below, tuple(below.shape) + (1,) * (p.ndim - 2))
+    tasks = [
+        xp.where(below, 0.0 * task, task)
+        for task in (found.detection, found.recognition, found.identification)
+    ]
+    return Probabilities(*tasks, *(fuse(task, axis=0) for task in tasks))
 
 
 def _host_flags(moving: Any) -> np.ndarray | None:
@@ -1539,6 +1579,7 @@ def _step_numpy(
             per_sensor(parts.ifov),
             per_sensor(parts.noise_equivalent),
             contrast,
+            None if parts.foliage is None else parts.foliage[g_of, 0],
         )
         cycles = np.empty(shape)
         r, _, cycles, depth, _, snr, ratio = _chain_numpy(
@@ -1586,6 +1627,8 @@ def _step_numpy(
             out = np.zeros((len(TASKS), size))
             out[:, picked] = values
             probabilities_ = out.reshape(len(TASKS), n_s, n_g)
+        if sensors.quantisation_step is not None:  # contrasts below a digitiser's step
+            probabilities_ = np.where(_below_step(scene, np), 0.0 * probabilities_, probabilities_)
         if sensors.groups:  # colour cameras: their bands are one look, not several
             fused = np.stack([np.asarray(fuse_groups(p, sensors.groups)) for p in probabilities_])
         else:

@@ -159,6 +159,11 @@ class SensorArrays:
     mrtd : MrtdArrays or None
         The rows whose resolution is MRTD-limited (thermal sensors with an ``mrtd`` curve);
         None where no sensor has one.
+    quantisation_step : array (n_s,) or None
+        The smallest contrast each row's digitiser resolves [W/m²] (§6.8,
+        :func:`targetacq.physics.radiometry.quantisation_step`): a pair whose contrast at the scene
+        (:attr:`SignatureArrays.contrast`) is below it has every probability 0. 0 where a row
+        has none; None where no row has one.
     """
 
     cycle: Any
@@ -175,6 +180,7 @@ class SensorArrays:
     has_noise: bool = _static(False)
     groups: tuple[str, ...] = _static(())
     mrtd: MrtdArrays | None = None
+    quantisation_step: Any = None
 
     @property
     def group_names(self) -> tuple[str, ...]:
@@ -226,6 +232,12 @@ class TargetArrays:
         Cycles for P = 0.5 of detection, recognition, identification.
     names : tuple of str
     hot_spot, moving : tuple of bool
+    foliage : array (n_g,) or None
+        Transmittance ``τ_f`` of foliage in front of each target, in [0, 1] [1] (§6.8): it
+        multiplies the path's transmittance, so the pair's optical depth gains ``−ln τ_f`` (an
+        imaging sensor's path; τ_f = 0 hides the target: P = 0). 1 where a target has none;
+        None where no target has any. Where it is given the path adds noise
+        (:attr:`PathArrays.attenuates` must then be True, as the compiled scenario has it).
     """
 
     dimensions: Any
@@ -235,6 +247,7 @@ class TargetArrays:
     names: tuple[str, ...] = _static()
     hot_spot: tuple[bool, ...] = _static()
     moving: tuple[bool, ...] = _static()
+    foliage: Any = None
 
 
 @pytree_record
@@ -253,7 +266,8 @@ class PathArrays:
     cloud_extinction : array (n_c,)
         [Np/m].
     attenuates : bool
-        Whether the path has an atmosphere at all (no atmosphere: no path noise).
+        Whether the path has an atmosphere at all, or foliage in front of a target (neither:
+        no path noise).
     """
 
     segment_length: Any
@@ -450,7 +464,7 @@ def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
     """The scene whose targets are ``scene.targets[index]``, in that order.
 
     Every per-target array is taken along its target axis: the targets' fields (dimensions,
-    visible fraction, heading, N50s, names, hot-spot and moving flags) and the signature's
+    visible fraction, heading, N50s, names, hot-spot and moving flags, foliage) and the signature's
     ``contrast``, ``target`` and ``scr`` (axis 1 of their ``(n_s, n_g)``). The sensors, the path,
     the model choices and the radar and laser-radar rows are per sensor and are kept. Evaluating
     the subset at ``target_positions[index]`` gives the whole scene's numbers at
@@ -512,6 +526,7 @@ def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
         names=tuple(t.names[k] for k in picked),
         hot_spot=tuple(t.hot_spot[k] for k in picked),
         moving=tuple(t.moving[k] for k in picked),
+        foliage=_take(t.foliage, chosen, 0),
     )
     signature = dataclasses.replace(
         sig,

@@ -170,6 +170,7 @@ def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
             names=t.names[targets],
             hot_spot=t.hot_spot[targets],
             moving=t.moving[targets],
+            foliage=None if t.foliage is None else t.foliage[targets],
         ),
         signature=dataclasses.replace(
             sig,
@@ -401,6 +402,7 @@ class ModelChain:
                     transform=choices.transform,
                     options=dict(choices.options),
                     extinction=float(sensors.extinction[s]) if scene.path.attenuates else None,
+                    foliage=None if targets.foliage is None else float(targets.foliage[g]),
                     scr=None if row_clutter is None else float(row_clutter[g]),
                     region=choices.region,
                     hot_spot=targets.hot_spot[g],

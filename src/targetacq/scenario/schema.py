@@ -447,6 +447,11 @@ class Sensor(_Strict):
     folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
     resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
     ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    The digitiser (§6.8): ``quantisation_step`` (e.g. "0.01 W/m^2"), or ``adc_bits`` with
+    ``adc_span`` (the signal span its levels cover, step = span / (2^bits − 1),
+    :func:`targetacq.physics.radiometry.quantisation_step`); a pair whose contrast at the scene, in
+    the signal unit of the sensor's type (W/m²), is below the step has every probability 0. Imaging
+    sensors only.
     """
 
     name: Name
@@ -472,10 +477,14 @@ class Sensor(_Strict):
     radar: Radar | None = None
     laser: Laser | None = None
     mrtd: str | None = None
+    quantisation_step: Irradiance | None = None
+    adc_bits: Annotated[WholeNumber, Field(ge=1, le=64)] | None = None
+    adc_span: Irradiance | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
         self._check_type_tables()
+        self._check_digitiser()
         if self.type == "radar":
             return self._check_radar()
         ways = [
@@ -525,6 +534,33 @@ class Sensor(_Strict):
         get_sensor_type(self.type).cycle_angle(self)  # the resolution model takes the optics
         check_sensor_noise(self)  # netd or nec: the one the type takes
         return self
+
+    def _check_digitiser(self) -> None:
+        """The digitiser's step: given once, one way, by an imaging sensor (it is compared with
+        the contrast, which radars and laser radars have none of)."""
+        given = [
+            key
+            for key in ("quantisation_step", "adc_bits", "adc_span")
+            if getattr(self, key) is not None
+        ]
+        if not given:
+            return
+        kind = get_sensor_type(self.type).kind
+        if kind != "imaging":
+            raise ValueError(
+                f"{given[0]}: a digitiser's step is compared with an imaging sensor's contrast; "
+                f"a {kind.replace('_', ' ')} has none (leave {given[0]} out)"
+            )
+        if self.quantisation_step is not None and len(given) > 1:
+            raise ValueError("give quantisation_step, or adc_bits with adc_span, not both")
+        if (self.adc_bits is None) != (self.adc_span is None):
+            raise ValueError(
+                "adc_bits and adc_span go together (step = adc_span / (2^adc_bits − 1))"
+            )
+        if self.quantisation_step is not None and not self.quantisation_step >= 0:
+            raise ValueError("quantisation_step must be >= 0 W/m^2")
+        if self.adc_span is not None and not self.adc_span > 0:
+            raise ValueError("adc_span must be > 0 W/m^2")
 
     def _check_type_tables(self) -> None:
         """The tables that belong to one sensor type: bands (colour), radar, laser."""
@@ -600,7 +636,10 @@ class Sensor(_Strict):
 class Target(_Strict):
     """A target: a box ``dimensions`` = [length, width, height] with its long axis along
     ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
-    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``."""
+    ``image_box`` = [x, y, width, height] in pixels of the background's ``image``. ``foliage``:
+    the transmittance of foliage in front of the target, in [0, 1] (§6.8; 0 hides it), which
+    multiplies the path's transmittance for every imaging sensor (left out: none); radars and
+    laser radars take none."""
 
     name: Name
     dimensions: tuple[Length, Length, Length]
@@ -616,6 +655,7 @@ class Target(_Strict):
     moving: Flag = False
     visible_fraction: Annotated[Number, Field(gt=0.0, le=1.0)] = 1.0
     hot_spot: Flag = False
+    foliage: Fraction | None = None
     image_box: tuple[PixelIndex, PixelIndex, PixelIndex, PixelIndex] | None = None
 
     @field_validator("criterion")
@@ -1103,6 +1143,7 @@ class Scenario(_Strict):
             for k, s in enumerate(self.sensors)
             if s.mrtd is not None and s.type != "thermal"
         ]
+        problems += _foliage_problems(self)
         if self.false_targets is not None:
             problems += false_target_problems(self)
         image = self.background.image is not None
@@ -1118,6 +1159,27 @@ class Scenario(_Strict):
                     "the image"
                 )
         return problems
+
+
+def _foliage_problems(scenario: Scenario) -> list[str]:
+    """Foliage (§6.8) is a transmittance in an imaging sensor's band: a scene with a radar or a
+    laser radar takes none (their paths are their own)."""
+    shaded = [k for k, t in enumerate(scenario.targets) if t.foliage is not None]
+    active = [
+        (k, s, get_sensor_type(s.type).kind)
+        for k, s in enumerate(scenario.sensors)
+        if get_sensor_type(s.type).kind != "imaging"
+    ]
+    if not shaded or not active:
+        return []
+    k_s, sensor, kind = active[0]
+    return [
+        f"targets[{k}].foliage: foliage (a transmittance in an imaging sensor's band, §6.8) "
+        f"applies to imaging sensors only; target {scenario.targets[k].name!r} is seen by "
+        f"sensors[{k_s}] {sensor.name!r}, a {kind.replace('_', ' ')}: leave foliage out, or "
+        "evaluate the imaging sensors in a scenario of their own"
+        for k in shaded
+    ]
 
 
 def _fields_of(model: Any) -> dict[str, Any]:

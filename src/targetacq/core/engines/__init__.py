@@ -20,10 +20,11 @@ that evaluate (``--engine``):
     'targetacq[jax]'``.
 ``auto``
     ``numba`` where it is installed and compiles the scene (its choices; no radars, laser
-    radars or MRTD-limited sensors: :func:`targetacq.core.engines.numba_engine.supported`), else
-    ``numpy``; the step
-    API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a time's pairs go through the
-    numba engine's pair kernels in one call each (``benchmarks/bench_step.py``).
+    radars, MRTD-limited sensors, foliage or a digitiser's step:
+    :func:`targetacq.core.engines.numba_engine.supported`),
+    else ``numpy``; the step API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a
+    time's pairs go through the numba engine's pair kernels in one call each
+    (``benchmarks/bench_step.py``).
 
 Every engine takes NumPy positions and gives the records of the core
 (:class:`targetacq.core.Factors`, :class:`targetacq.core.Probabilities`) in NumPy arrays, so

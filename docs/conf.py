@@ -113,6 +113,7 @@ api_modules = [  # by layer, lowest first (the contributor page "Architecture")
     "targetacq.core.cases",
     "targetacq.core.compile",
     "targetacq.core.evaluation",
+    "targetacq.core.pair_factors",
     "targetacq.core.active",
     "targetacq.core.mrtd_rows",
     "targetacq.core.pair_ranges",

@@ -250,3 +250,32 @@ def test_an_aircraft_above_the_first_probe_range_warns_nothing():
     chain = ModelChain(load_scenario(example))
     performance = pair_performance(chain, [0], [0.5])  # -W error: a warning fails
     assert float(performance.curves["range"][-1]) > 1e3
+
+
+def test_curves_a_quarter_beyond_the_farthest_dri_range_search_the_ranges_once(
+    tmp_path, monkeypatch
+):
+    """``beyond_dri``: the table is that of the automatic axis (one search), the curves end at
+    1.25 times its farthest finite range, and the core runs as often as for the automatic axis
+    alone (the curve pass on the new axis replaces the old one; no second search)."""
+    from targetacq.core import pair_ranges
+
+    path = tmp_path / "near_far.toml"
+    path.write_text(NEAR_AND_FAR)
+    chain = ModelChain(load_scenario(path))
+    calls = []
+    original = pair_ranges._Pairs.probabilities
+
+    def counted(self, row, slant):
+        calls.append(row)
+        return original(self, row, slant)
+
+    monkeypatch.setattr(pair_ranges._Pairs, "probabilities", counted)
+    plain = pair_ranges.pair_performance(chain, [0, 1], [0.5, 0.9])
+    plain_calls = len(calls)
+    calls.clear()
+    drawn = pair_ranges.pair_performance(chain, [0, 1], [0.5, 0.9], beyond_dri=1.25)
+    assert _table(drawn) == pytest.approx(_table(plain), nan_ok=True)
+    farthest = max(v for v in _table(plain).values() if 0 < v < math.inf)
+    assert float(drawn.curves["range"][-1]) == pytest.approx(1.25 * farthest, rel=1e-12)
+    assert len(calls) == plain_calls  # the curve pass on the new axis replaces the old one

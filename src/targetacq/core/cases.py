@@ -8,16 +8,18 @@ the core: :mod:`targetacq.core.pair_ranges`) and
 :meth:`targetacq.run.model_chain.ModelChain.range_cases`. Its inputs are checked once, when it is
 made. :func:`case_acquisition` is the one place where a case becomes cycles on target,
 transmittance, SNR and the ordered probabilities at ranges (:func:`case_probability` gives one
-task's own curve, for the range solver); the physics is in the kernels they call:
+task's own curve, for the range solver). It is the array core along a line of ranges:
 
-1. resolution: ``N = d / (R · cycle)`` (:func:`targetacq.physics.optics.cycles_on_target`; §3.5,
-   Fig. 3.3 and Eqs. (5.2), (5.3) in Sonesson (2004));
-2. path: ``τ = exp(−γR)`` (:func:`targetacq.physics.atmosphere.transmittance`, Eq. (7.3)) times the
-   foliage's transmittance (§6.8), and the SNR of Eqs. (7.5)–(7.7)
-   (:func:`targetacq.physics.atmosphere.snr_from_transmittance`);
-3. probabilities: the transform with the noise model and, for detection in clutter, the
+1. factors: the core's own function for an imaging pair
+   (:func:`targetacq.core.pair_factors.imager_factors`, the one the scenario core calls after
+   its geometry): ``N = d / (R · cycle)`` (§3.5, Fig. 3.3 and Eqs. (5.2), (5.3) in Sonesson
+   (2004)), ``τ = exp(−γR)`` times the foliage's transmittance (Eq. (7.3), §6.8) and the SNR of
+   Eqs. (7.5)–(7.7) with the sensor's own noise; an MRTD curve gives the cycles instead
+   (:data:`RESOLUTION_MODELS`);
+2. probabilities: the transform with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform, ordered ``P_id <= P_rec <= P_det``
-   (:func:`targetacq.acquisition.probabilities.acquisition_probabilities`, §3.5–3.9).
+   (:func:`targetacq.acquisition.probabilities.acquisition_probabilities`, §3.5–3.9), the kernel
+   under the scenario core's probabilities too.
 
 Without ``extinction`` and ``foliage`` the path adds no noise (the SNR is +inf and the noise
 model is not applied).
@@ -29,6 +31,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
+
+import numpy as np
 
 from targetacq.acquisition import transforms as _transforms
 from targetacq.acquisition.criteria import Criterion, get_criterion
@@ -43,8 +47,8 @@ from targetacq.acquisition.probabilities import (
 )
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
-from targetacq.physics import atmosphere, optics
-from targetacq.physics import detector_noise as sensor_noise
+from targetacq.core.pair_factors import SensorNoise, imager_factors
+from targetacq.physics import optics
 
 __all__ = [
     "RESOLUTION_MODELS",
@@ -421,10 +425,13 @@ RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
 def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
-    ``N`` from :func:`targetacq.physics.optics.cycles_on_target` (§3.5, Eqs. (5.2), (5.3) in
-    Sonesson (2004)); ``τ = exp(−γR) · τ_foliage`` (Eq. (7.3), §6.8); the SNR of Eqs. (7.5)–(7.7)
-    added in variance to the sensor's own (:func:`targetacq.physics.detector_noise.sensor_snr`, with
-    the pixels the target's area covers at the sensor's IFOV).
+    The array core's factors of an imaging pair (:func:`targetacq.core.pair_factors.imager_factors`)
+    along the line of ranges: ``N = d / (R · cycle)`` with the case's cycle angle (§3.5,
+    Eqs. (5.2), (5.3) in Sonesson (2004)), the optical depth ``γR − ln τ_foliage`` (Eq. (7.3),
+    §6.8), so ``τ = exp(−γR) · τ_foliage``, and the SNR of Eqs. (7.5)–(7.7) added in variance to
+    the sensor's own (:func:`targetacq.physics.detector_noise.sensor_snr`, with the pixels the
+    target's area covers at the sensor's IFOV). An MRTD curve then gives the cycles instead
+    (:data:`RESOLUTION_MODELS`).
 
     Parameters
     ----------
@@ -443,17 +450,23 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     >>> round(float(n), 12), round(float(tau), 6), round(float(snr), 3)
     (5.0, 0.316637, -6.682)
     """
-    gamma = 0.0 if case.extinction is None else case.extinction
-    tau = atmosphere.transmittance(gamma, range)
-    if case.foliage is not None:
-        tau = tau * case.foliage
-    cycles = RESOLUTION_MODELS[case.resolution_model].cycles(case, range, tau)
-    snr = atmosphere.snr_from_transmittance(tau)
+    xp, (r,) = _arrays.arrays(range, names=("range",))
+    _arrays.require_positive("range", r, xp, "m")
+    depth = 0.0 if case.extinction is None else case.extinction * r
+    if case.foliage is not None:  # τ_f more in front of the target: −ln τ_f of depth (§6.8)
+        with np.errstate(divide="ignore"):
+            depth = depth - xp.log(_arrays.as_float(case.foliage, xp))
+    noise = None
     if case.noise_equivalent_contrast is not None:
-        area = case.critical_dimension**2 if case.target_area is None else case.target_area
-        pixels = sensor_noise.pixels_on_target(area, range, case.resolution()["ifov"])
-        own = sensor_noise.sensor_snr(case.contrast, case.noise_equivalent_contrast, tau, pixels)
-        snr = sensor_noise.combined_snr(snr, own)
+        noise = SensorNoise(
+            contrast=case.contrast,
+            noise_equivalent=case.noise_equivalent_contrast,
+            ifov=case.resolution()["ifov"],
+            area=case.critical_dimension**2 if case.target_area is None else case.target_area,
+        )
+    cycles, tau, snr = imager_factors(r, case.critical_dimension, case.cycle_angle, depth, noise)
+    if case.resolution_model != "geometric":
+        cycles = RESOLUTION_MODELS[case.resolution_model].cycles(case, r, tau)
     return cycles, tau, snr
 
 

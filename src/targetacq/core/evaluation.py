@@ -92,6 +92,7 @@ from targetacq.acquisition.probabilities import (
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.core import active, mrtd_rows
+from targetacq.core.pair_factors import SensorNoise, imager_factors
 from targetacq.core.records import (
     ModelChoices,
     SceneArrays,
@@ -1144,8 +1145,6 @@ def _factors_generic(
         _per_target(dims[:, 2], batch, xp),
     )
     critical = geometry.critical_dimension_seen(horizontal, vertical, visible)
-    with np.errstate(divide="ignore"):
-        cycles = critical / (xp.maximum(rng, 1e-9) * _per_sensor(sensors.cycle, batch, xp))
 
     forward, pointed = boresight(s_pos, sensors, pointing)
     half = _arrays.as_float(sensors.half_tangents, xp)
@@ -1179,23 +1178,20 @@ def _factors_generic(
         depth = depth + _per_target(_foliage_depth(targets.foliage, xp), batch, xp)
     if scr is None and scene.signature.scr is not None:
         scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
-    tau = xp.exp(-depth)
-    snr = atmosphere.snr_from_optical_depth(depth)
+    noise = None
     if sensors.has_noise:
-        # The area seen: the outline's horizontal side times the visible part of its height.
-        area = horizontal * vertical * visible
-        pixels = sensor_noise.pixels_on_target(
-            area, xp.maximum(rng, 1e-9), _per_sensor(sensors.ifov, batch, xp)
-        )
-        own = sensor_noise.sensor_snr(
-            xp.reshape(
+        noise = SensorNoise(
+            contrast=xp.reshape(
                 _arrays.as_float(scene.signature.contrast, xp), (*scene.shape,) + (1,) * batch
             ),
-            _per_sensor(sensors.noise_equivalent, batch, xp),
-            tau,
-            pixels,
+            noise_equivalent=_per_sensor(sensors.noise_equivalent, batch, xp),
+            ifov=_per_sensor(sensors.ifov, batch, xp),
+            # The area seen: the outline's horizontal side times the visible part of its height.
+            area=horizontal * vertical * visible,
         )
-        snr = sensor_noise.combined_snr(snr, own)
+    cycles, tau, snr = imager_factors(
+        rng, critical, _per_sensor(sensors.cycle, batch, xp), depth, noise
+    )
     return Factors(
         range=rng,
         critical_dimension=critical,

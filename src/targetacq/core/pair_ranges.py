@@ -191,6 +191,7 @@ def pair_performance(
     probabilities: Any = (0.5, 0.8, 0.95),
     max_range: float | None = None,
     limit: float = 200e3,
+    beyond_dri: float | None = None,
 ) -> Any:
     """Range curves and DRI ranges of sensor rows against every target, through the core.
 
@@ -215,6 +216,11 @@ def pair_performance(
         task of every pair is below 0.02 (at most ``limit``).
     limit : float
         The farthest range [m] searched for a DRI range, and of the automatic grid.
+    beyond_dri : float, optional
+        Draw the curves out to this many times the farthest DRI range found (at most
+        ``limit``; e.g. 1.25, a quarter beyond it) instead of ``max_range``: the DRI ranges are
+        searched once, on the automatic grid, and only the curves are evaluated again. Ignored
+        where no DRI range is finite and > 0.
 
     Returns
     -------
@@ -243,10 +249,18 @@ def pair_performance(
         raise ValueError(f"max_range must be a finite range > 0 m; got {max_range!r}")
     grid = r_max * np.arange(1, 601) / 600.0
     scene = chain.compiled.scene
+    found = {
+        row: _ranges(pairs, row, _search_ranges(pairs, row, grid, limit), probs)
+        for row in pairs.rows
+    }
+    if beyond_dri is not None:
+        finite = [r for reached in found.values() for r in reached.ravel() if 0 < r < math.inf]
+        if finite:
+            grid = min(beyond_dri * max(finite), limit) * np.arange(1, 601) / 600.0
     curves, labels, dri = [], [], []
     for row in pairs.rows:
         curve = pairs.probabilities(row, grid)  # (3, n_g, n_r)
-        reached = _ranges(pairs, row, _search_ranges(pairs, row, grid, limit), probs)
+        reached = found[row]
         for g, target in enumerate(scene.targets.names):
             label = f"{scene.sensors.names[row]} → {target}"
             labels.append(label)

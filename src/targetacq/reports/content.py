@@ -209,7 +209,8 @@ def scenario_performance(
 
     The range axis goes out to --max-range; by default (with ``axis``) to a quarter beyond the
     farthest DRI range, as the analyst's curves have it (a second pass of the core on that
-    grid), else to where every task of every pair is below 0.02 (1, 2, 4, … km).
+    grid; the DRI ranges are searched once), else to where every task of every pair is below
+    0.02 (1, 2, 4, … km).
     """
     from targetacq.core.pair_ranges import pair_performance
 
@@ -224,13 +225,12 @@ def scenario_performance(
             chain, rows, probabilities, max_range=r_max, limit=MAX_AUTO_RANGE
         )
         return performance, stop_note(performance, r_max, f"--max-range {max_range}") + how
-    performance = pair_performance(chain, rows, probabilities, limit=MAX_AUTO_RANGE)
+    performance = pair_performance(
+        chain, rows, probabilities, limit=MAX_AUTO_RANGE, beyond_dri=1.25 if axis else None
+    )
     found = [float(r) for r in performance.dri["range_m"] if math.isfinite(r) and r > 0]
     if axis and found:
-        r_max = min(1.25 * max(found), MAX_AUTO_RANGE)
-        performance = pair_performance(
-            chain, rows, probabilities, max_range=r_max, limit=MAX_AUTO_RANGE
-        )
+        r_max = float(performance.curves["range"].values[-1])
         limit = "a quarter beyond the farthest DRI range of the table"
         return performance, stop_note(performance, r_max, limit) + how
     r_max = float(performance.curves["range"].values[-1])

@@ -94,7 +94,7 @@ def test_the_help_version_and_command_completion_import_no_command_module():
         "    pass\n"
         "heavy = [m for m in sys.modules if m.startswith(('numpy', 'scipy',\n"
         "    'targetacq.cli.dri', 'targetacq.cli.figures', 'targetacq.cli.scenarios',\n"
-        "    'targetacq.services'))]\n"
+        "    'targetacq.run'))]\n"
         "sys.stderr.write(repr(heavy))\n"
     )
     for args, env in (

@@ -79,7 +79,7 @@ class Quantity:
         text = str(value)
         for item in text.split(",") if self.lists else [text]:
             if not item.strip():
-                continue  # an empty item is reported with its list by services.options
+                continue  # an empty item is reported with its list by run.option_table
             try:
                 parse_quantity(item.strip(), self.kind, self.name)
             except ValueError as error:

@@ -23,6 +23,7 @@ import pytest
 import xarray as xr
 
 import targetacq.cli.scenarios as scenarios_command
+from child_process import file_size_limited
 from targetacq.cli import main
 from targetacq.io.files import (
     OutputError,
@@ -61,22 +62,12 @@ def strict_json(text):
     return json.loads(text, parse_constant=refuse)
 
 
-# Sets a file-size limit, then becomes the command: a preexec_fn would fork a process that has
-# imported JAX (multithreaded), which warns, and the warning is an error under pytest -W error.
-LIMIT_FILE_SIZE_THEN_RUN = (
-    "import os, resource, sys; limit = int(sys.argv[1]); "
-    "resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)); "
-    "os.execv(sys.executable, [sys.executable, *sys.argv[2:]])"
-)
-
-
 def start(args, folder, *, file_size_limit=None, stdout=subprocess.PIPE):
     """Start ``python -m targetacq ARGS`` in ``folder``, under a file-size limit [bytes] if
     given."""
     command = [*COMMAND, *args]
     if file_size_limit is not None:
-        command = [sys.executable, "-c", LIMIT_FILE_SIZE_THEN_RUN, str(file_size_limit)]
-        command += [*COMMAND[1:], *args]
+        command = file_size_limited(command, file_size_limit)
     return subprocess.Popen(command, cwd=folder, stdout=stdout, stderr=subprocess.PIPE, text=True)
 
 

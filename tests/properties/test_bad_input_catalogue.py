@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from child_process import file_size_limited
 from toml_text import Raw, toml_dumps
 
 HERE = Path(__file__).parents[1]
@@ -2545,14 +2546,14 @@ def _to_dev_full(argv: list[str]) -> Callable[[Path], None]:
 
 def _file_size_limit(argv: list[str], name: str) -> Callable[[Path], None]:
     def check(tmp: Path) -> None:
-        import resource
-
-        def limit() -> None:
-            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
-            resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
-
         full = [a.replace("{tmp}", str(tmp)) for a in argv]
-        done = _run(full, preexec_fn=limit)
+        done = subprocess.run(
+            file_size_limited([*TARGETACQ, *full], 2000),
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=False,
+        )
         _one_line(done, [name], full)
         assert sorted(p.name for p in tmp.iterdir()) == [], "a partial or temporary file is left"
 

@@ -28,6 +28,13 @@ transform, ``channel`` without an ``image``, ``projection`` without ``hfov``), o
 cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
 itself).
 
+Daily cycle. A target's, the background's or a terrain class's ``temperature`` may be a daily
+cycle (:class:`DailyCycle`: ``{ mean = "290 K", amplitude = "6 K", peak_hour = 14 }``, §6.5)
+with the scenario's local solar hour of day at its start (``[time] hour = 6.5``, in [0, 24)).
+The temperature is the cycle's at that hour, held over the whole run (the signature does not
+move within a run); :meth:`Scenario.temperature` and :meth:`Scenario.held` resolve it, by
+:func:`held_temperature`, for every consumer.
+
 Errors. :class:`ScenarioError` holds every problem found, each located
 (``file: table[index].key: what``); its message is the first. Problems that need the files a
 scenario names (its image, its terrain map, its sensors' MRTD curves) or the size of its run are
@@ -1316,7 +1323,23 @@ class Scenario(_Strict):
         """This scenario with every daily cycle replaced by its temperature at ``time.hour``
         (:meth:`temperature`): plain temperatures, held over the run, as the core compiles them
         (:func:`targetacq.core.compile.compile_scenario`). Itself where no temperature is a
-        cycle."""
+        cycle.
+
+        Examples
+        --------
+        >>> from targetacq.scenario.schema import Scenario
+        >>> scenario = Scenario.model_validate({
+        ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 1e-4, "position": (0, 0, 10)}],
+        ...     "targets": [{"name": "truck", "dimensions": (7, 2.5, 3), "position": (2000, 0, 0),
+        ...                  "temperature": {"mean": 295, "amplitude": 8, "peak_hour": 14}}],
+        ...     "background": {"temperature": {"mean": 290, "amplitude": 2}},
+        ...     "time": {"hour": 8}})
+        >>> held = scenario.held()
+        >>> round(held.targets[0].temperature, 9), round(held.background.temperature, 9)
+        (295.0, 290.0)
+        >>> held.held() is held
+        True
+        """
         if not self._cycled():
             return self
 

@@ -59,6 +59,15 @@ def _documents() -> dict[str, dict[str, Any]]:
             }
         ],
     }
+    daily = copy.deepcopy(terrain)  # daily cycles (§6.5): their means are checked
+    daily["time"]["hour"] = 9.0
+    daily["targets"][0]["temperature"] = {"mean": "300 K", "amplitude": "5 K"}
+    daily["background"]["temperature"] = {"mean": "295 K", "amplitude": "3 K"}
+    daily["background"]["terrain"]["classes"][0]["temperature"] = {
+        "mean": "295 K",
+        "amplitude": "4 K",
+        "peak_hour": 13,
+    }
     ground = _example("ground_observer_aircraft.toml")
     ground["atmosphere"]["segments"] = [{"length": "200 m", "extinction": "2 /km"}]
     dry_radar = _example("radar_surveillance.toml")
@@ -67,6 +76,7 @@ def _documents() -> dict[str, dict[str, Any]]:
         "uav": uav,
         "ifov": ifov,
         "terrain": terrain,
+        "daily": daily,
         "ground": ground,
         "radar": dry_radar,
         "rain": _example("radar_surveillance.toml"),
@@ -89,6 +99,9 @@ HOME = {
     "background.temperature": "uav",
     "background.terrain.classes[].temperature": "terrain",
     "sensors[].netd_temperature": "uav",
+    "targets[].temperature.mean": "daily",
+    "background.temperature.mean": "daily",
+    "background.terrain.classes[].temperature.mean": "daily",
     "background.clutter_std": "uav",
     "background.terrain.classes[].temperature_std": "terrain",
     "sensors[].position[2]": "fused",

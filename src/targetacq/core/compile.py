@@ -536,6 +536,9 @@ def check_runnable(scenario: Any) -> list[str]:
 def compile_scenario(scenario: Any) -> CompiledScenario:
     """Compile a validated scenario into the core's records (once; reads image and map files).
 
+    Temperatures given as a daily cycle are compiled at the scenario's hour of day
+    (``time.hour``) and held over the run (:meth:`targetacq.scenario.schema.Scenario.held`).
+
     Parameters
     ----------
     scenario : targetacq.scenario.schema.Scenario
@@ -551,6 +554,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         map that cannot be read, boxes outside the image, class indices naming no class, a
         time grid too large for memory.
     """
+    scenario = scenario.held()  # daily cycles at the hour of the start: plain temperatures
     problems: list[str] = []
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)

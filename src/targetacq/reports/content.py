@@ -285,7 +285,7 @@ def scenario_report(
     targets = {
         t.name: f"{' × '.join(f'{d:g}' for d in t.dimensions)} m, criterion "
         f"{chain.criteria[g].name}"
-        + (f", {t.temperature:g} K" if t.temperature is not None else "")
+        + (f", {scenario.temperature(t):g} K" if t.temperature is not None else "")
         + (", moving" if t.moving else "")
         + (", hot spot" if t.hot_spot else "")
         for g, t in enumerate(scenario.targets)

@@ -28,6 +28,13 @@ transform, ``channel`` without an ``image``, ``projection`` without ``hfov``), o
 cannot run (a threshold-only criterion, a detection-only transform, a sensor that looks at
 itself).
 
+Daily cycle. A target's, the background's or a terrain class's ``temperature`` may be a daily
+cycle (:class:`DailyCycle`: ``{ mean = "290 K", amplitude = "6 K", peak_hour = 14 }``, §6.5)
+with the scenario's local solar hour of day at its start (``[time] hour = 6.5``, in [0, 24)).
+The temperature is the cycle's at that hour, held over the whole run (the signature does not
+move within a run); :meth:`Scenario.temperature` and :meth:`Scenario.held` resolve it, by
+:func:`held_temperature`, for every consumer.
+
 Errors. :class:`ScenarioError` holds every problem found, each located
 (``file: table[index].key: what``); its message is the first. Problems that need the files a
 scenario names (its image, its terrain map, its sensors' MRTD curves) or the size of its run are
@@ -51,7 +58,7 @@ from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from difflib import get_close_matches
 from pathlib import Path
-from typing import Annotated, Any, Literal, get_args, get_origin
+from typing import Annotated, Any, Literal, get_args
 
 import numpy as np
 from pydantic import (
@@ -59,7 +66,9 @@ from pydantic import (
     BaseModel,
     BeforeValidator,
     ConfigDict,
+    Discriminator,
     Field,
+    Tag,
     ValidationError,
     ValidationInfo,
     field_validator,
@@ -86,7 +95,7 @@ from targetacq.base.registry import lookup, unknown_name
 from targetacq.base.units import is_quantity, to_si
 from targetacq.physics import atmosphere as _atmosphere
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
-from targetacq.physics.radiometry import MATERIALS
+from targetacq.physics.radiometry import MATERIALS, diurnal_temperature
 from targetacq.scenario.plausibility import collected, emit, plausibility_warnings
 from targetacq.sensors import (
     SENSOR_TYPES,
@@ -101,6 +110,7 @@ __all__ = [
     "Atmosphere",
     "Background",
     "Cloud",
+    "DailyCycle",
     "FalseTargets",
     "ModelChoices",
     "Scenario",
@@ -112,6 +122,7 @@ __all__ = [
     "TerrainClassSpec",
     "TimeGrid",
     "Waypoint",
+    "held_temperature",
     "load_scenario",
     "parse_scenario",
 ]
@@ -257,6 +268,19 @@ PixelCount = Annotated[WholeNumber, Field(gt=0), AfterValidator(_pixel_count)]
 PixelIndex = Annotated[WholeNumber, AfterValidator(_pixel_index)]
 """A pixel position or extent of a box, at most ``limits.MAX_ELEMENTS`` (the lower bounds are
 checked with the whole box)."""
+
+
+def _hour_of_day(value: float, info: ValidationInfo) -> float:
+    if not 0.0 <= value < 24.0:
+        raise ValueError(
+            f"{info.field_name} must be in [0, 24) (the local solar hour of day, e.g. 6.5 for "
+            f"06:30); got {value:g}"
+        )
+    return value
+
+
+HourOfDay = Annotated[Number, AfterValidator(_hour_of_day)]
+"""A local (solar) hour of day [h], a plain number in [0, 24): 6.5 is 06:30."""
 
 
 def _position(value: Any, info: ValidationInfo) -> tuple[float, float, float]:
@@ -633,19 +657,113 @@ class Sensor(_Strict):
         return h, v
 
 
+class DailyCycle(_Strict):
+    """A temperature's simple daily cycle (§6.5): ``mean`` [K], ``amplitude`` [K] (half the
+    daily swing, >= 0 and < mean) and ``peak_hour`` [h] (the local solar hour of the maximum,
+    in [0, 24); 14 by default), the sinusoid of
+    :func:`targetacq.physics.radiometry.diurnal_temperature` with its stated assumptions.
+
+    Given for a temperature in a scenario (``temperature = { mean = "290 K", amplitude = "6 K",
+    peak_hour = 14 }``), it needs the scenario's hour of day (``[time] hour``): the temperature
+    is the cycle's at that hour, held over the whole run (:func:`held_temperature`).
+
+    Examples
+    --------
+    >>> from targetacq.scenario.schema import DailyCycle
+    >>> cycle = DailyCycle(mean="290 K", amplitude="6 K")
+    >>> print(cycle.at(14.0), cycle.at(2.0), round(cycle.at(8.0), 9))
+    296.0 284.0 290.0
+    """
+
+    mean: Temperature
+    amplitude: TemperatureDifference
+    peak_hour: HourOfDay = 14.0
+
+    @model_validator(mode="after")
+    def _check(self) -> DailyCycle:
+        if not self.amplitude < self.mean:
+            raise ValueError(
+                f"amplitude must be smaller than mean (the temperature stays above 0 K); got "
+                f"amplitude {self.amplitude:g} K, mean {self.mean:g} K"
+            )
+        return self
+
+    def at(self, hour: float) -> float:
+        """The temperature [K] at the local solar ``hour`` [h]
+        (:func:`targetacq.physics.radiometry.diurnal_temperature`)."""
+        return float(diurnal_temperature(hour, self.mean, self.amplitude, self.peak_hour))
+
+
+_PLAIN, _CYCLE = "plain temperature", "daily cycle"
+_UNION_TAGS = (_PLAIN, _CYCLE)  # the branches' names in pydantic's error locations
+
+
+def _temperature_kind(value: Any) -> str:
+    return _CYCLE if isinstance(value, (Mapping, DailyCycle)) else _PLAIN
+
+
+TemperatureOrCycle = Annotated[
+    Annotated[Temperature, Tag(_PLAIN)] | Annotated[DailyCycle, Tag(_CYCLE)],
+    Discriminator(_temperature_kind),
+]
+"""A temperature [K], or its daily cycle (a table: :class:`DailyCycle`)."""
+
+
+def held_temperature(value: float | DailyCycle | None, hour: float | None) -> float | None:
+    """A scenario's temperature [K] at the local solar ``hour`` of its start, held over the run.
+
+    The one place where a daily cycle becomes a temperature: every consumer (the compiler, the
+    reports) reads temperatures through it, by :meth:`Scenario.temperature` or
+    :meth:`Scenario.held`.
+
+    Parameters
+    ----------
+    value : float, DailyCycle or None
+        A plain temperature [K] (returned as it is), a daily cycle, or none.
+    hour : float or None
+        The scenario's hour of day (``time.hour``) [h]; needed by a daily cycle.
+
+    Returns
+    -------
+    float or None
+        ``value`` itself, or the cycle at ``hour``:
+        ``mean + amplitude · cos(2π (hour − peak_hour)/24)`` (§6.5,
+        :func:`targetacq.physics.radiometry.diurnal_temperature`).
+
+    Raises
+    ------
+    ValueError
+        A daily cycle without an hour.
+
+    Examples
+    --------
+    >>> from targetacq.scenario.schema import DailyCycle, held_temperature
+    >>> held_temperature(300.0, None)
+    300.0
+    >>> held_temperature(DailyCycle(mean=290.0, amplitude=6.0, peak_hour=14.0), 2.0)
+    284.0
+    """
+    if not isinstance(value, DailyCycle):
+        return value
+    if hour is None:
+        raise ValueError("a daily cycle of a temperature needs the hour of day: give [time] hour")
+    return value.at(hour)
+
+
 class Target(_Strict):
     """A target: a box ``dimensions`` = [length, width, height] with its long axis along
     ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
     ``image_box`` = [x, y, width, height] in pixels of the background's ``image``. ``foliage``:
     the transmittance of foliage in front of the target, in [0, 1] (§6.8; 0 hides it), which
     multiplies the path's transmittance for every imaging sensor (left out: none); radars and
-    laser radars take none."""
+    laser radars take none. ``temperature``: a temperature, or its daily cycle
+    (:class:`DailyCycle`, with ``[time] hour``)."""
 
     name: Name
     dimensions: tuple[Length, Length, Length]
     heading: Bearing = 0.0
     criterion: str | None = None
-    temperature: Temperature | None = None
+    temperature: TemperatureOrCycle | None = None
     emissivity: Fraction | None = None
     material: str | None = None
     reflectance: BandFractions | None = None
@@ -686,10 +804,11 @@ class Target(_Strict):
 
 class TerrainClassSpec(_Strict):
     """A terrain class of a thermal scene: its mean temperature and its temperature spread at a
-    stated ground resolution (§6.7)."""
+    stated ground resolution (§6.7). ``temperature``: a temperature, or its daily cycle
+    (:class:`DailyCycle`, with ``[time] hour``)."""
 
     name: Name
-    temperature: Temperature
+    temperature: TemperatureOrCycle
     temperature_std: TemperatureDifference
     resolution: Length
 
@@ -719,9 +838,11 @@ class Terrain(_Strict):
 class Background(_Strict):
     """The background: its temperature and emissivity (thermal) or reflectance and the
     irradiance (TV), and the clutter as a Table 3.5 region, an SCR, a temperature spread, an
-    image (``image`` with each target's ``image_box``) or a terrain map (thermal sensors)."""
+    image (``image`` with each target's ``image_box``) or a terrain map (thermal sensors).
+    ``temperature``: a temperature, or its daily cycle (:class:`DailyCycle`, with ``[time]
+    hour``)."""
 
-    temperature: Temperature | None = None
+    temperature: TemperatureOrCycle | None = None
     emissivity: Fraction | None = None
     material: str | None = None
     reflectance: BandFractions | None = None
@@ -1070,11 +1191,16 @@ def false_target_problems(scenario: Any) -> list[str]:
 
 
 class TimeGrid(_Strict):
-    """Evaluation times: ``start`` to ``stop`` inclusive every ``step``."""
+    """Evaluation times: ``start`` to ``stop`` inclusive every ``step``; ``hour``, the local
+    (solar) hour of day at ``start`` [h], a plain number in [0, 24) (6.5 is 06:30), which sets
+    the temperatures given as a daily cycle (:class:`DailyCycle`). They are the cycle's at that
+    hour, held over the whole run: a run of minutes does not see the day move (a study over the
+    day runs one scenario per hour)."""
 
     start: Time = 0.0
     stop: Time = 0.0
     step: Time = 1.0
+    hour: HourOfDay | None = None
 
     @model_validator(mode="after")
     def _check(self) -> TimeGrid:
@@ -1144,6 +1270,7 @@ class Scenario(_Strict):
             if s.mrtd is not None and s.type != "thermal"
         ]
         problems += _foliage_problems(self)
+        problems += _daily_cycle_problems(self)
         if self.false_targets is not None:
             problems += false_target_problems(self)
         image = self.background.image is not None
@@ -1159,6 +1286,89 @@ class Scenario(_Strict):
                     "the image"
                 )
         return problems
+
+    def _cycled(self) -> list[tuple[str, Any]]:
+        """Each item whose temperature is a daily cycle, with its location."""
+        items: list[tuple[str, Any]] = [
+            (f"targets[{k}].temperature", t) for k, t in enumerate(self.targets)
+        ]
+        items.append(("background.temperature", self.background))
+        if self.background.terrain is not None:
+            items += [
+                (f"background.terrain.classes[{k}].temperature", c)
+                for k, c in enumerate(self.background.terrain.classes)
+            ]
+        return [(where, item) for where, item in items if isinstance(item.temperature, DailyCycle)]
+
+    def temperature(self, item: Target | Background | TerrainClassSpec) -> float | None:
+        """The temperature [K] of a target, the background or a terrain class of this scenario,
+        at the hour of day of its start (``time.hour``) and held over the run: a plain one as
+        given, a daily cycle's at the hour (:func:`held_temperature`); ``None`` where none is
+        given.
+
+        Examples
+        --------
+        >>> from targetacq.scenario.schema import Scenario
+        >>> scenario = Scenario.model_validate({
+        ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 1e-4, "position": (0, 0, 10)}],
+        ...     "targets": [{"name": "truck", "dimensions": (7, 2.5, 3), "position": (2000, 0, 0),
+        ...                  "temperature": {"mean": 295, "amplitude": 8, "peak_hour": 14}}],
+        ...     "background": {"temperature": 290}, "time": {"hour": 2}})
+        >>> scenario.temperature(scenario.targets[0]), scenario.temperature(scenario.background)
+        (287.0, 290.0)
+        """
+        return held_temperature(item.temperature, self.time.hour)
+
+    def held(self) -> Scenario:
+        """This scenario with every daily cycle replaced by its temperature at ``time.hour``
+        (:meth:`temperature`): plain temperatures, held over the run, as the core compiles them
+        (:func:`targetacq.core.compile.compile_scenario`). Itself where no temperature is a
+        cycle.
+
+        Examples
+        --------
+        >>> from targetacq.scenario.schema import Scenario
+        >>> scenario = Scenario.model_validate({
+        ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 1e-4, "position": (0, 0, 10)}],
+        ...     "targets": [{"name": "truck", "dimensions": (7, 2.5, 3), "position": (2000, 0, 0),
+        ...                  "temperature": {"mean": 295, "amplitude": 8, "peak_hour": 14}}],
+        ...     "background": {"temperature": {"mean": 290, "amplitude": 2}},
+        ...     "time": {"hour": 8}})
+        >>> held = scenario.held()
+        >>> round(held.targets[0].temperature, 9), round(held.background.temperature, 9)
+        (295.0, 290.0)
+        >>> held.held() is held
+        True
+        """
+        if not self._cycled():
+            return self
+
+        def plain(item: Any) -> Any:
+            if not isinstance(item.temperature, DailyCycle):
+                return item
+            return item.model_copy(update={"temperature": self.temperature(item)})
+
+        background = plain(self.background)
+        terrain = background.terrain
+        if terrain is not None:
+            classes = [plain(c) for c in terrain.classes]
+            background = background.model_copy(
+                update={"terrain": terrain.model_copy(update={"classes": classes})}
+            )
+        return self.model_copy(
+            update={"targets": [plain(t) for t in self.targets], "background": background}
+        )
+
+
+def _daily_cycle_problems(scenario: Scenario) -> list[str]:
+    """A temperature's daily cycle needs the scenario's hour of day."""
+    if scenario.time.hour is not None:
+        return []
+    return [
+        f"{where}: a daily cycle needs the hour of day of the scenario's start: give [time] "
+        "hour (the local solar hour, in [0, 24), e.g. hour = 6.5), or a plain temperature"
+        for where, _ in scenario._cycled()
+    ]
 
 
 def _foliage_problems(scenario: Scenario) -> list[str]:
@@ -1198,14 +1408,20 @@ def _model_at(loc: Sequence[Any]) -> Any:
         if part not in fields:
             return current
         annotation = fields[part].annotation
-        while get_origin(annotation) is not None:
-            args = [a for a in get_args(annotation) if a is not type(None)]
-            models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
-            annotation = models[0] if models else (args[0] if args else annotation)
-            if models:
-                break
-        current = annotation
+        current = _model_in(annotation) or annotation
     return current
+
+
+def _model_in(annotation: Any) -> Any:
+    """The first pydantic model class inside an annotation (through optionals, unions, lists
+    and ``Annotated``), or None."""
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in get_args(annotation):
+        found = _model_in(arg)
+        if found is not None:
+            return found
+    return None
 
 
 def _location(loc: Sequence[Any]) -> str:
@@ -1277,7 +1493,11 @@ def _problems(error: ValidationError) -> list[str]:
     """Every error of a validation, each located (``table[index].key: what``)."""
     problems: list[str] = []
     for detail in error.errors():
-        loc = [p for p in detail["loc"] if not (isinstance(p, str) and p.startswith("function-"))]
+        loc = [
+            p
+            for p in detail["loc"]
+            if not (isinstance(p, str) and (p.startswith("function-") or p in _UNION_TAGS))
+        ]
         message = _message(detail, loc)
         if not loc and detail["type"] == "value_error":
             problems += message.splitlines()  # Scenario.problems(): located already

@@ -8,8 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from targetacq.physics import atmosphere
-from targetacq.physics import laser_radar_equation as laser_radar
+from targetacq.physics import atmosphere, laser_radar_equation
 from targetacq.physics.laser_radar_equation import (
     cross_range_resolution,
     laser_snr,
@@ -267,4 +266,4 @@ def test_jax_jit_equals_numpy():
 
 
 def test_module_exports():
-    assert sorted(laser_radar.__all__) == sorted(KERNELS)
+    assert sorted(laser_radar_equation.__all__) == sorted(KERNELS)

@@ -26,8 +26,7 @@ from targetacq.acquisition.criteria import CRITERIA
 from targetacq.base import arrays as _arrays
 from targetacq.base import constants
 from targetacq.core.cases import RESOLUTION_MODELS, RangeCase, case_acquisition
-from targetacq.physics import atmosphere, clutter, geometry, optics, radiometry
-from targetacq.physics import detector_noise as sensor_noise
+from targetacq.physics import atmosphere, clutter, detector_noise, geometry, optics, radiometry
 
 # --------------------------------------------------------------------------------------------
 # The kernels and valid inputs: every float keyword is an array input of the kernel.
@@ -181,16 +180,16 @@ KERNELS: dict[str, Kernel] = {
     ),
     "quantisation_step": (radiometry.quantisation_step, {"bits": 8, "span": 2.0}),
     "netd_exitance": (
-        sensor_noise.netd_exitance,
+        detector_noise.netd_exitance,
         {"netd": 0.05, "band": "lwir", "reference_temperature": 300.0},
     ),
     "pixels_on_target": (
-        sensor_noise.pixels_on_target,
+        detector_noise.pixels_on_target,
         {"area": 4.0, "range": 1000.0, "ifov": 1e-4},
     ),
-    "pixel_gain": (sensor_noise.pixel_gain, {"pixels": 4.0}),
+    "pixel_gain": (detector_noise.pixel_gain, {"pixels": 4.0}),
     "sensor_snr": (
-        sensor_noise.sensor_snr,
+        detector_noise.sensor_snr,
         {"contrast": 1.0, "noise_equivalent": 0.05, "transmittance": 0.5, "pixels": 4.0},
     ),
     "signal_to_clutter_ratio": (

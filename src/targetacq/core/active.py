@@ -32,9 +32,7 @@ from targetacq.acquisition import transforms
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.core.records import SceneArrays
-from targetacq.physics import atmosphere
-from targetacq.physics import detector_noise as sensor_noise
-from targetacq.physics import laser_radar_equation as laser_radar
+from targetacq.physics import atmosphere, detector_noise, laser_radar_equation
 
 __all__ = ["active_factors", "active_probabilities", "has_active"]
 
@@ -138,7 +136,7 @@ def active_factors(
         laser, rows = scene.laser, scene.laser.rows
         one_way_depth = _rows(depth, rows, xp)
         reflectance = _per_pair(scene.signature.target, rows, ndim, xp)  # its signal: ρ
-        received = laser_radar.received_power(
+        received = laser_radar_equation.received_power(
             xp.maximum(_rows(rng, rows, xp), 1e-9),
             _per_row(laser.power, ndim, xp),
             reflectance,
@@ -148,10 +146,10 @@ def active_factors(
         )
         with np.errstate(divide="ignore", over="ignore"):
             path = atmosphere.snr_from_optical_depth(
-                laser_radar.two_way_optical_depth(one_way_depth)
+                laser_radar_equation.two_way_optical_depth(one_way_depth)
             )
-            own = laser_radar.laser_snr(received, _per_row(laser.nep, ndim, xp))
-            total = sensor_noise.combined_snr(path, own)
+            own = laser_radar_equation.laser_snr(received, _per_row(laser.nep, ndim, xp))
+            total = detector_noise.combined_snr(path, own)
         snr = _scatter(snr, rows, total, xp)
         seen = _per_pair(scene.signature.scr, rows, ndim, xp)
         if visible_fraction is not None:

@@ -101,8 +101,7 @@ from targetacq.core.records import (
     derived,
     pytree_record,
 )
-from targetacq.physics import atmosphere, geometry
-from targetacq.physics import detector_noise as sensor_noise
+from targetacq.physics import atmosphere, detector_noise, geometry
 from targetacq.physics.clutter import signal_to_clutter_ratio
 
 __all__ = [
@@ -778,11 +777,11 @@ def _chain_numpy(
     if noisy:
         # The area seen: the outline's horizontal side times the visible part of its height.
         area = horizontal * vertical * chain.visible
-        pixels = sensor_noise.pixels_on_target_unchecked(area, np.maximum(r, 1e-9), chain.ifov)
-        own, inverse, unknown = sensor_noise.sensor_db(
+        pixels = detector_noise.pixels_on_target_unchecked(area, np.maximum(r, 1e-9), chain.ifov)
+        own, inverse, unknown = detector_noise.sensor_db(
             chain.contrast, chain.noise_equivalent, tau, pixels, np
         )
-        snr = sensor_noise.combined_db([snr, own], np)
+        snr = detector_noise.combined_db([snr, own], np)
         # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
         path_inverse = np.expm1(depth)
         total = path_inverse * path_inverse

@@ -28,8 +28,7 @@ import numpy as np
 
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
-from targetacq.physics import atmosphere
-from targetacq.physics import detector_noise as sensor_noise
+from targetacq.physics import atmosphere, detector_noise
 
 __all__ = ["SensorNoise", "imager_factors"]
 
@@ -106,7 +105,7 @@ def imager_factors(
     tau = xp.exp(-depth)
     snr = atmosphere.snr_from_optical_depth(depth)
     if noise is not None:
-        pixels = sensor_noise.pixels_on_target(noise.area, shortest, noise.ifov)
-        own = sensor_noise.sensor_snr(noise.contrast, noise.noise_equivalent, tau, pixels)
-        snr = sensor_noise.combined_snr(snr, own)
+        pixels = detector_noise.pixels_on_target(noise.area, shortest, noise.ifov)
+        own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, tau, pixels)
+        snr = detector_noise.combined_snr(snr, own)
     return cycles, tau, snr

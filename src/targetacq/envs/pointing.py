@@ -187,7 +187,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         still happens, so a seed gives the same layout with and without overrides); a
         ``sensor.hfov`` or ``sensor.ifov`` replaces the default lens; a background's way of
         clutter, or an atmosphere's extinction, obscurant or visibility, replaces the default
-        one. Plausibility warnings are emitted once, here. Default: none (the scene below).
+        one. Plausibility warnings are emitted once, here. Default: none (the scene of the Notes).
     render_mode : None
         No rendering.
     camera_type : str

@@ -6,6 +6,15 @@ targets, some standing, some driving. The agent chooses each camera's pointing e
 model decides, with its search law and its nested detection → recognition → identification
 draws, what the cameras acquire.
 
+Scene
+    the environment builds a scenario (:class:`targetacq.scenario.schema.Scenario`) at each
+    reset; ``scenario_overrides`` sets fields of its records over the environment's defaults,
+    as a scenario file's tables would: an MRTD curve, a NETD or a digitiser's step on every
+    camera, foliage, a hot spot or a temperature on every target, an atmosphere (extinction,
+    obscurant, segments, clouds), a background's clutter, the model's transform, noise model
+    or redraw rule: what a scenario's sensor, target, background, atmosphere and model tables
+    say reaches the episode, checked by the records themselves when the environment is made.
+    ``env.scenario`` is the episode's.
 Observation (float32, one flat vector)
     the platform's position over the area's half-width; each camera's pointing (azimuth / π,
     depression / (π/2)); per target its position relative to the platform over the half-width
@@ -37,8 +46,13 @@ Episode
 
 from __future__ import annotations
 
+import copy
 import math
+import os
 import warnings
+from collections.abc import Mapping
+from difflib import get_close_matches
+from pathlib import Path
 from typing import Any
 
 import gymnasium
@@ -47,10 +61,27 @@ from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 
 from targetacq.run.search import ShortVisitWarning
-from targetacq.scenario.schema import Atmosphere, Background, Scenario, Sensor, Target
+from targetacq.scenario.plausibility import collected, emit
+from targetacq.scenario.schema import (
+    Atmosphere,
+    Background,
+    ModelChoices,
+    Scenario,
+    ScenarioError,
+    Sensor,
+    Target,
+    parse_scenario,
+)
 from targetacq.sensors import SENSOR_TYPES, get_sensor_type
 
-__all__ = ["CAMERA_TYPES", "MAX_CAMERAS", "MAX_TARGETS", "SensorPointingEnv"]
+__all__ = [
+    "CAMERA_TYPES",
+    "CONTROLLED_FIELDS",
+    "MAX_CAMERAS",
+    "MAX_TARGETS",
+    "OVERRIDE_TABLES",
+    "SensorPointingEnv",
+]
 
 MAX_CAMERAS = 64
 """Most cameras an environment takes (each adds its pointing to the observation)."""
@@ -64,6 +95,52 @@ CAMERA_TYPES: tuple[str, ...] = tuple(
 :data:`targetacq.sensors.SENSOR_TYPES` that need no table of their own (thermal, tv, swir). The
 scene gives every target a temperature and (but for thermal cameras) a reflectance, and the
 background an in-band irradiance: what those types need."""
+
+OVERRIDE_TABLES: dict[str, type[Any]] = {
+    "sensor": Sensor,
+    "target": Target,
+    "atmosphere": Atmosphere,
+    "background": Background,
+    "model": ModelChoices,
+}
+"""The keys of an environment's ``scenario_overrides``, and the scenario record whose fields
+each takes (the tables of a scenario file: ``sensor`` and ``target`` set on every camera and
+every target)."""
+
+CONTROLLED_FIELDS: dict[str, dict[str, str]] = {
+    "sensor": {
+        "name": "each camera's own",
+        "type": "give camera_type",
+        "position": "the platform's, per step",
+        "waypoints": "the platform flies a straight line",
+        "look_at": "the action points the cameras",
+        "azimuth": "the action points the cameras",
+        "depression": "the action points the cameras",
+    },
+    "target": {
+        "name": "each target's own",
+        "position": "drawn per episode",
+        "waypoints": "the targets' positions are drawn per episode",
+        "heading": "drawn per episode",
+        "dimensions": "drawn per episode",
+    },
+}
+"""The fields of a camera and of a target that the environment sets itself (with why), refused
+in ``scenario_overrides``."""
+
+_GROUPS: dict[str, tuple[str, ...]] = {
+    "sensor": ("hfov", "ifov"),
+    "background": ("clutter", "scr", "clutter_std", "image", "terrain"),
+    "atmosphere": ("extinction", "obscurant", "visibility"),
+}
+"""Fields that replace a group of the environment's defaults: a camera given ``hfov`` or
+``ifov`` drops the default lens (pitch and focal length); a background given one way of clutter,
+or an atmosphere given one way of extinction, drops the default one (the records take one)."""
+_REPLACED: dict[str, tuple[str, ...]] = {
+    "sensor": ("pitch", "focal_length"),
+    "background": ("clutter", "clutter_std"),
+    "atmosphere": ("obscurant",),
+}
 
 _TASKS = ("detected", "recognised", "identified")
 """The cumulative fused flags of :class:`targetacq.run.simulation.StepResult` (``fused_<flag>``), in
@@ -89,8 +166,28 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         Platform speed [m/s], >= 0 (flying east).
     half_width : float
         Half the side of the square area the targets stand in [m], > 0.
-    focal_length : float
-        The cameras' focal length [m] (17 µm pixels, 640 × 512).
+    scenario_overrides : mapping, optional
+        The core's sensor, target, path and model features, as the tables of a scenario file:
+        keys ``"sensor"``, ``"target"``, ``"atmosphere"``, ``"background"`` and ``"model"``
+        (:data:`OVERRIDE_TABLES`), each a mapping of the fields of that scenario record
+        (:class:`~targetacq.scenario.schema.Sensor`, :class:`~targetacq.scenario.schema.Target`,
+        :class:`~targetacq.scenario.schema.Atmosphere`,
+        :class:`~targetacq.scenario.schema.Background`,
+        :class:`~targetacq.scenario.schema.ModelChoices`), set over the environment's own scene
+        below: ``sensor`` on every camera, ``target`` on every target. Quantities as in a file
+        (``"50 mK"``, ``"0.2 /km"``) or as SI numbers. One mapping rather than five keywords
+        keeps the constructor within ten parameters. Checked here, by the scenario's own
+        records and the core's compiler (an MRTD curve is read): a bad value, an unknown key
+        or a field the environment sets itself (:data:`CONTROLLED_FIELDS`: the cameras' names,
+        type, position and pointing; the targets' names and the position, heading and
+        dimensions drawn per episode) raises ``ValueError`` naming it
+        (``scenario_overrides: sensor.netd: ...``). File paths (``sensor.mrtd``,
+        ``background.image``, ``background.terrain.map``) are relative to the current directory
+        when the environment is made. A ``target.temperature`` replaces the drawn one (the draw
+        still happens, so a seed gives the same layout with and without overrides); a
+        ``sensor.hfov`` or ``sensor.ifov`` replaces the default lens; a background's way of
+        clutter, or an atmosphere's extinction, obscurant or visibility, replaces the default
+        one. Plausibility warnings are emitted once, here. Default: none (the scene of the Notes).
     render_mode : None
         No rendering.
     camera_type : str
@@ -98,6 +195,32 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         a 2 K temperature spread), or "tv" or "swir" (the type's default band; targets of
         reflectance 0.1 on a background of 0.3 under 300 W/m², clutter a medium Table 3.5
         region).
+
+    Notes
+    -----
+    The environment's own scene: cameras of 640 × 512 pixels of 17 µm behind a 0.1 m lens
+    (``scenario_overrides={"sensor": {"focal_length": "0.2 m"}}`` for another one), no sensor
+    noise but the path's; targets of 4-7.5 m × 2.5 m × 2.5 m at 300-315 K, headings and
+    positions drawn per episode; a background at 293 K; haze (``obscurant = "haze"``); the
+    default model choices.
+
+    Examples
+    --------
+    >>> from targetacq.envs import SensorPointingEnv
+    >>> env = SensorPointingEnv(targets=2, duration=5.0, scenario_overrides={
+    ...     "sensor": {"netd": "50 mK", "quantisation_step": "1e-4 W/m^2"},
+    ...     "target": {"foliage": 0.5, "hot_spot": True},
+    ...     "atmosphere": {"extinction": "0.2 /km"},
+    ...     "model": {"redraw": "after-out-of-view", "decorrelation_time": "30 s"},
+    ... })
+    >>> obs, info = env.reset(seed=1)
+    >>> obs.shape, env.scenario.sensors[0].netd, env.scenario.targets[1].foliage
+    ((17,), 0.05, 0.5)
+    >>> try:
+    ...     SensorPointingEnv(scenario_overrides={"sensor": {"nedt": "50 mK"}})
+    ... except ValueError as error:  # doctest: +ELLIPSIS
+    ...     print(error)
+    scenario_overrides: sensor.nedt: unknown key 'nedt' (did you mean 'netd'?); valid keys: ...
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 - Gymnasium's convention
@@ -111,7 +234,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         altitude: float = 1500.0,
         speed: float = 40.0,
         half_width: float = 3000.0,
-        focal_length: float = 0.1,
+        scenario_overrides: Mapping[str, Mapping[str, Any]] | None = None,
         render_mode: str | None = None,
         camera_type: str = "thermal",
     ) -> None:
@@ -135,7 +258,6 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             ("dt", dt),
             ("altitude", altitude),
             ("half_width", half_width),
-            ("focal_length", focal_length),
         ):
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and > 0, got {value!r}")
@@ -151,7 +273,8 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             float(speed),
             float(half_width),
         )
-        self.focal_length = float(focal_length)
+        self.scenario_overrides = _overrides(scenario_overrides)
+        self._check_overrides()
         size = 3 + 2 * cameras + 6 * targets
         # Positions over the half-width stay within the area plus the flight and the height.
         bound = 2.0 + (self.speed * self.duration + self.altitude) / self.half_width
@@ -161,46 +284,88 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
 
     # -- set-up --------------------------------------------------------------------------------
 
-    def _scenario(self) -> Scenario:
-        rng = self.np_random
+    @property
+    def scenario(self) -> Scenario | None:
+        """The episode's scenario (its targets where the reset drew them), or None before the
+        first reset: :meth:`targetacq.Simulation.from_scenario` of it is the episode's model."""
+        return None if self._sim is None else self._sim.scenario
+
+    def _tables(self, rng: np.random.Generator, cameras: int, targets: int) -> dict[str, Any]:
+        """The scene as a scenario's tables: the environment's defaults, the overrides over
+        them, ``cameras`` cameras and ``targets`` targets drawn from ``rng``."""
         start = (-self.half_width, 0.0, self.altitude)
+        camera = {
+            "type": self.camera_type,
+            "band": "lwir" if get_sensor_type(self.camera_type).band_required else None,
+            "pixels": (640, 512),
+            "pitch": 17e-6,
+            "focal_length": 0.1,
+            "position": start,
+            "azimuth": math.pi / 2,
+            "depression": math.pi / 6,
+        }
         sensors = [
-            Sensor(
-                name=f"camera-{k}",
-                type=self.camera_type,
-                band="lwir" if get_sensor_type(self.camera_type).band_required else None,
-                pixels=(640, 512),
-                pitch=17e-6,
-                focal_length=self.focal_length,
-                position=start,
-                azimuth=math.pi / 2,
-                depression=math.pi / 6,
-            )
-            for k in range(self.n_cameras)
+            {"name": f"camera-{k}", **_over(camera, self.scenario_overrides, "sensor")}
+            for k in range(cameras)
         ]
-        targets = [
-            Target(
-                name=f"target-{j}",
-                dimensions=(float(rng.uniform(4.0, 7.5)), 2.5, 2.5),
-                heading=float(rng.uniform(0.0, 2 * math.pi)),
-                temperature=float(rng.uniform(300.0, 315.0)),
-                reflectance=None if self.camera_type == "thermal" else 0.1,
-                position=(
-                    float(rng.uniform(-self.half_width, self.half_width)),
-                    float(rng.uniform(-self.half_width, self.half_width)),
-                    0.0,
-                ),
+        drawn = []
+        for j in range(targets):
+            dimensions = (float(rng.uniform(4.0, 7.5)), 2.5, 2.5)
+            heading = float(rng.uniform(0.0, 2 * math.pi))
+            temperature = float(rng.uniform(300.0, 315.0))
+            reflectance = None if self.camera_type == "thermal" else 0.1
+            position = (
+                float(rng.uniform(-self.half_width, self.half_width)),
+                float(rng.uniform(-self.half_width, self.half_width)),
+                0.0,
             )
-            for j in range(self.n_targets)
-        ]
-        return Scenario(
-            sensors=sensors,
-            targets=targets,
-            background=Background(temperature=293.0, clutter_std=2.0)
+            target = {
+                "name": f"target-{j}",
+                "dimensions": dimensions,
+                "heading": heading,
+                "temperature": temperature,
+                "reflectance": reflectance,
+                "position": position,
+            }
+            drawn.append(_over(target, self.scenario_overrides, "target"))
+        background: dict[str, Any] = (
+            {"temperature": 293.0, "clutter_std": 2.0}
             if self.camera_type == "thermal"
-            else Background(temperature=293.0, reflectance=0.3, irradiance=300.0, clutter="medium"),
-            atmosphere=Atmosphere(obscurant="haze"),
+            else {
+                "temperature": 293.0,
+                "reflectance": 0.3,
+                "irradiance": 300.0,
+                "clutter": "medium",
+            }
         )
+        return {
+            "sensors": sensors,
+            "targets": drawn,
+            "background": _over(background, self.scenario_overrides, "background"),
+            "atmosphere": _over({"obscurant": "haze"}, self.scenario_overrides, "atmosphere"),
+            "model": _over({}, self.scenario_overrides, "model"),
+        }
+
+    def _check_overrides(self) -> None:
+        """Validate the overrides now, as the records and the compiler will at each reset: a
+        scene of one camera and one target, its problems located at the option."""
+        from targetacq.core.compile import check_runnable
+
+        data = self._tables(np.random.default_rng(0), 1, 1)
+        with collected() as found:
+            try:
+                scenario = parse_scenario(data, _SOURCE, strict_units=False)
+            except ScenarioError as error:
+                raise ScenarioError([_located(p) for p in error.problems]) from None
+        problems = check_runnable(scenario)
+        if problems:
+            raise ScenarioError([_located(f"{_SOURCE}: {p}") for p in problems])
+        emit([_located(message) for message in found], stacklevel=4)
+
+    def _scenario(self) -> Scenario:
+        data = self._tables(self.np_random, self.n_cameras, self.n_targets)
+        with collected():  # warned when the environment was made
+            return parse_scenario(data, _SOURCE, strict_units=False)
 
     def _platform(self, time: float) -> np.ndarray:
         return np.array([-self.half_width + self.speed * time, 0.0, self.altitude])
@@ -320,3 +485,91 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             depression = math.atan2(-up, math.hypot(east, north))
             action[k] = azimuth / math.pi, depression / (math.pi / 4) - 1.0
         return np.clip(action, -1.0, 1.0)
+
+
+_SOURCE = "scenario_overrides"
+_ONE = {"sensors[0]": "sensor", "targets[0]": "target"}
+
+
+def _located(problem: str) -> str:
+    """A scenario's located problem as an option: ``sensors[0].netd`` is ``sensor.netd``."""
+    head = f"{_SOURCE}: "
+    rest = problem.removeprefix(head)
+    for place, option in _ONE.items():
+        if rest.startswith(place):
+            return head + option + rest[len(place) :]
+    return head + rest if problem.startswith(head) else problem
+
+
+def _path(value: Any) -> Any:
+    """A file's path from the current directory: absolute, so that a later ``chdir`` keeps it."""
+    if isinstance(value, (str, os.PathLike)):
+        path = Path(value)
+        return str(path if path.is_absolute() else Path.cwd() / path)
+    return value
+
+
+def _overrides(given: Any) -> dict[str, dict[str, Any]]:
+    """The checked, copied overrides: known tables, each a mapping of text keys, none of the
+    fields the environment sets, file paths made absolute."""
+    if given is None:
+        return {}
+    if not isinstance(given, Mapping):
+        lens = (
+            " (a lens is scenario_overrides={'sensor': {'focal_length': ...}})"
+            if isinstance(given, (int, float))
+            else ""
+        )
+        raise ValueError(
+            f"{_SOURCE} must be a mapping of tables ({', '.join(OVERRIDE_TABLES)}) to mappings "
+            f"of their fields, got {type(given).__name__}{lens}"
+        )
+    tables: dict[str, dict[str, Any]] = {}
+    for key, fields in given.items():
+        if key not in OVERRIDE_TABLES:
+            close = get_close_matches(str(key), list(OVERRIDE_TABLES), 1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ValueError(
+                f"{_SOURCE}: unknown key {key!r}{hint}; valid keys: {', '.join(OVERRIDE_TABLES)}"
+            )
+        if not isinstance(fields, Mapping):
+            raise ValueError(
+                f"{_SOURCE}: {key} must be a mapping of {OVERRIDE_TABLES[key].__name__}'s fields, "
+                f"got {type(fields).__name__}"
+            )
+        controlled = CONTROLLED_FIELDS.get(key, {})
+        refused = [name for name in fields if name in controlled]
+        if refused:
+            why = "; ".join(f"{name}: {controlled[name]}" for name in refused)
+            raise ValueError(
+                f"{_SOURCE}: {key}.{refused[0]}: the environment sets "
+                f"{', '.join(refused)} itself ({why}); leave "
+                f"{'it' if len(refused) == 1 else 'them'} out"
+            )
+        table = copy.deepcopy(dict(fields))
+        if key == "sensor" and "mrtd" in table:
+            table["mrtd"] = _path(table["mrtd"])
+        if key == "background":
+            if "image" in table:
+                table["image"] = _path(table["image"])
+            terrain = table.get("terrain")
+            if isinstance(terrain, Mapping) and "map" in terrain:
+                table["terrain"] = {**terrain, "map": _path(terrain["map"])}
+        tables[key] = table
+    return tables
+
+
+def _over(
+    defaults: dict[str, Any], overrides: Mapping[str, Mapping[str, Any]], key: str
+) -> dict[str, Any]:
+    """The environment's ``defaults`` of a table with the overrides of ``key`` over them (a
+    field of a group dropping the group's defaults: :data:`_GROUPS`)."""
+    given = overrides.get(key)
+    if not given:
+        return defaults
+    merged = dict(defaults)
+    if any(name in given for name in _GROUPS.get(key, ())):
+        for name in _REPLACED[key]:
+            merged.pop(name, None)
+    merged.update(given)
+    return merged

@@ -1506,12 +1506,16 @@ def _problems(error: ValidationError) -> list[str]:
     return list(dict.fromkeys(problems))
 
 
-def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
+def parse_scenario(
+    data: dict[str, Any], source: str = "scenario", *, strict_units: bool = True
+) -> Scenario:
     """Validate a scenario given as nested dictionaries (as read from TOML).
 
     Units are strict, as in a file: every quantity is a string with its unit (or a pint
     ``Quantity``); a bare number where a unit is needed is an error saying which unit to add.
-    Build :class:`Scenario` directly (or call ``Scenario.model_validate``) to give SI numbers.
+    With ``strict_units=False`` a bare number is taken as SI, as Python callers give it (the
+    messages are the same located ones); or build :class:`Scenario` directly (or call
+    ``Scenario.model_validate``) to give SI numbers.
 
     A valid value beyond what any real sensor or scene has (a unit slip: ``"100 m"`` for a
     focal length) is not an error: it is emitted as a
@@ -1525,7 +1529,7 @@ def parse_scenario(data: dict[str, Any], source: str = "scenario") -> Scenario:
     """
     try:
         with collected() as found:
-            scenario = Scenario.model_validate(data, context={"strict_units": True})
+            scenario = Scenario.model_validate(data, context={"strict_units": strict_units})
     except ValidationError as error:
         raise ScenarioError([f"{source}: {problem}" for problem in _problems(error)]) from None
     except RecursionError:

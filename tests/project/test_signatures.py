@@ -4,8 +4,8 @@ Every module under ``src/targetacq`` is read with :mod:`ast` (nothing is importe
 parameters are its positional-only, positional and keyword-only ones, plus ``*args`` and
 ``**kwargs`` (one each); a method's ``self`` or ``cls`` is not counted. Exempt:
 
-- private names (a leading ``_``), members of private classes, and functions nested in functions
-  (none of them is an API);
+- private names (a leading ``_``, but not a dunder: a class's ``__init__`` is its call),
+  members of private classes, and functions nested in functions (none of them is an API);
 - typer commands (decorated ``@<app>.command(...)``): each command-line option is a parameter
   of the command function by typer's design, and the command's interface is its command line,
   not a Python call.
@@ -50,6 +50,12 @@ def _exempt(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
     return "command" in names
 
 
+def _private(name: str) -> bool:
+    """A leading underscore, but not a dunder: ``__init__`` and ``__call__`` are how a class is
+    called."""
+    return name.startswith("_") and not (name.startswith("__") and name.endswith("__"))
+
+
 def long_signatures(tree: ast.Module) -> Iterator[tuple[str, int, int]]:
     """``(qualified name, line, parameter count)`` of each public function or method of a
     module with more than :data:`LIMIT` parameters."""
@@ -60,7 +66,7 @@ def long_signatures(tree: ast.Module) -> Iterator[tuple[str, int, int]]:
                 if not child.name.startswith("_"):
                     yield from walk(child, f"{prefix}{child.name}.", True)
             elif isinstance(child, ast.FunctionDef | ast.AsyncFunctionDef):
-                if child.name.startswith("_") or _exempt(child):
+                if _private(child.name) or _exempt(child):
                     continue
                 count = parameter_count(child, method=in_class)
                 if count > LIMIT:
@@ -81,6 +87,8 @@ def test_the_counter_counts_every_kind_of_parameter() -> None:
         "    def too_many(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
         "    @classmethod\n"
         "    def build(cls, *a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "    def __init__(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
+        "    def _helper(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
         "class _Hidden:\n"
         "    def method(self, a, b, c, d, e, f, g, h, i, j, k): pass\n"
         "@app.command('x')\n"
@@ -93,6 +101,7 @@ def test_the_counter_counts_every_kind_of_parameter() -> None:
         ("eleven", 11),
         ("Public.too_many", 11),
         ("Public.build", 11),
+        ("Public.__init__", 11),
         ("kernel", 11),
     }
 

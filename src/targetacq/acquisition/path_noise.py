@@ -72,14 +72,18 @@ __all__ = [
 
 
 def _amplitude(s: Any, xp: Any) -> Any:
-    """``10^(s/20)``; off NumPy with a zero, not NaN, gradient at s = ±inf.
+    """``10^(s/20)`` (+inf beyond the float range); off NumPy with a zero, not NaN, gradient at
+    s = ±inf.
 
     The slope of ``10^(s/20)`` is infinite at s = +inf, where the models downstream are flat
     (f = 1 from 20 dB up): the chain rule gives 0 · inf = NaN. JAX differentiates both branches
     of a ``where``, so the infinite values are taken from a constant branch instead.
     """
     if isinstance(s, np.ndarray):
-        return 10.0 ** (s / 20.0)
+        # An SNR of thousands of dB (a path of subnormal optical depth) overflows to inf: the
+        # exact limit, no noise, not an error.
+        with np.errstate(over="ignore"):
+            return 10.0 ** (s / 20.0)
     finite = xp.isfinite(s)
     infinite = xp.where(s > 0, xp.inf, xp.zeros_like(s))  # constant: no slope to multiply
     lin = xp.where(finite, 10.0 ** (xp.where(finite, s, 0.0) / 20.0), infinite)

@@ -91,6 +91,7 @@ api_modules = [  # by layer, lowest first (the contributor page "Architecture")
     "targetacq.physics.terrain",
     "targetacq.physics.features",
     "targetacq.physics.detector_noise",
+    "targetacq.physics.mtf",
     "targetacq.physics.mrtd",
     "targetacq.physics.radar_equation",
     "targetacq.physics.laser_radar_equation",

@@ -93,6 +93,7 @@ api_modules = [  # by layer, lowest first (the contributor page "Architecture")
     "targetacq.physics.detector_noise",
     "targetacq.physics.mtf",
     "targetacq.physics.mrtd",
+    "targetacq.physics.ttp",
     "targetacq.physics.radar_equation",
     "targetacq.physics.laser_radar_equation",
     "targetacq.physics.targets",

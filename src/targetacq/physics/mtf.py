@@ -525,9 +525,9 @@ def system_mtf(frequency: Array, components: Mapping[str, Mapping[str, Any]]) ->
         missing = [p for p in component.parameters if p not in given]
         unknown = sorted(set(given) - set(component.parameters) - set(component.options))
         if missing or unknown:
-            options = f" (options: {', '.join(component.options)})" if component.options else ""
+            listed = f" (options: {', '.join(component.options)})" if component.options else ""
             raise ValueError(
-                f"MTF component {name!r} takes {', '.join(component.parameters)}{options}; "
+                f"MTF component {name!r} takes {', '.join(component.parameters)}{listed}; "
                 f"missing {', '.join(missing) or 'none'}, unknown {', '.join(unknown) or 'none'}"
             )
         args = [given[p] for p in component.parameters]

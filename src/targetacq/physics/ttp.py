@@ -34,6 +34,7 @@ NVESD noise model are taken in closed form (:func:`noise_factor`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -58,6 +59,7 @@ __all__ = [
     "system_ctf",
     "ttp_cycles",
     "ttp_value",
+    "ttp_value_bound",
 ]
 
 NOISE_ALPHA = 169.6
@@ -522,6 +524,24 @@ def _ttp_value(r: Array, c: Array, tau: Array, system: TtpSystem, samples: int, 
     ratio = xp.where(seen, target_ / xp.where(seen, threshold, 1.0), 0.0)
     value = xp.sum(xp.sqrt(ratio), axis=-1) * (cutoff_[..., 0] / samples)
     return xp.where(xp.isnan(r + target + cutoff), xp.nan, value)
+
+
+def ttp_value_bound(system: TtpSystem) -> Any:
+    """An upper bound of :func:`ttp_value` at any range and contrast [cycles/rad].
+
+    Φ for the largest contrast a display shows (``C = 1``), a clear path and no turbulence:
+    Φ cannot exceed it, since a lower contrast, transmittance or MTF only lowers the integrand
+    and shrinks the frequencies where ``C > CTF_sys``. A range solver's bracket
+    (``V(R) <= d · bound / R``).
+
+    Examples
+    --------
+    >>> system = TtpSystem(ifov=1.7e-4, aperture=0.1, wavelength=10e-6, netd=0.05)
+    >>> bool(ttp_value_bound(system) >= ttp_value(1000.0, 2.0, 1.0, system))
+    True
+    """
+    clear = dataclasses.replace(system, cn2=0.0)
+    return ttp_value(1.0, 2.0 * system.scene_contrast, 1.0, clear)
 
 
 def _expand(system: TtpSystem, xp: Any) -> TtpSystem:

@@ -68,7 +68,7 @@ SOLVER_ITERATIONS = 48
 
 _REFERENCE_IFOV = 1e-3  # [rad]: any IFOV works for the geometric scaling
 _RANGE_TOLERANCE = 1e-12  # of the ranges solved inside the bisection
-_NOT_MODEL = ("critical_dimension", "ifov", "cycle", "mrtd")
+_NOT_MODEL = ("critical_dimension", "ifov", "cycle", "mrtd", "ttp")
 _OPTICS_AND_NOISE: dict[str, Any] = {
     "wavelength": None,
     "aperture": None,
@@ -108,6 +108,8 @@ def _case_builder(
             what = (
                 "an MRTD curve fixes the camera's resolution"
                 if name == "mrtd"
+                else "the TTP resolution model is not solved for the IFOV yet"
+                if name == "ttp"
                 else "the design solves for the IFOV"
                 if name in ("ifov", "cycle")
                 else "it is an argument of its own"

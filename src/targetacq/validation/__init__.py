@@ -15,7 +15,9 @@ the model's curve through the printed points. The sections, in page order:
 - Planck: band exitance (6.12) against a numerical quadrature of (6.2) done here, and σT⁴ (6.1);
 - the check values in the text: diffraction (5.3), Fig. 3.3's cycles, vignetting cos⁴ (6.17),
   Np/km ↔ dB/km (§7.4), the SNR of (7.5)–(7.7);
-- a vendor's published DRI ranges (thermal-camera datasheet pixel rule).
+- a vendor's published DRI ranges (thermal-camera datasheet pixel rule);
+- the TTP metric: the V50s of ``ttp-vehicles``, its TTPF at V50 and the diffraction MTF's closed
+  form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced).
 
 Published values are read from the bundled tables (``targetacq/data``, with their provenance)
 or quoted from the thesis's text; model values come from the public functions. A check's
@@ -55,6 +57,7 @@ from targetacq.validation._transforms import (
     observed_section,
     schmieder_weathersby_section,
 )
+from targetacq.validation._ttp import ttp_section
 
 __all__ = [
     "OBSERVED_TRANSFORM",
@@ -98,6 +101,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         planck_section(),
         optics_section(),
         vendor_section(),
+        ttp_section(),
     )
 
 

@@ -203,3 +203,22 @@ def test_ttpf_inverse_round_trip_and_its_exponent():
     np.testing.assert_allclose(ttp_transform(ttp_transform_inverse(p, 20.8), 20.8), p, rtol=1e-12)
     # E = 1.51 + 0.24 x written out: at x = 3, P = 3^2.23 / (1 + 3^2.23).
     assert ttp_transform(3 * 20.8, 20.8) == pytest.approx(3**2.23 / (1 + 3**2.23), rel=1e-14)
+
+
+def test_jax_jit_and_grad():
+    jax = pytest.importorskip("jax")
+    jnp = pytest.importorskip("jax.numpy")
+    jax.config.update("jax_enable_x64", True)
+    system = dataclasses.replace(CAMERA, cn2=1e-14, jitter=1e-5)
+    r = np.array([1000.0, 2000.0])
+    got = jax.jit(lambda rr: t.ttp_cycles(rr, TARGET, 2.0, 1.0, system))(jnp.asarray(r))
+    np.testing.assert_allclose(
+        np.asarray(got), t.ttp_cycles(r, TARGET, 2.0, 1.0, system), rtol=1e-12
+    )
+    slope = jax.grad(lambda dt: t.ttp_cycles(1000.0, TARGET, dt, 1.0, system))(0.5)
+    step = 1e-4
+    central = (
+        t.ttp_cycles(1000.0, TARGET, 0.5 + step, 1.0, system)
+        - t.ttp_cycles(1000.0, TARGET, 0.5 - step, 1.0, system)
+    ) / (2 * step)
+    assert float(slope) == pytest.approx(central, rel=1e-6)

@@ -596,7 +596,7 @@ def ttp_cycles(
     >>> round(float(ttp_cycles(1000.0, 2.3, 2.0, 1.0, system)), 2)
     45.47
     """
-    xp, (r, d) = _arrays.arrays(range, critical_dimension)
+    xp, (r, d, c, tau) = _arrays.arrays(range, critical_dimension, contrast, transmittance)
     _positive("range", r, xp, "m")
     _positive("critical_dimension", d, xp, "m")
-    return _arrays.result(d / r * ttp_value(r, contrast, transmittance, system))
+    return _arrays.result(d / r * ttp_value(r, c, tau, system))

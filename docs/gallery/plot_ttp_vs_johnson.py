@@ -47,6 +47,8 @@ for ax, x, found, label in ((left, delta_t, by_dt, "ΔT [K]"), (right, f_numbers
     ax.set_yscale("log")
     ax.set_xlabel(label)
     ax.grid(True, which="both", alpha=0.3)
+right.set_xticks(f_numbers, labels=[f"{f:g}" for f in f_numbers])
+right.minorticks_off()
 left.set_ylabel("identification range at P = 0.5 [m]")
 left.legend()
 fig.suptitle("Same camera, same target: Johnson's criteria and the TTP metric")

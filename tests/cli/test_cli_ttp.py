@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 
 import pytest
 
@@ -68,3 +69,19 @@ def test_geometric_is_still_accepted(capsys):
         main(["dri", *CAMERA, "--resolution-model", "geometric", "--format", "json"])
     assert exit_.value.code in (0, None)
     assert json.loads(capsys.readouterr().out)["resolution_model"] == "johnson"
+
+
+def test_the_web_dri_takes_the_resolution_model(capsys):
+    pytest.importorskip("fastapi")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="Using `httpx` with `starlette.testclient`")
+        from fastapi.testclient import TestClient
+
+    from targetacq.web.api import create_app
+
+    options = dict(zip([a[2:].replace("-", "_") for a in CAMERA[::2]], CAMERA[1::2], strict=True))
+    options |= {"resolution_model": "ttp", "jitter": "0.03mrad"}
+    with TestClient(create_app(), base_url="http://127.0.0.1") as client:
+        response = client.post("/dri", json=options)
+    assert response.status_code == 200, response.text
+    assert response.json() == _dri(capsys, "--jitter", "0.03mrad")

@@ -85,3 +85,15 @@ def test_the_web_dri_takes_the_resolution_model(capsys):
         response = client.post("/dri", json=options)
     assert response.status_code == 200, response.text
     assert response.json() == _dri(capsys, "--jitter", "0.03mrad")
+
+
+def test_design_finds_the_lens_that_dri_ranged(capsys):
+    ident = _dri(capsys)["ranges"][-1]
+    camera = [a for a in CAMERA if a not in ("--focal-length", "100mm")]
+    with pytest.raises(SystemExit) as exit_:
+        main(["design", *camera, "--resolution-model", "ttp", "--task", "identification",
+              "--range", f"{ident['range_m']!r}m", "--format", "json"])  # fmt: skip
+    out = capsys.readouterr()
+    assert exit_.value.code in (0, None), out.err
+    (row,) = json.loads(out.out)["rows"]
+    assert row["focal_length_m"] == pytest.approx(0.1, rel=1e-6)

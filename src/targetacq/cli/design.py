@@ -31,7 +31,7 @@ from targetacq.run.range_options import (
 _NOT_FOR_DESIGN = ("ifov", "hfov", "projection", "pixel_density", "mrtd")
 """Range-case options that give the resolution the design solves for."""
 
-_NOT_MODEL = ("critical_dimension", "ifov", "cycle", "mrtd", "ttp")
+_NOT_MODEL = ("critical_dimension", "ifov", "cycle", "mrtd")
 
 
 @app.command()
@@ -75,11 +75,6 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
     from targetacq.run import design as solver
 
     options = dict(options)
-    if options.get("resolution_model") == "ttp":
-        raise ValueError(
-            "--resolution-model ttp does not apply to design yet (the TTP system is not solved "
-            "for the IFOV); use dri or sweep over --focal-length or --pitch"
-        )
     for name in _NOT_FOR_DESIGN:
         if options.get(name) is not None:
             what = (

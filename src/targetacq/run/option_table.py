@@ -179,6 +179,14 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         "background_emissivity", float, "Background emissivity in [0, 1] (default 1).", SCENE
     ),
     OptionSpec(
+        "sky_temperature",
+        str,
+        "Effective sky temperature, e.g. 240K: surfaces of emissivity < 1 reflect the sky "
+        "(default: no reflection).",
+        SCENE,
+        quantity="temperature",
+    ),
+    OptionSpec(
         "clutter_std",
         str,
         "Background temperature spread (clutter), e.g. 2K; gives the SCR.",

@@ -434,6 +434,7 @@ def _clutter(
     emissivity: float | None,
     background_emissivity: float | None,
     band: tuple[float, float] | None,
+    sky_temperature: str | None = None,
 ) -> dict[str, Any]:
     """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
     if sum(v is not None for v in (scr, region, clutter_std)) > 1:
@@ -445,6 +446,7 @@ def _clutter(
         for option, value in (
             ("--emissivity", emissivity),
             ("--background-emissivity", background_emissivity),
+            ("--sky-temperature", sky_temperature),
         ):
             if value is not None:
                 raise ValueError(
@@ -473,6 +475,9 @@ def _clutter(
     sigma_t = None
     if clutter_std is not None:
         sigma_t = _temperature_difference(clutter_std, "--clutter-std")
+    t_sky = None
+    if sky_temperature is not None:
+        t_sky = _temperature(sky_temperature, "--sky-temperature")
     seen = scene_signature(
         band,
         t_t,
@@ -480,12 +485,16 @@ def _clutter(
         target_emissivity=eps_t,
         background_emissivity=eps_b,
         clutter_std=sigma_t,
+        sky_temperature=t_sky,
     )
     info: dict[str, Any] = {
         "target_temperature_k": t_t,
         "background_temperature_k": t_b,
         "contrast_w_per_m2": float(seen.contrast),
     }
+    if t_sky is not None:  # the sky's reflection can turn the contrast negative (§6.3)
+        info["sky_temperature_k"] = t_sky
+        info["contrast_sign"] = int(seen.sign)
     if seen.scr is not None:
         info["clutter_w_per_m2"] = float(seen.clutter)
         info["scr"] = float(seen.scr)
@@ -540,6 +549,10 @@ class RangeOptions:
         [temperature], e.g. ``"305K"`` or ``"32degC"``.
     emissivity, background_emissivity : float, optional
         In [0, 1] [1].
+    sky_temperature : str, optional
+        Effective sky temperature [temperature], e.g. ``"240K"``: surfaces of emissivity below 1
+        reflect ``1 − ε`` of the sky's band exitance (§6.3), which can make the contrast
+        negative; default no reflection.
     clutter_std : str, optional
         The background's temperature spread [temperature difference], e.g. ``"2K"``.
     extinction : str, optional
@@ -598,6 +611,7 @@ class RangeOptions:
     background_temperature: str | None = None
     emissivity: float | None = None
     background_emissivity: float | None = None
+    sky_temperature: str | None = None
     clutter_std: str | None = None
     extinction: str | None = None
     obscurant: str | None = None
@@ -943,6 +957,7 @@ def read_range_options(
         o.emissivity,
         o.background_emissivity,
         band_limits_m,
+        o.sky_temperature,
     )
     if o.noise_model is not None:
         option_choice(o.noise_model, NOISE_MODELS, "--noise-model")

@@ -124,6 +124,11 @@ class RangeCase:
     semantics : str
         What the three probabilities mean
         (:data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`).
+    sky_to_ground : array_like, optional
+        A reflective (TV) band's sky-to-ground ratio K = L_horizon / L_background [1], >= 0, with
+        ``noise_equivalent_contrast``: the path's airlight leaves the contrast
+        ``C τ / (τ + (1 − τ) K)`` (Duntley's law,
+        :func:`targetacq.physics.atmosphere.contrast_transmittance`); None for ``C τ`` (K = 1).
 
     Examples
     --------
@@ -158,6 +163,7 @@ class RangeCase:
     mrtd: Any = None
     motion: str = "low-clutter"
     semantics: str = "nested"
+    sky_to_ground: Any = None
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(
@@ -248,6 +254,15 @@ class RangeCase:
             )
             _arrays.require_finite("noise_equivalent_contrast", nec, xp)
             _arrays.require_nonnegative("noise_equivalent_contrast", nec, xp)
+        if self.sky_to_ground is not None:
+            if self.noise_equivalent_contrast is None:
+                raise ValueError(
+                    "sky_to_ground reduces the contrast against the sensor's noise; give "
+                    "noise_equivalent_contrast (e.g. a TV camera's NEC) and contrast"
+                )
+            xp, (k,) = _arrays.arrays(self.sky_to_ground, names=("sky_to_ground",))
+            _arrays.require_nonnegative("sky_to_ground", k, xp)
+            _arrays.require_finite("sky_to_ground", k, xp)
         if self.target_area is not None:
             xp, (a,) = _arrays.arrays(self.target_area, names=("target_area",))
             _arrays.require_positive("target_area", a, xp, "m²")
@@ -463,6 +478,7 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
             noise_equivalent=case.noise_equivalent_contrast,
             ifov=case.resolution()["ifov"],
             area=case.critical_dimension**2 if case.target_area is None else case.target_area,
+            sky_to_ground=case.sky_to_ground,
         )
     cycles, tau, snr = imager_factors(r, case.critical_dimension, case.cycle_angle, depth, noise)
     if case.resolution_model != "geometric":

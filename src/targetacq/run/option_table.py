@@ -252,6 +252,13 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec("nec", float, "TV camera's noise-equivalent contrast, e.g. 0.01.", NOISE),
     OptionSpec("contrast", float, "Target contrast for --nec, e.g. 0.3.", NOISE),
     OptionSpec(
+        "sky_to_ground",
+        float,
+        "TV sky-to-ground ratio (horizon over background radiance) for --nec: the path's "
+        "airlight reduces the contrast, C·τ/(τ + (1 − τ)·K) (default: C·τ, K = 1).",
+        NOISE,
+    ),
+    OptionSpec(
         "target_area",
         str,
         "Area of the target as seen, for its pixels (default: dimension²).",

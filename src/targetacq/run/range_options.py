@@ -566,6 +566,9 @@ class RangeOptions:
         the target's ΔT [temperature difference].
     nec, contrast : float, optional
         A TV camera's noise-equivalent contrast and the target's contrast [1].
+    sky_to_ground : float, optional
+        The TV camera's sky-to-ground ratio [1], >= 0: the path's airlight reduces the contrast
+        by Duntley's law (:func:`targetacq.physics.atmosphere.contrast_transmittance`).
     target_area : str, optional
         Area of the target as seen [area].
     mrtd : str, optional
@@ -623,6 +626,7 @@ class RangeOptions:
     delta_t: str | None = None
     nec: float | None = None
     contrast: float | None = None
+    sky_to_ground: float | None = None
     target_area: str | None = None
     mrtd: str | None = None
     semantics: str | None = None
@@ -732,6 +736,7 @@ _CASE_NUMBERS = (
     "contrast",
     "noise_equivalent_contrast",
     "target_area",
+    "sky_to_ground",
 )
 """The numbers of a reading that are :class:`targetacq.core.cases.RangeCase` fields as they
 are (beside ``critical_dimension``; the IFOV comes from the sensor's numbers)."""
@@ -987,6 +992,12 @@ def read_range_options(
             UserWarning,
             stacklevel=3,
         )
+    if o.sky_to_ground is not None:
+        if o.nec is None:
+            raise ValueError(
+                "--sky-to-ground is a TV camera's: it reduces the contrast against --nec"
+            )
+        noise_kw["sky_to_ground"] = _number(o.sky_to_ground, "--sky-to-ground", ">= 0")
     if o.target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
@@ -1088,6 +1099,8 @@ def _noise_report(case: RangeCase) -> dict[str, Any]:
         out["noise_equivalent_contrast"] = float(case.noise_equivalent_contrast)
     if case.target_area is not None:
         out["target_area_m2"] = float(case.target_area)
+    if case.sky_to_ground is not None:
+        out["sky_to_ground"] = float(case.sky_to_ground)
     if case.mrtd is not None:
         out["mrtd_cutoff_cycles_per_mrad"] = case.mrtd.cutoff * 1e-3
     return out

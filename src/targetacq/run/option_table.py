@@ -194,6 +194,28 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         quantity="temperature difference",
     ),
     OptionSpec(
+        "hot_spot_ratio",
+        float,
+        "A hot spot's own signal-to-clutter ratio, e.g. 10: detection blends in the "
+        "low-clutter curve by a weight (0.05 at 1, 0.95 at 10).",
+        SCENE,
+    ),
+    OptionSpec(
+        "hot_spot_size",
+        str,
+        "The hot spot's size, e.g. 0.3m: below a pixel its contrast is diluted.",
+        SCENE,
+        quantity="length",
+    ),
+    OptionSpec(
+        "target_speed",
+        str,
+        "Target speed across the line of sight, e.g. 10m/s: detection blends in the motion "
+        "rule by a weight (0.5 at 1 pixel/s).",
+        SCENE,
+        quantity="speed",
+    ),
+    OptionSpec(
         "extinction",
         str,
         "Path extinction, e.g. 0.4/km (Np/km) or 1.7dB/km.",

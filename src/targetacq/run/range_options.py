@@ -569,6 +569,12 @@ class RangeOptions:
     sky_to_ground : float, optional
         The TV camera's sky-to-ground ratio [1], >= 0: the path's airlight reduces the contrast
         by Duntley's law (:func:`targetacq.physics.atmosphere.contrast_transmittance`).
+    hot_spot_ratio, hot_spot_size : float, str, optional
+        A graded hot spot: its own SCR [1] and its linear size [length]
+        (:func:`targetacq.acquisition.cues.hot_spot_weight`).
+    target_speed : str, optional
+        The target's speed across the line of sight [speed], e.g. ``"10m/s"``: a graded motion
+        cue (:func:`targetacq.acquisition.cues.motion_weight`).
     target_area : str, optional
         Area of the target as seen [area].
     mrtd : str, optional
@@ -627,6 +633,9 @@ class RangeOptions:
     nec: float | None = None
     contrast: float | None = None
     sky_to_ground: float | None = None
+    hot_spot_ratio: float | None = None
+    hot_spot_size: str | None = None
+    target_speed: str | None = None
     target_area: str | None = None
     mrtd: str | None = None
     semantics: str | None = None
@@ -737,6 +746,9 @@ _CASE_NUMBERS = (
     "noise_equivalent_contrast",
     "target_area",
     "sky_to_ground",
+    "hot_spot_ratio",
+    "hot_spot_size",
+    "target_speed",
 )
 """The numbers of a reading that are :class:`targetacq.core.cases.RangeCase` fields as they
 are (beside ``critical_dimension``; the IFOV comes from the sensor's numbers)."""
@@ -998,6 +1010,18 @@ def read_range_options(
                 "--sky-to-ground is a TV camera's: it reduces the contrast against --nec"
             )
         noise_kw["sky_to_ground"] = _number(o.sky_to_ground, "--sky-to-ground", ">= 0")
+    if o.hot_spot_ratio is not None:
+        numbers["hot_spot_ratio"] = _number(o.hot_spot_ratio, "--hot-spot-ratio", ">= 0")
+    if o.hot_spot_size is not None:
+        if o.hot_spot_ratio is None:
+            raise ValueError("--hot-spot-size grades a hot spot: give --hot-spot-ratio too")
+        numbers["hot_spot_size"] = option_quantity(
+            o.hot_spot_size, "length", "--hot-spot-size", zero_allowed=True
+        )
+    if o.target_speed is not None:
+        numbers["target_speed"] = option_quantity(
+            o.target_speed, "speed", "--target-speed", zero_allowed=True
+        )
     if o.target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")

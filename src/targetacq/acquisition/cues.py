@@ -110,7 +110,7 @@ def weight_of(x: Any, x50: Any, slope: float, xp: Any) -> Any:
     positive = x > 0
     with np.errstate(divide="ignore"):
         z = slope * (xp.log(xp.where(positive, x, 1.0)) - xp.log(x50))
-    z = xp.minimum(xp.maximum(z, -700.0), 700.0)
+    z = xp.minimum(xp.maximum(z, -50.0), 50.0)  # e^−50 < 2^−53: w rounds to 1 there
     w = 1.0 / (1.0 + xp.exp(-z))
     w = xp.where(positive, w, 0.0)
     return xp.where(xp.isnan(x) | xp.isnan(x50), xp.nan, w)

@@ -18,11 +18,10 @@ import numpy as np
 import pytest
 
 import targetacq as ta
-from targetacq.acquisition import cues
+from targetacq.acquisition import cues, transforms
 from targetacq.acquisition import observed_detection as od
 from targetacq.acquisition import path_noise as noise
 from targetacq.acquisition import probabilities as acquisition
-from targetacq.acquisition import transforms
 from targetacq.acquisition.criteria import CRITERIA
 from targetacq.base import arrays as _arrays
 from targetacq.base import constants

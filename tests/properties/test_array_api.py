@@ -6,6 +6,8 @@ import pytest
 
 import targetacq as ta
 from targetacq.acquisition.criteria import CRITERIA
+from targetacq.acquisition.cues import hot_spot_weight, motion_weight
+from targetacq.physics.atmosphere import contrast_transmittance
 
 N = [0.0, 0.3, 0.9, 1.0, 2.5, 7.0, 40.0, float("nan")]
 P = [0.02, 0.3, 0.5, 0.8, 0.95, float("nan")]
@@ -45,6 +47,9 @@ def _same(strict_result, numpy_result):
         (lambda p: ta.ifov(p, 0.075), [12e-6, 17e-6]),
         (lambda h: ta.slant_range(h, 1000.0), [0.0, 300.0]),
         (lambda n: ta.range_for_cycles(2.3, n, 1e-4), [0.5, 1.0, 4.0]),
+        (lambda t: contrast_transmittance(t, 3.0), [0.0, 0.02, 0.5, 1.0, float("nan")]),
+        (lambda x: hot_spot_weight(x, 0.5), [0.0, 1.0, 3.0, 10.0, 1e300, float("nan")]),
+        (lambda x: motion_weight(x), [0.0, 0.3, 1.0, 3.2, float("nan")]),
     ],
 )
 def test_kernel_under_array_api_strict(kernel, inputs):

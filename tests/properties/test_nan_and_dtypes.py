@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 
 import targetacq as ta
+from targetacq.acquisition import cues, transforms
 from targetacq.acquisition import observed_detection as od
 from targetacq.acquisition import path_noise as noise
 from targetacq.acquisition import probabilities as acquisition
-from targetacq.acquisition import transforms
 from targetacq.acquisition.criteria import CRITERIA
 from targetacq.base import arrays as _arrays
 from targetacq.base import constants
@@ -45,9 +45,20 @@ def _with_clutter(function: Callable[..., Any]) -> Callable[..., Any]:
         region: Any = None,
         hot_spot: Any = False,
         moving: Any = False,
+        hot_spot_ratio: Any = None,
+        hot_spot_size: Any = None,
+        speed: Any = None,
         **kw: Any,
     ) -> Any:
-        clutter = ta.Clutter(scr=scr, region=region, hot_spot=hot_spot, moving=moving)
+        clutter = ta.Clutter(
+            scr=scr,
+            region=region,
+            hot_spot=hot_spot,
+            moving=moving,
+            hot_spot_ratio=hot_spot_ratio,
+            hot_spot_size=hot_spot_size,
+            speed=speed,
+        )
         return function(**kw, clutter=clutter)
 
     call.__name__ = function.__name__
@@ -55,6 +66,32 @@ def _with_clutter(function: Callable[..., Any]) -> Callable[..., Any]:
 
 
 KERNELS: dict[str, Kernel] = {
+    "sky_reflected_exitance": (
+        radiometry.sky_reflected_exitance,
+        {"emissivity": 0.3, "temperature": 300.0, "sky_temperature": 240.0, "band": "lwir"},
+    ),
+    "contrast_transmittance": (
+        atmosphere.contrast_transmittance,
+        {"transmittance": 0.5, "sky_to_ground": 2.0},
+    ),
+    "path_radiance": (
+        atmosphere.path_radiance,
+        {"transmittance": 0.5, "air_temperature": 290.0, "band": "lwir"},
+    ),
+    "cue_weight": (cues.cue_weight, {"ratio": 2.0, "ratio50": 3.0}),
+    "hot_spot_weight": (cues.hot_spot_weight, {"ratio": 5.0, "elements": 0.5, "ratio50": 3.0}),
+    "motion_weight": (cues.motion_weight, {"rate": 0.7, "rate50": 1.0}),
+    "probability graded cues": (
+        _with_clutter(ta.probability),
+        {
+            "cycles": 0.8,
+            "task": "detection",
+            "scr": 0.5,
+            "hot_spot_ratio": 5.0,
+            "hot_spot_size": 0.3,
+            "speed": 0.6,
+        },
+    ),
     "ttpf": (ta.ttpf, {"cycles": 1.2, "n50": 1.0}),
     "ttpf_inverse": (ta.ttpf_inverse, {"probability": 0.3, "n50": 1.0}),
     "c2nveo": (ta.c2nveo, {"cycles": 0.8, "n50": 1.0}),

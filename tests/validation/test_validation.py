@@ -35,6 +35,7 @@ SECTIONS = (
     "table-7-2",
     "planck",
     "text",
+    "signature",
     "vendor-dri",
     "ttp",
 )

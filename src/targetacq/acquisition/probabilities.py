@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from targetacq.acquisition import cues as _cues
 from targetacq.acquisition import transforms as _transforms
 from targetacq.acquisition.criteria import Criterion, get_criterion
 from targetacq.acquisition.path_noise import (
@@ -86,6 +87,20 @@ class Clutter:
         The target is a hot spot: detected on the low-clutter curve (§3.9).
     moving : bool or array of bool
         The target moves: detected by the motion rule (:data:`MOTION_RULES`).
+    hot_spot_ratio : array_like, optional
+        A graded hot spot (:mod:`targetacq.acquisition.cues`): the hot spot's own
+        signal-to-clutter ratio [1], >= 0, when it fills a resolution element; its weight
+        :func:`targetacq.acquisition.cues.hot_spot_weight` blends the low-clutter curve in.
+        ``hot_spot=True`` is the full weight.
+    hot_spot_size : array_like, optional
+        The hot spot's linear size over the critical dimension [1], >= 0: it covers
+        ``(2 N · size)²`` resolution elements at N cycles (one cycle is two, Fig. 3.3), and a
+        hot spot smaller than one element is diluted; None for no dilution.
+    speed : array_like, optional
+        A graded motion cue: the target's speed across the line of sight over its critical
+        dimension [1/s], >= 0; at N cycles it crosses ``2 N · speed`` pixels per second, whose
+        weight :func:`targetacq.acquisition.cues.motion_weight` blends the motion rule in.
+        ``moving=True`` is the full weight.
 
     Examples
     --------
@@ -99,25 +114,79 @@ class Clutter:
     region: str | None = None
     hot_spot: bool | Array = False
     moving: bool | Array = False
+    hot_spot_ratio: Array | None = None
+    hot_spot_size: Array | None = None
+    speed: Array | None = None
 
     @property
     def given(self) -> dict[str, Any]:
         """The inputs given (not None, not False), as keyword arguments: the options of a
         detection-in-clutter transform chosen by name."""
         return {
-            name: value
-            for name, value in (
-                ("scr", self.scr),
-                ("region", self.region),
-                ("hot_spot", self.hot_spot),
-                ("moving", self.moving),
-            )
-            if value is not None and value is not False
+            name: getattr(self, name)
+            for name in _CLUTTER_KEYS
+            if getattr(self, name) is not None and getattr(self, name) is not False
         }
+
+    @property
+    def cued(self) -> bool:
+        """Whether a hot spot or motion acts, switched or graded."""
+        return (
+            self.hot_spot is not False
+            or self.moving is not False
+            or self.hot_spot_ratio is not None
+            or self.speed is not None
+        )
+
+    def cue_weights(self, cycles: Any, xp: Any) -> tuple[Any, Any]:
+        """The weights of the hot-spot and motion cues at N cycles (None: that cue is absent).
+
+        A flag is the full weight (1 where set, 0 elsewhere); a graded input gives
+        :func:`targetacq.acquisition.cues.hot_spot_weight` of the hot spot's SCR and the
+        ``(2 N · hot_spot_size)²`` elements it covers, and
+        :func:`targetacq.acquisition.cues.motion_weight` of ``2 N · speed`` pixels per second;
+        with both, the larger.
+        """
+        w_hot = w_move = None
+        if self.hot_spot_ratio is not None:
+            ratio = _arrays.as_float(self.hot_spot_ratio, xp, "hot_spot_ratio")
+            if self.hot_spot_size is not None:
+                covered = 2.0 * cycles * _arrays.as_float(self.hot_spot_size, xp, "hot_spot_size")
+                ratio = ratio * xp.minimum(covered * covered, 1.0)
+            w_hot = _cues.weight_of(ratio, _cues.HOT_SPOT_RATIO_50, _cues.CUE_SLOPE, xp)
+        if self.speed is not None:
+            rate = 2.0 * cycles * _arrays.as_float(self.speed, xp, "speed")
+            w_move = _cues.weight_of(rate, _cues.MOTION_RATE_50, _cues.CUE_SLOPE, xp)
+        if self.hot_spot is not False:
+            flag = _flag_weight(self.hot_spot, xp)
+            w_hot = flag if w_hot is None else xp.maximum(w_hot, flag)
+        if self.moving is not False:
+            flag = _flag_weight(self.moving, xp)
+            w_move = flag if w_move is None else xp.maximum(w_move, flag)
+        return w_hot, w_move
+
+    def check_cues(self, xp: Any) -> None:
+        """Raise ``ValueError`` for a negative graded input, or a size without a ratio."""
+        for name, unit in (("hot_spot_ratio", ""), ("hot_spot_size", ""), ("speed", "1/s")):
+            value = getattr(self, name)
+            if value is not None:
+                checked = _arrays.as_float(value, xp, name)
+                _arrays.require_nonnegative(name, checked, xp, unit)
+                _arrays.require_finite(name, checked, xp, unit)
+        if self.hot_spot_size is not None and self.hot_spot_ratio is None:
+            raise ValueError("hot_spot_size grades a hot spot: give its hot_spot_ratio too")
 
 
 _NO_CLUTTER = Clutter()
-_CLUTTER_KEYS = ("scr", "region", "hot_spot", "moving")
+_CLUTTER_KEYS = (
+    "scr",
+    "region",
+    "hot_spot",
+    "moving",
+    "hot_spot_ratio",
+    "hot_spot_size",
+    "speed",
+)
 
 
 def _as_clutter(clutter: Clutter | Mapping[str, Any] | None) -> Clutter:
@@ -168,8 +237,11 @@ def _check_shapes(n: Any, snr: Any, scr: Any, xp: Any) -> None:
     _arrays.check_broadcast(("cycles", *given), (n, *values))
 
 
-def _flag(value: Any, xp: Any) -> Any:
-    return value if isinstance(value, bool) else xp.asarray(value)
+def _flag_weight(value: Any, xp: Any) -> Any:
+    """A flag (bool or bool array) as a cue's weight: 1.0 where set, 0.0 elsewhere."""
+    if isinstance(value, bool):
+        return 1.0 if value else 0.0
+    return xp.where(xp.asarray(value), 1.0, 0.0)
 
 
 # --------------------------------------------------------------------------------------------
@@ -320,8 +392,8 @@ def _detection_in_clutter(
     *,
     scr: Any,
     region: str | None,
-    hot_spot: Any,
-    moving: Any,
+    w_hot: Any,
+    w_move: Any,
     snr: Any,
     noise: NoiseModel | None,
     motion: MotionRule,
@@ -337,12 +409,16 @@ def _detection_in_clutter(
       (:func:`targetacq.acquisition.path_noise.effective_scr`) with the noise-free N where the noise
       model combines with clutter, else at the SCR with the noisy N; never above the uncluttered
       probability ``uncluttered`` (clutter can only make detection harder).
-    - Hot spots: the low-clutter curve (§3.9) at the noisy N, whatever the clutter.
+    - Hot spots: the low-clutter curve (§3.9) at the noisy N, whatever the clutter, blended in
+      by the hot-spot weight: ``P = (1 − w_hot) P + w_hot P_low``.
     - Moving targets: the motion rule (:data:`MOTION_RULES`) at the noisy N, whatever the
-      clutter; a moving hot spot takes the better of the two.
+      clutter, blended in by the motion weight: ``P = (1 − w_move) P + w_move max(P_motion, P)``
+      (a moving hot spot takes the better of the two).
 
-    ``hot_spot`` and ``moving`` are bools or bool arrays broadcasting with ``n``; ``ratio``
-    (NumPy) the noise-to-signal amplitude ratio of ``snr``
+    ``w_hot`` and ``w_move`` (:meth:`Clutter.cue_weights`; None: that cue is absent) are in
+    [0, 1], broadcasting with ``n``: a flag is 1 where set and 0 elsewhere, so the switched
+    model is the limit, to the last bit (:mod:`targetacq.acquisition.cues`). ``ratio`` (NumPy)
+    is the noise-to-signal amplitude ratio of ``snr``
     (:func:`targetacq.acquisition.path_noise.noise_ratio`).
     """
     out = None
@@ -359,26 +435,18 @@ def _detection_in_clutter(
         else:
             seen = _transforms.schmieder_weathersby(n_noisy, n50, scr=scr, region=region)
         out = xp.minimum(_arrays.as_float(seen, xp), uncluttered)
-    special = None
-    if hot_spot is not False:
-        hot = _arrays.as_float(_transforms.sw_probability(n_noisy, n50, None, "low", xp), xp)
-        special = hot if hot_spot is True else xp.where(_flag(hot_spot, xp), hot, xp.nan)
-    if moving is not False:
-        go = motion.detection(n_noisy, n50, transform, options, xp)
-        go = go if moving is True else xp.where(_flag(moving, xp), go, xp.nan)
-        # Where the moving flag is not set, go is NaN: a hot spot keeps its own curve there
-        # (the maximum with NaN would drop it to the fallback).
-        special = (
-            go
-            if special is None
-            else xp.where(
-                xp.isnan(special), go, xp.where(xp.isnan(go), special, xp.maximum(special, go))
-            )
-        )
-    if special is not None:
-        fallback = uncluttered if out is None else out
-        ordinary = xp.isnan(special) & ~xp.isnan(n)  # neither flag set here
-        out = xp.where(ordinary, fallback, special)
+    if w_hot is not None or w_move is not None:
+        # (1 − w) a + w b: exactly a at w = 0 and exactly b at w = 1 (the switches).
+        found = uncluttered if out is None else out
+        if w_hot is not None:
+            hot = _arrays.as_float(_transforms.sw_probability(n_noisy, n50, None, "low", xp), xp)
+            found = (1.0 - w_hot) * found + w_hot * hot
+        if w_move is not None:
+            go = _arrays.as_float(motion.detection(n_noisy, n50, transform, options, xp), xp)
+            # The motion rule is never below the plain curve; a hot spot's can be above it.
+            better = go if w_hot is None else xp.where(w_hot > 0, xp.maximum(go, found), go)
+            found = (1.0 - w_move) * found + w_move * better
+        out = found
     if out is None:
         raise ValueError(
             "detection in clutter needs the clutter: a signal-to-clutter ratio (scr), "
@@ -438,7 +506,7 @@ def ordered_probabilities(
     detection, recognition, identification : array
     """
     given = _NO_CLUTTER if clutter is None else clutter
-    scr, region, hot_spot, moving = given.scr, given.region, given.hot_spot, given.moving
+    scr, region = given.scr, given.region
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     ratio = noise_ratio
     numpy = isinstance(n, np.ndarray)
@@ -453,7 +521,8 @@ def ordered_probabilities(
             _arrays.as_float(transform.forward(n_noisy, v, task, **options), xp)
             for v, task in zip(n50, _TASKS, strict=True)
         )
-    if scr is not None or region is not None or hot_spot is not False or moving is not False:
+    if scr is not None or region is not None or given.cued:
+        w_hot, w_move = given.cue_weights(n, xp)
         det = _detection_in_clutter(
             n,
             n_noisy,
@@ -461,8 +530,8 @@ def ordered_probabilities(
             det,
             scr=scr,
             region=region,
-            hot_spot=hot_spot,
-            moving=moving,
+            w_hot=w_hot,
+            w_move=w_move,
             snr=snr,
             noise=noise,
             motion=get_motion_rule(motion),
@@ -550,6 +619,7 @@ def probability(
     xp, (n,) = _arrays.arrays(cycles, names=("cycles",))
     _arrays.require_nonnegative("cycles", n, xp)
     _check_shapes(n, snr, scr, xp)
+    given.check_cues(xp)
     n_noisy = _noisy(n, snr, noise, xp)
     if chosen.tasks == ("detection",):
         # A detection-in-clutter transform chosen by name: the clutter is its own input.
@@ -557,8 +627,9 @@ def probability(
         return chosen.forward(n_noisy, n50, task, **given.given, **options)
     plain = chosen.forward(n_noisy, n50, task, **options)
     clutter_given = scr is not None or region is not None
-    if task == "detection" and (clutter_given or hot_spot is not False or moving is not False):
+    if task == "detection" and (clutter_given or given.cued):
         _transforms.check_clutter(scr, region, xp)
+        w_hot, w_move = given.cue_weights(n, xp)
         found = _detection_in_clutter(
             n,
             n_noisy,
@@ -566,8 +637,8 @@ def probability(
             _arrays.as_float(plain, xp),
             scr=scr,
             region=region,
-            hot_spot=hot_spot,
-            moving=moving,
+            w_hot=w_hot,
+            w_move=w_move,
             snr=snr,
             noise=noise,
             motion=rule,
@@ -780,6 +851,7 @@ def acquisition_probabilities(
     _arrays.require_nonnegative("cycles", n, xp)
     _check_shapes(n, snr, scr, xp)
     _transforms.check_clutter(scr, region, xp)
+    given.check_cues(xp)
     det, rec, ide = ordered_probabilities(
         n,
         n50s,

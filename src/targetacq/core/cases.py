@@ -106,7 +106,19 @@ class RangeCase:
     region : {"low", "medium", "high"}, optional
         Table 3.5 clutter region, instead of ``scr``.
     hot_spot, moving : bool
-        See :func:`targetacq.acquisition.transforms.schmieder_weathersby`.
+        Switches: the full hot-spot and motion cues (§3.9, §1.3; see
+        :func:`targetacq.acquisition.transforms.schmieder_weathersby`).
+    hot_spot_ratio : array_like, optional
+        A graded hot spot: its own signal-to-clutter ratio [1], >= 0 (its peak contrast over the
+        background's clutter and noise), whose weight blends the low-clutter curve into
+        detection (:func:`targetacq.acquisition.cues.hot_spot_weight`).
+    hot_spot_size : array_like, optional
+        The hot spot's linear size [m], >= 0, with ``hot_spot_ratio``: smaller than a resolution
+        element, its contrast is diluted (so the cue fades with range); None for no dilution.
+    target_speed : array_like, optional
+        A graded motion cue: the target's speed across the line of sight [m/s], >= 0; it crosses
+        ``v / (R · IFOV)`` pixels per second, whose weight blends the motion rule into
+        detection (:func:`targetacq.acquisition.cues.motion_weight`).
     noise_model : str, NoiseModel or callable
         How the noise moves the transforms (:mod:`targetacq.acquisition.path_noise`).
     contrast : array_like, optional
@@ -135,6 +147,11 @@ class RangeCase:
     semantics : str
         What the three probabilities mean
         (:data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`).
+    sky_to_ground : array_like, optional
+        A reflective (TV) band's sky-to-ground ratio K = L_horizon / L_background [1], >= 0, with
+        ``noise_equivalent_contrast``: the path's airlight leaves the contrast
+        ``C τ / (τ + (1 − τ) K)`` (Duntley's law,
+        :func:`targetacq.physics.atmosphere.contrast_transmittance`); None for ``C τ`` (K = 1).
 
     Examples
     --------
@@ -170,6 +187,10 @@ class RangeCase:
     ttp: Any = None
     motion: str = "low-clutter"
     semantics: str = "nested"
+    sky_to_ground: Any = None
+    hot_spot_ratio: Any = None
+    hot_spot_size: Any = None
+    target_speed: Any = None
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(
@@ -195,6 +216,12 @@ class RangeCase:
             tau = _arrays.as_float(self.foliage, xp, "foliage")
             _arrays.require_unit_interval("foliage", tau, xp)
         _transforms.check_clutter(self.scr, self.region, xp)
+        for name, unit in (("hot_spot_ratio", ""), ("hot_spot_size", "m"), ("target_speed", "m/s")):
+            if getattr(self, name) is not None:
+                value = _arrays.as_float(getattr(self, name), xp, name)
+                _arrays.require_nonnegative(name, value, xp, unit)
+                _arrays.require_finite(name, value, xp, unit)
+        self.clutter.check_cues(xp)
         get_noise_model(self.noise_model)
         get_motion_rule(self.motion)
         get_semantics(self.semantics)
@@ -276,6 +303,15 @@ class RangeCase:
             )
             _arrays.require_finite("noise_equivalent_contrast", nec, xp)
             _arrays.require_nonnegative("noise_equivalent_contrast", nec, xp)
+        if self.sky_to_ground is not None:
+            if self.noise_equivalent_contrast is None:
+                raise ValueError(
+                    "sky_to_ground reduces the contrast against the sensor's noise; give "
+                    "noise_equivalent_contrast (e.g. a TV camera's NEC) and contrast"
+                )
+            xp, (k,) = _arrays.arrays(self.sky_to_ground, names=("sky_to_ground",))
+            _arrays.require_nonnegative("sky_to_ground", k, xp)
+            _arrays.require_finite("sky_to_ground", k, xp)
         if self.target_area is not None:
             xp, (a,) = _arrays.arrays(self.target_area, names=("target_area",))
             _arrays.require_positive("target_area", a, xp, "m²")
@@ -298,6 +334,8 @@ class RangeCase:
             "region": self.region,
             "hot_spot": self.hot_spot,
             "moving": self.moving,
+            "hot_spot_ratio": self.hot_spot_ratio,
+            "target_speed": self.target_speed,
             "extinction": self.extinction,
             "foliage": self.foliage,
             "contrast": self.contrast,
@@ -337,13 +375,34 @@ class RangeCase:
     @property
     def in_clutter(self) -> bool:
         """Whether detection comes from the Schmieder–Weathersby transform (§3.8)."""
-        return self.scr is not None or self.region is not None or self.hot_spot or self.moving
+        return (
+            self.scr is not None
+            or self.region is not None
+            or self.hot_spot
+            or self.moving
+            or self.graded
+        )
+
+    @property
+    def graded(self) -> bool:
+        """Whether a graded hot-spot or motion cue acts (``hot_spot_ratio``, ``target_speed``)."""
+        return self.hot_spot_ratio is not None or self.target_speed is not None
 
     @property
     def clutter(self) -> Clutter:
-        """``scr``, ``region``, ``hot_spot`` and ``moving``, as a
-        :class:`targetacq.acquisition.probabilities.Clutter`."""
-        return Clutter(scr=self.scr, region=self.region, hot_spot=self.hot_spot, moving=self.moving)
+        """``scr``, ``region``, the hot spot and the motion, as a
+        :class:`targetacq.acquisition.probabilities.Clutter` (sizes and speeds over the critical
+        dimension, as the cycles count them)."""
+        d = self.critical_dimension
+        return Clutter(
+            scr=self.scr,
+            region=self.region,
+            hot_spot=self.hot_spot,
+            moving=self.moving,
+            hot_spot_ratio=self.hot_spot_ratio,
+            hot_spot_size=None if self.hot_spot_size is None else self.hot_spot_size / d,
+            speed=None if self.target_speed is None else self.target_speed / d,
+        )
 
     def resolution(self) -> dict[str, Any]:
         """Keyword arguments of :func:`targetacq.physics.optics.cycles_on_target` and
@@ -537,6 +596,7 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
             noise_equivalent=case.noise_equivalent_contrast,
             ifov=case.resolution()["ifov"],
             area=case.critical_dimension**2 if case.target_area is None else case.target_area,
+            sky_to_ground=case.sky_to_ground,
         )
     cycles, tau, snr = imager_factors(r, case.critical_dimension, case.cycle_angle, depth, noise)
     if case.resolution_model != "johnson":

@@ -50,12 +50,19 @@ class SensorNoise:
         The pixel IFOV [rad], > 0.
     area : array_like
         The area of the target's outline as seen [m²].
+    sky_to_ground : array_like, optional
+        A reflective band's sky-to-ground ratio K [1], >= 0: the path's airlight then leaves
+        ``τ / (τ + (1 − τ) K)`` of a relative contrast
+        (:func:`targetacq.physics.atmosphere.contrast_transmittance`) instead of ``τ``; None for
+        ``τ`` (K = 1, and the thermal bands, whose path radiance adds equally to target and
+        background).
     """
 
     contrast: Array
     noise_equivalent: Array
     ifov: Array
     area: Array
+    sky_to_ground: Array | None = None
 
 
 def imager_factors(
@@ -106,6 +113,9 @@ def imager_factors(
     snr = atmosphere.snr_from_optical_depth(depth)
     if noise is not None:
         pixels = detector_noise.pixels_on_target(noise.area, shortest, noise.ifov)
-        own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, tau, pixels)
+        seen = tau  # the contrast the path leaves: τ, or with airlight Duntley's law (§7.2)
+        if noise.sky_to_ground is not None:
+            seen = atmosphere.contrast_transmittance(tau, noise.sky_to_ground)
+        own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, seen, pixels)
         snr = detector_noise.combined_snr(snr, own)
     return cycles, tau, snr

@@ -155,7 +155,14 @@ def case_ranges(
                 r_free,
                 tolerance,
             )
-        elif case.noisy or case.mrtd is not None or case.ttp is not None:
+        elif (
+            case.noisy
+            or case.mrtd is not None
+            or case.ttp is not None
+            or (task == "detection" and case.graded)
+        ):
+            if case.graded and task == "detection":
+                r_free = _graded_bracket(case, crit, chosen, probability)
             r_free = _solve(
                 lambda rr, task=task: case_probability(case, rr, task),
                 probability,
@@ -200,6 +207,29 @@ def _cycles_needed(
         )
         special = go if special is None else xp.minimum(special, go)
     return needed if special is None else special
+
+
+def _graded_bracket(case: RangeCase, crit: Criterion, chosen: Any, probability: Any) -> Any:
+    """An upper bound of a graded case's detection range: the farther of the ranges with the
+    cues switched fully on and off (a weight blends the two curves), a finite far range (N of
+    1e-9 cycles) where the switched cue is never lost (motion ``always``)."""
+    full = dataclasses.replace(
+        case,
+        hot_spot=case.hot_spot or case.hot_spot_ratio is not None,
+        moving=case.moving or case.target_speed is not None,
+        hot_spot_ratio=None,
+        hot_spot_size=None,
+        target_speed=None,
+    )
+    plain = dataclasses.replace(case, hot_spot_ratio=None, hot_spot_size=None, target_speed=None)
+    xp, (on, off, d, cycle) = _arrays.arrays(
+        _noise_free_range(full, crit, chosen, "detection", probability),
+        _noise_free_range(plain, crit, chosen, "detection", probability),
+        case.critical_dimension,
+        case.cycle_angle,
+    )
+    on = xp.where(xp.isinf(on), d / (cycle * 1e-9), on)
+    return xp.where(xp.isnan(on), off, xp.where(xp.isnan(off), on, xp.maximum(on, off)))
 
 
 def _noise_free_range(

@@ -24,6 +24,7 @@ from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.base.tables import load_table
 from targetacq.physics.bands import BANDS, band_limits
+from targetacq.physics.radiometry import band_exitance
 
 __all__ = [
     "DB_PER_NEPER",
@@ -33,6 +34,7 @@ __all__ = [
     "VISIBILITY_CONVENTIONS",
     "band_transmittance",
     "cloud_transmittance",
+    "contrast_transmittance",
     "db_per_km_to_np_per_km",
     "extinction_for_band",
     "extinction_from_visibility",
@@ -40,6 +42,7 @@ __all__ = [
     "foliage_transmittance",
     "np_per_km_to_db_per_km",
     "obscurant_extinction",
+    "path_radiance",
     "path_transmittance",
     "segmented_optical_depth",
     "snr_from_optical_depth",
@@ -692,3 +695,113 @@ def extinction_for_band(
     if visibility is not None:
         return float(extinction_from_visibility(visibility, convention))
     return 0.0
+
+
+# --------------------------------------------------------------------------------------------
+# Path radiance (§7.2): the light the path adds
+# --------------------------------------------------------------------------------------------
+
+
+def contrast_transmittance(transmittance: Array, sky_to_ground: Array = 1.0) -> Any:
+    """How much of an inherent contrast a path with airlight leaves, ``C_R / C_0`` [1].
+
+    The law of contrast reduction (S. Q. Duntley, "The reduction of apparent contrast by the
+    atmosphere", J. Opt. Soc. Am. 38 (1948) 179–191; W. E. K. Middleton, *Vision through the
+    atmosphere*, University of Toronto Press 1952, ch. 4): along a uniform path the background's
+    radiance ``L_b`` is attenuated to ``τ L_b`` and the path adds airlight ``(1 − τ) L_h``, the
+    horizon sky's radiance ``L_h`` (the radiance of an infinitely long path), while the
+    target–background difference is only attenuated, so the apparent contrast is
+
+    ``C_R = C_0 τ L_b / (τ L_b + (1 − τ) L_h) = C_0 τ / (τ + (1 − τ) K)``,
+
+    ``K = L_h / L_b`` the sky-to-ground ratio (equivalently ``C_0 / (1 + K (e^{γR} − 1))``, the
+    form of the NVESD TV models). ``K = 1`` (a background as bright as the horizon sky) gives
+    ``C_R = C_0 τ``, the contrast that the sensor-noise model uses without a ratio
+    (:mod:`targetacq.physics.detector_noise`); ``K = 1`` with a black object (``C_0 = −1``) is
+    Koschmieder's law ``C_R = −e^{−γR}``, whose 2 % point is the visual range
+    (:data:`VISIBILITY_CONVENTIONS`). A background darker than the horizon sky (vegetation,
+    forest) has ``K > 1`` and loses contrast faster than ``τ``; a brighter one (fresh snow,
+    sunlit sand) ``K < 1``.
+
+    For the reflective bands. In the thermal bands the path's own emission, :func:`path_radiance`,
+    adds the same to target and background, so the exitance contrast is ``τ ΔM``.
+
+    Parameters
+    ----------
+    transmittance : array_like
+        τ of the path [1], in [0, 1].
+    sky_to_ground : array_like, optional
+        K = L_horizon / L_background [1], >= 0 (0: no airlight, the contrast is kept).
+
+    Returns
+    -------
+    array_like
+        ``τ / (τ + (1 − τ) K)`` in [0, 1]; 0 where τ = 0.
+
+    Examples
+    --------
+    Koschmieder: a black object against the horizon sky at the visual range (τ = 0.02) keeps
+    2 % contrast; a brighter sky (K = 3) leaves less:
+
+    >>> from targetacq.physics.atmosphere import contrast_transmittance
+    >>> print(round(float(contrast_transmittance(0.02)), 6))
+    0.02
+    >>> print(round(float(contrast_transmittance(0.5, 3.0)), 6))
+    0.25
+    """
+    xp, (t, k) = _arrays.arrays(
+        transmittance, sky_to_ground, names=("transmittance", "sky_to_ground")
+    )
+    _arrays.require_unit_interval("transmittance", t, xp)
+    _arrays.require_nonnegative("sky_to_ground", k, xp)
+    _arrays.require_finite("sky_to_ground", k, xp)
+    denominator = t + (1.0 - t) * k
+    positive = denominator > 0
+    out = xp.where(positive, t / xp.where(positive, denominator, 1.0), 0.0)
+    return _arrays.result(xp.where(xp.isnan(t) | xp.isnan(k), xp.nan, out))
+
+
+def path_radiance(transmittance: Array, air_temperature: Array, band: Any) -> Any:
+    """Thermal emission of the path in a band, as an exitance [W/m²]: ``(1 − τ) M_band(T_air)``.
+
+    An absorbing, non-scattering path at one air temperature emits what it absorbs (Kirchhoff:
+    its emissivity is its absorptance ``1 − τ``), the formal solution of Schwarzschild's equation
+    for an isothermal layer (e.g. K. N. Liou, *An Introduction to Atmospheric Radiation*, 2nd ed.,
+    Academic Press 2002, §4.1). The sensor sees ``τ M_t + (1 − τ) M_air`` from the target and
+    ``τ M_b + (1 − τ) M_air`` from the background (§7.2: "other objects … transmit radiation,
+    some of this … might be scattered in to the FOV, increasing the total energy"): the path
+    radiance is added equally to both, so the exitance contrast at the sensor stays ``τ ΔM``
+    and only the mean level rises. That is why the model's thermal contrast is ``τ ΔM`` with no
+    path term (:mod:`targetacq.physics.detector_noise`); the path radiance matters for what is
+    relative to the mean level (the reflective bands' :func:`contrast_transmittance`, a sensor
+    whose noise grows with the photon flux).
+
+    Parameters
+    ----------
+    transmittance : array_like
+        τ of the path [1], in [0, 1].
+    air_temperature : array_like
+        T_air [K], >= 0.
+    band : str or (float, float)
+        Band name or limits [m].
+
+    Returns
+    -------
+    array_like
+        [W/m²].
+
+    Examples
+    --------
+    Half the path absorbed, air at 290 K, 8–12 µm: half a 290 K blackbody's band exitance.
+
+    >>> from targetacq.physics.atmosphere import path_radiance
+    >>> from targetacq.physics.radiometry import band_exitance
+    >>> bool(path_radiance(0.5, 290.0, "lwir") == 0.5 * band_exitance(290.0, "lwir"))
+    True
+    """
+    xp, (t, air) = _arrays.arrays(
+        transmittance, air_temperature, names=("transmittance", "air_temperature")
+    )
+    _arrays.require_unit_interval("transmittance", t, xp)
+    _arrays.require_nonnegative("air_temperature", air, xp, "K")
+    return _arrays.result((1.0 - t) * band_exitance(air, band))

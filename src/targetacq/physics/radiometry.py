@@ -99,6 +99,7 @@ __all__ = [
     "peak_wavelength",
     "quantisation_step",
     "reflected_exitance",
+    "sky_reflected_exitance",
     "spectral_exitance",
     "stefan_boltzmann_exitance",
     "target_signal",
@@ -1053,3 +1054,62 @@ def quantisation_step(bits: int, span: Array) -> Any:
     xp, (s,) = _arrays.arrays(span, names=("span",))
     _arrays.require_positive("span", s, xp)
     return _arrays.result(s / (2.0**bits - 1.0))
+
+
+def sky_reflected_exitance(
+    emissivity: Array, temperature: Array, sky_temperature: Array, band: Any
+) -> Any:
+    """Apparent band exitance of an opaque grey surface that reflects the sky [W/m²].
+
+    ``M_app = ε M_band(T) + (1 − ε) M_band(T_sky)``: the surface emits ``ε M_band(T)``, Eqs.
+    (6.4) and (6.12) in Sonesson (2004), and, being opaque, reflects ``r = 1 − ε`` (Eq. (6.5)
+    with ``t = 0`` and Kirchhoff's ``a = ε``) of the sky's radiation, the sky taken as a
+    blackbody at an effective sky temperature ``T_sky`` (the temperature of the blackbody whose
+    band exitance equals the sky's downwelling radiation in the band, e.g. measured with a
+    radiometer pointed at the sky). This is the effect of §6.3: a low-emissivity (highly
+    reflective) surface under a clear, cold sky appears colder than its surroundings, "a large
+    negative contrast to the background"; under an overcast sky at about the air's temperature
+    it almost vanishes. Reflection is taken as diffuse (Lambertian), the sky as uniform.
+
+    ``ε = 1`` gives ``M_band(T)`` exactly, whatever the sky (:func:`grey_body_exitance`);
+    ``T_sky = 0`` gives ``ε M_band(T)``, a surface that reflects nothing.
+
+    Parameters
+    ----------
+    emissivity : array_like
+        ε in [0, 1].
+    temperature : array_like
+        T of the surface [K], >= 0.
+    sky_temperature : array_like
+        Effective sky temperature T_sky [K], >= 0.
+    band : str or (float, float)
+        Band name or limits [m].
+
+    Returns
+    -------
+    array_like
+        [W/m²].
+
+    Examples
+    --------
+    A surface of ε = 0.1 at 300 K under a 250 K sky in 8–12 µm appears colder than a blackbody
+    background at 295 K (a negative contrast):
+
+    >>> m_t = sky_reflected_exitance(0.1, 300.0, 250.0, "lwir")
+    >>> bool(m_t < band_exitance(295.0, "lwir"))
+    True
+    >>> bool(sky_reflected_exitance(1.0, 300.0, 250.0, "lwir") == band_exitance(300.0, "lwir"))
+    True
+    """
+    xp, (eps, t, t_sky) = _arrays.arrays(
+        emissivity,
+        temperature,
+        sky_temperature,
+        names=("emissivity", "temperature", "sky_temperature"),
+    )
+    _arrays.require_unit_interval("emissivity", eps, xp)
+    _arrays.require_nonnegative("sky_temperature", t_sky, xp, "K")
+    emitted = eps * band_exitance(t, band)
+    # ε = 1 reflects nothing: leave the sky's term out there, so ε = 1 is M(T) to the last bit.
+    reflected = xp.where(eps == 1.0, 0.0, (1.0 - eps) * band_exitance(t_sky, band))
+    return _arrays.result(emitted + reflected)

@@ -180,11 +180,41 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         "background_emissivity", float, "Background emissivity in [0, 1] (default 1).", SCENE
     ),
     OptionSpec(
+        "sky_temperature",
+        str,
+        "Effective sky temperature, e.g. 240K: surfaces of emissivity < 1 reflect the sky "
+        "(default: no reflection).",
+        SCENE,
+        quantity="temperature",
+    ),
+    OptionSpec(
         "clutter_std",
         str,
         "Background temperature spread (clutter), e.g. 2K; gives the SCR.",
         SCENE,
         quantity="temperature difference",
+    ),
+    OptionSpec(
+        "hot_spot_ratio",
+        float,
+        "A hot spot's own signal-to-clutter ratio, e.g. 10: detection blends in the "
+        "low-clutter curve by a weight (0.05 at 1, 0.95 at 10).",
+        SCENE,
+    ),
+    OptionSpec(
+        "hot_spot_size",
+        str,
+        "The hot spot's size, e.g. 0.3m: below a pixel its contrast is diluted.",
+        SCENE,
+        quantity="length",
+    ),
+    OptionSpec(
+        "target_speed",
+        str,
+        "Target speed across the line of sight, e.g. 10m/s: detection blends in the motion "
+        "rule by a weight (0.5 at 1 pixel/s).",
+        SCENE,
+        quantity="speed",
     ),
     OptionSpec(
         "extinction",
@@ -244,6 +274,13 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
     ),
     OptionSpec("nec", float, "TV camera's noise-equivalent contrast, e.g. 0.01.", NOISE),
     OptionSpec("contrast", float, "Target contrast for --nec, e.g. 0.3.", NOISE),
+    OptionSpec(
+        "sky_to_ground",
+        float,
+        "TV sky-to-ground ratio (horizon over background radiance) for --nec: the path's "
+        "airlight reduces the contrast, C·τ/(τ + (1 − τ)·K) (default: C·τ, K = 1).",
+        NOISE,
+    ),
     OptionSpec(
         "target_area",
         str,

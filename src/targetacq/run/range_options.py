@@ -435,6 +435,7 @@ def _clutter(
     emissivity: float | None,
     background_emissivity: float | None,
     band: tuple[float, float] | None,
+    sky_temperature: str | None = None,
 ) -> dict[str, Any]:
     """SCR or clutter region from --scr, --clutter, or temperatures with --clutter-std."""
     if sum(v is not None for v in (scr, region, clutter_std)) > 1:
@@ -446,6 +447,7 @@ def _clutter(
         for option, value in (
             ("--emissivity", emissivity),
             ("--background-emissivity", background_emissivity),
+            ("--sky-temperature", sky_temperature),
         ):
             if value is not None:
                 raise ValueError(
@@ -474,6 +476,9 @@ def _clutter(
     sigma_t = None
     if clutter_std is not None:
         sigma_t = _temperature_difference(clutter_std, "--clutter-std")
+    t_sky = None
+    if sky_temperature is not None:
+        t_sky = _temperature(sky_temperature, "--sky-temperature")
     seen = scene_signature(
         band,
         t_t,
@@ -481,12 +486,16 @@ def _clutter(
         target_emissivity=eps_t,
         background_emissivity=eps_b,
         clutter_std=sigma_t,
+        sky_temperature=t_sky,
     )
     info: dict[str, Any] = {
         "target_temperature_k": t_t,
         "background_temperature_k": t_b,
         "contrast_w_per_m2": float(seen.contrast),
     }
+    if t_sky is not None:  # the sky's reflection can turn the contrast negative (§6.3)
+        info["sky_temperature_k"] = t_sky
+        info["contrast_sign"] = int(seen.sign)
     if seen.scr is not None:
         info["clutter_w_per_m2"] = float(seen.clutter)
         info["scr"] = float(seen.scr)
@@ -541,6 +550,10 @@ class RangeOptions:
         [temperature], e.g. ``"305K"`` or ``"32degC"``.
     emissivity, background_emissivity : float, optional
         In [0, 1] [1].
+    sky_temperature : str, optional
+        Effective sky temperature [temperature], e.g. ``"240K"``: surfaces of emissivity below 1
+        reflect ``1 − ε`` of the sky's band exitance (§6.3), which can make the contrast
+        negative; default no reflection.
     clutter_std : str, optional
         The background's temperature spread [temperature difference], e.g. ``"2K"``.
     extinction : str, optional
@@ -554,6 +567,15 @@ class RangeOptions:
         the target's ΔT [temperature difference].
     nec, contrast : float, optional
         A TV camera's noise-equivalent contrast and the target's contrast [1].
+    sky_to_ground : float, optional
+        The TV camera's sky-to-ground ratio [1], >= 0: the path's airlight reduces the contrast
+        by Duntley's law (:func:`targetacq.physics.atmosphere.contrast_transmittance`).
+    hot_spot_ratio, hot_spot_size : float, str, optional
+        A graded hot spot: its own SCR [1] and its linear size [length]
+        (:func:`targetacq.acquisition.cues.hot_spot_weight`).
+    target_speed : str, optional
+        The target's speed across the line of sight [speed], e.g. ``"10m/s"``: a graded motion
+        cue (:func:`targetacq.acquisition.cues.motion_weight`).
     target_area : str, optional
         Area of the target as seen [area].
     mrtd : str, optional
@@ -606,6 +628,7 @@ class RangeOptions:
     background_temperature: str | None = None
     emissivity: float | None = None
     background_emissivity: float | None = None
+    sky_temperature: str | None = None
     clutter_std: str | None = None
     extinction: str | None = None
     obscurant: str | None = None
@@ -617,6 +640,10 @@ class RangeOptions:
     delta_t: str | None = None
     nec: float | None = None
     contrast: float | None = None
+    sky_to_ground: float | None = None
+    hot_spot_ratio: float | None = None
+    hot_spot_size: str | None = None
+    target_speed: str | None = None
     target_area: str | None = None
     mrtd: str | None = None
     resolution_model: str | None = None
@@ -732,6 +759,10 @@ _CASE_NUMBERS = (
     "contrast",
     "noise_equivalent_contrast",
     "target_area",
+    "sky_to_ground",
+    "hot_spot_ratio",
+    "hot_spot_size",
+    "target_speed",
 )
 """The numbers of a reading that are :class:`targetacq.core.cases.RangeCase` fields as they
 are (beside ``critical_dimension``; the IFOV comes from the sensor's numbers)."""
@@ -958,6 +989,7 @@ def read_range_options(
         o.emissivity,
         o.background_emissivity,
         band_limits_m,
+        o.sky_temperature,
     )
     if o.noise_model is not None:
         option_choice(o.noise_model, NOISE_MODELS, "--noise-model")
@@ -986,6 +1018,24 @@ def read_range_options(
             "to count",
             UserWarning,
             stacklevel=3,
+        )
+    if o.sky_to_ground is not None:
+        if o.nec is None:
+            raise ValueError(
+                "--sky-to-ground is a TV camera's: it reduces the contrast against --nec"
+            )
+        noise_kw["sky_to_ground"] = _number(o.sky_to_ground, "--sky-to-ground", ">= 0")
+    if o.hot_spot_ratio is not None:
+        numbers["hot_spot_ratio"] = _number(o.hot_spot_ratio, "--hot-spot-ratio", ">= 0")
+    if o.hot_spot_size is not None:
+        if o.hot_spot_ratio is None:
+            raise ValueError("--hot-spot-size grades a hot spot: give --hot-spot-ratio too")
+        numbers["hot_spot_size"] = option_quantity(
+            o.hot_spot_size, "length", "--hot-spot-size", zero_allowed=True
+        )
+    if o.target_speed is not None:
+        numbers["target_speed"] = option_quantity(
+            o.target_speed, "speed", "--target-speed", zero_allowed=True
         )
     if o.target_area is not None:
         if "noise_equivalent_contrast" not in noise_kw:
@@ -1097,6 +1147,8 @@ def _noise_report(case: RangeCase) -> dict[str, Any]:
         out["noise_equivalent_contrast"] = float(case.noise_equivalent_contrast)
     if case.target_area is not None:
         out["target_area_m2"] = float(case.target_area)
+    if case.sky_to_ground is not None:
+        out["sky_to_ground"] = float(case.sky_to_ground)
     if case.mrtd is not None:
         out["mrtd_cutoff_cycles_per_mrad"] = case.mrtd.cutoff * 1e-3
     if case.ttp is not None:

@@ -49,6 +49,10 @@ class SceneSignature:
         Standard deviation of the background exitance [W/m²]; None where none was given.
     scr : array_like or None
         Signal-to-clutter ratio [1], Eq. (6.9); None where no clutter was given.
+    sign : array_like or None
+        The contrast's sign, ``sign(target − background)``: +1 a target brighter (warmer) than
+        its background, −1 a negative contrast (e.g. a low-emissivity surface reflecting a cold
+        sky, §6.3), 0 none. The acquisition uses ``|contrast|`` either way (Eq. (3.15)).
     """
 
     target: Any
@@ -56,6 +60,7 @@ class SceneSignature:
     contrast: Any
     clutter: Any
     scr: Any
+    sign: Any = None
 
 
 @dataclass(frozen=True)
@@ -82,6 +87,10 @@ class Scene:
     clutter_exitance_std : array_like, optional
         The clutter as the standard deviation of the background exitance [W/m²], >= 0, instead
         of ``clutter_std``.
+    sky_temperature : array_like, optional
+        Effective sky temperature [K], >= 0: surfaces of emissivity ε < 1 then also reflect
+        ``(1 − ε)`` of the sky's band exitance (§6.3,
+        :func:`targetacq.physics.radiometry.sky_reflected_exitance`); None for no reflection.
 
     Examples
     --------
@@ -99,6 +108,7 @@ class Scene:
     background_exitance: Array | None = None
     clutter_std: Array | None = None
     clutter_exitance_std: Array | None = None
+    sky_temperature: Array | None = None
 
     def signature(self) -> SceneSignature:
         """The scene's signals, contrast, clutter and SCR (:func:`scene_signature`)."""
@@ -112,6 +122,7 @@ class Scene:
             background_exitance=self.background_exitance,
             clutter_std=self.clutter_std,
             clutter_exitance_std=self.clutter_exitance_std,
+            sky_temperature=self.sky_temperature,
         )
 
 
@@ -126,6 +137,7 @@ def scene_signature(
     background_exitance: Array = None,
     clutter_std: Array = None,
     clutter_exitance_std: Array = None,
+    sky_temperature: Array = None,
 ) -> SceneSignature:
     """Signals of a target and its background in a band, their contrast, clutter and SCR.
 
@@ -153,6 +165,12 @@ def scene_signature(
     clutter_exitance_std : array_like, optional
         The clutter as the standard deviation of the background exitance [W/m²], >= 0, instead
         of ``clutter_std``.
+    sky_temperature : array_like, optional
+        Effective sky temperature [K], >= 0: the emitted exitances become
+        ``ε M_band(T) + (1 − ε) M_band(T_sky)`` (§6.3,
+        :func:`targetacq.physics.radiometry.sky_reflected_exitance`), so a low-emissivity target
+        under a cold sky can be colder than its background (``sign`` −1); None for no reflection
+        (``ε M_band(T)``).
 
     Returns
     -------
@@ -169,10 +187,12 @@ def scene_signature(
     if clutter_std is not None and clutter_exitance_std is not None:
         raise ValueError("give one of clutter_std [K] and clutter_exitance_std [W/m²]")
     if target_exitance is None:
-        target_exitance = _emitted("target", target_emissivity, target_temperature, band)
+        target_exitance = _emitted(
+            "target", target_emissivity, target_temperature, band, sky_temperature
+        )
     if background_exitance is None:
         background_exitance = _emitted(
-            "background", background_emissivity, background_temperature, band
+            "background", background_emissivity, background_temperature, band, sky_temperature
         )
     elif clutter_std is not None:
         raise ValueError(
@@ -199,10 +219,13 @@ def scene_signature(
         contrast=_arrays.result(xp.abs(m_t - m_b)),
         clutter=spread,
         scr=None if spread is None else clutter.signal_to_clutter_ratio(m_t, m_b, spread),
+        sign=_arrays.result(xp.sign(m_t - m_b)),
     )
 
 
-def _emitted(name: str, emissivity: Any, temperature: Any, band: Any) -> Any:
+def _emitted(
+    name: str, emissivity: Any, temperature: Any, band: Any, sky_temperature: Any = None
+) -> Any:
     xp, (eps, kelvin) = _arrays.arrays(
         emissivity, temperature, names=(f"{name}_emissivity", f"{name}_temperature")
     )
@@ -210,6 +233,10 @@ def _emitted(name: str, emissivity: Any, temperature: Any, band: Any) -> Any:
     # The scene's domain (limits.MAX_TEMPERATURE): far above it Planck's law overflows and a
     # later check would blame a derived quantity (the SCR) the user never gave.
     _arrays.require_in_range(f"{name}_temperature", kelvin, xp, 0.0, MAX_TEMPERATURE, "K")
+    if sky_temperature is not None:
+        sky = _arrays.as_float(sky_temperature, xp, "sky_temperature")
+        _arrays.require_in_range("sky_temperature", sky, xp, 0.0, MAX_TEMPERATURE, "K")
+        return radiometry.sky_reflected_exitance(eps, kelvin, sky, band)
     return radiometry.grey_body_exitance(eps, kelvin, band)
 
 

@@ -840,13 +840,16 @@ class Background(_Strict):
     irradiance (TV), and the clutter as a Table 3.5 region, an SCR, a temperature spread, an
     image (``image`` with each target's ``image_box``) or a terrain map (thermal sensors).
     ``temperature``: a temperature, or its daily cycle (:class:`DailyCycle`, with ``[time]
-    hour``)."""
+    hour``). ``sky_temperature``: the effective sky temperature; thermal sensors then see
+    surfaces of emissivity ε < 1 (targets and background) reflect ``1 − ε`` of the sky's band
+    exitance (§6.3, :func:`targetacq.physics.radiometry.sky_reflected_exitance`)."""
 
     temperature: TemperatureOrCycle | None = None
     emissivity: Fraction | None = None
     material: str | None = None
     reflectance: BandFractions | None = None
     irradiance: BandIrradiances | None = None
+    sky_temperature: Temperature | None = None
     clutter: Literal["low", "medium", "high"] | None = None
     scr: Annotated[Number, Field(ge=0.0)] | None = None
     clutter_std: TemperatureDifference | None = None

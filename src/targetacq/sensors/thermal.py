@@ -1,6 +1,7 @@
 """Thermal imagers: emitted radiation in an infrared band (Sonesson 2004 ch. 5-6).
 
-Signature: grey-body band exitances ``ε · M_band(T)`` of target and background (6.4), (6.12);
+Signature: grey-body band exitances ``ε · M_band(T)`` of target and background (6.4), (6.12),
+plus ``(1 − ε)`` of the sky's where the background gives a ``sky_temperature`` (§6.3);
 clutter from the background's temperature spread, ``ε · dM/dT · σ_T``
 (:func:`targetacq.physics.clutter.temperature_spread_clutter`).
 """
@@ -21,10 +22,15 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
     """Band exitances of the targets and the background, and the clutter, for one sensor."""
     band = sensor.limits
     eps_b = imaging.emissivity(background, band)
-    m_b = float(radiometry.grey_body_exitance(eps_b, background.temperature, band))
     eps_t = np.array([imaging.emissivity(t, band) for t in targets])
     temperatures = np.array([t.temperature for t in targets], dtype=float)
-    m_t = np.asarray(radiometry.grey_body_exitance(eps_t, temperatures, band))
+    sky = getattr(background, "sky_temperature", None)
+    if sky is None:
+        m_b = float(radiometry.grey_body_exitance(eps_b, background.temperature, band))
+        m_t = np.asarray(radiometry.grey_body_exitance(eps_t, temperatures, band))
+    else:  # surfaces of ε < 1 reflect the sky (§6.3)
+        m_b = float(radiometry.sky_reflected_exitance(eps_b, background.temperature, sky, band))
+        m_t = np.asarray(radiometry.sky_reflected_exitance(eps_t, temperatures, sky, band))
     spread = None
     if background.clutter_std is not None:
         spread = float(

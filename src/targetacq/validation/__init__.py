@@ -15,6 +15,8 @@ the model's curve through the printed points. The sections, in page order:
 - Planck: band exitance (6.12) against a numerical quadrature of (6.2) done here, and σT⁴ (6.1);
 - the check values in the text: diffraction (5.3), Fig. 3.3's cycles, vignetting cos⁴ (6.17),
   Np/km ↔ dB/km (§7.4), the SNR of (7.5)–(7.7);
+- the signature at the sensor: sky reflection (§6.3), Koschmieder's and Duntley–Middleton's
+  contrast reduction by airlight, the path's emission (§7.2), the hot spot's 0.5 LP/TGT (§3.9);
 - a vendor's published DRI ranges (thermal-camera datasheet pixel rule);
 - the TTP metric: the V50s of ``ttp-vehicles``, its TTPF at V50 and the diffraction MTF's closed
   form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced).
@@ -50,6 +52,7 @@ from targetacq.validation._physics import (
     planck_section,
     terms_section,
 )
+from targetacq.validation._signature import signature_section
 from targetacq.validation._transforms import (
     OBSERVED_TRANSFORM,
     c2nveo_section,
@@ -100,6 +103,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         terms_section(),
         planck_section(),
         optics_section(),
+        signature_section(),
         vendor_section(),
         ttp_section(),
     )

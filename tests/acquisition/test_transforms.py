@@ -238,7 +238,7 @@ def test_forward_of_inverse_is_identity(p, n50):
     [
         (
             lambda: ta.probability(1.0, "detection", transform="johnsn"),
-            r"unknown transform 'johnsn'; valid: ttpf, c2nveo, schmieder-weathersby",
+            r"unknown transform 'johnsn'; valid: ttpf, ttp, c2nveo, schmieder-weathersby",
         ),
         (
             lambda: ta.probability(1.0, "detection", transform="ttpf", bound="optimistic"),

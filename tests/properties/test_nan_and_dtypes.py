@@ -609,8 +609,13 @@ def test_every_band_exitance_method_keeps_nan(method, band):
 @pytest.mark.parametrize("name", list(RESOLUTION_MODELS))
 def test_every_resolution_model_keeps_nan(name):
     from targetacq.physics.mrtd import MrtdCurve
+    from targetacq.physics.ttp import TtpSystem
 
-    extra = {"mrtd": MrtdCurve.example(), "contrast": 2.0} if name == "mrtd" else {}
+    extra = {
+        "johnson": {},
+        "mrtd": {"mrtd": MrtdCurve.example(), "contrast": 2.0},
+        "ttp": {"ttp": TtpSystem(1e-4, 0.1, 1e-5, 0.05), "contrast": 2.0},
+    }[name]
     case = RangeCase(2.3, 1e-4, **extra)
     assert case.resolution_model == name
     cycles = RESOLUTION_MODELS[name].cycles(case, np.array([1000.0, np.nan]), np.array([0.5, 0.5]))
@@ -618,7 +623,7 @@ def test_every_resolution_model_keeps_nan(name):
     cycles = RESOLUTION_MODELS[name].cycles(
         case, np.array([1000.0, 1000.0]), np.array([0.5, np.nan])
     )
-    _nan_where(cycles, [False, name == "mrtd"])  # only the MRTD model sees the contrast
+    _nan_where(cycles, [False, name != "johnson"])  # MRTD and TTP see the contrast
 
 
 # --------------------------------------------------------------------------------------------

@@ -158,7 +158,7 @@ def test_range_cases_carry_the_curve(scenario_path: Path) -> None:
     assert cases["ir → truck"].resolution_model == "mrtd"
     assert cases["ir → truck"].contrast == pytest.approx(_delta_t(), rel=1e-9)
     assert cases["ir-netd → truck"].noise_equivalent_contrast == pytest.approx(0.05, rel=1e-12)
-    assert cases["geometric → truck"].resolution_model == "geometric"
+    assert cases["geometric → truck"].resolution_model == "johnson"
 
 
 def test_jax_engine_gives_the_same_numbers(scenario_path: Path) -> None:

@@ -37,6 +37,7 @@ SECTIONS = (
     "text",
     "signature",
     "vendor-dri",
+    "ttp",
 )
 
 

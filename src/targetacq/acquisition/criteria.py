@@ -14,7 +14,9 @@ for names, tasks and values (the CLI's choices and the docs come from it):
 - ``c2nveo``: the 50 % row of Table 3.3, geometric mean of each printed cell;
 - ``schmieder-weathersby``: detection only, the medium-clutter 50 % point of Table 3.5;
 - ``pixels-1.5-6-12``, ``pixels-2-8-12.8``, ``stanag-i2``, ``en62676-4``: see
-  ``data/criteria_sets.csv`` for their sources.
+  ``data/criteria_sets.csv`` for their sources;
+- ``ttp-vehicles``: V50s of the TTP metric (TTP cycles, not Johnson cycles) for tactical
+  vehicles, ``data/ttp_v50.csv``; for the ``ttp`` resolution model and transform.
 """
 
 from __future__ import annotations
@@ -166,12 +168,24 @@ def _other_sets() -> dict[str, Criterion]:
     }
 
 
+def _ttp_vehicles() -> Criterion:
+    table = load_table("ttp_v50")
+    return Criterion(
+        "ttp-vehicles",
+        dict(zip(table.column("task"), table.numbers("v50"), strict=True)),
+        source="targetacq/data/ttp_v50.csv: V50s of the TTP metric for tactical vehicles "
+        "(Vollmerhausen, Jacobs & Driggers, Opt. Eng. 43(11) 2004); use with the ttp resolution "
+        "model and transform",
+    )
+
+
 @functools.cache
 def _registry() -> Mapping[str, Criterion]:
     sets = _johnson()
     sets["c2nveo"] = _c2nveo()
     sets["schmieder-weathersby"] = _schmieder_weathersby()
     sets.update(_other_sets())
+    sets["ttp-vehicles"] = _ttp_vehicles()
     return MappingProxyType(sets)
 
 

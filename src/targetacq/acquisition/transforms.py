@@ -1,11 +1,14 @@
 """Transforms from resolution (cycles on target) to the probability of a task.
 
-Four methods, kept in the registry :data:`TRANSFORMS` and reached through one dispatcher,
+Five methods, kept in the registry :data:`TRANSFORMS` and reached through one dispatcher,
 :func:`transform` (and :func:`inverse_transform` for the cycles needed for a probability):
 
 ``ttpf``
     The target transfer probability function of the NVESD models (ACQUIRE, NVTherm):
     ``P = x^E / (1 + x^E)``, ``x = N / N50``, ``E = 2.7 + 0.7 x``; ``P(N50) = 0.5``.
+``ttp``
+    The TTPF of the targeting task performance metric: the same form with ``x = V / V50`` and
+    ``E = 1.51 + 0.24 x`` (:func:`ttp_transform`), for the TTP resolution model's cycles ``V``.
 ``c2nveo``
     Table 3.3 of Sonesson (2004): cycles needed for seven probabilities per task, each a range
     whose low end is the optimistic and high end the pessimistic curve (``bound``); ``nominal``
@@ -86,6 +89,8 @@ __all__ = [
     "schmieder_weathersby",
     "schmieder_weathersby_inverse",
     "transform",
+    "ttp_transform",
+    "ttp_transform_inverse",
     "ttpf",
     "ttpf_inverse",
 ]
@@ -100,6 +105,11 @@ CLUTTER_REGIONS: tuple[str, ...] = ("low", "medium", "high")
 TTPF_E0 = 2.7
 TTPF_E1 = 0.7
 
+# TTPF exponent of the TTP metric, E = TTP_E0 + TTP_E1 · V/V50 (Vollmerhausen, Jacobs & Driggers
+# 2004).
+TTP_E0 = 1.51
+TTP_E1 = 0.24
+
 # Beyond exp(±700) float64 over/underflows; the logistic is then 0 or 1 to double precision.
 LOGIT_LIMIT = 700.0
 
@@ -109,16 +119,16 @@ LOGIT_LIMIT = 700.0
 # --------------------------------------------------------------------------------------------
 
 
-def _ttpf(x: Array, xp: Any) -> Array:
+def _ttpf(x: Array, xp: Any, e0: float = TTPF_E0, e1: float = TTPF_E1) -> Array:
     """TTPF of x = N/N50 >= 0 (or NaN), as the logistic of E·ln x, without warnings."""
     positive = x > 0
     log_x = xp.log(xp.where(positive | xp.isnan(x), x, 1.0))
-    z = xp.clip((TTPF_E0 + TTPF_E1 * x) * log_x, -LOGIT_LIMIT, LOGIT_LIMIT)
+    z = xp.clip((e0 + e1 * x) * log_x, -LOGIT_LIMIT, LOGIT_LIMIT)
     p = 1.0 / (1.0 + xp.exp(-z))
     return xp.where(x == 0, 0.0, p)
 
 
-def _ttpf_inverse(p: Array, xp: Any) -> Array:
+def _ttpf_inverse(p: Array, xp: Any, e0: float = TTPF_E0, e1: float = TTPF_E1) -> Array:
     """x = N/N50 with TTPF(x) = p, for p in (0, 1) (or NaN), by safeguarded Newton in ln x.
 
     Solves ``h(u) = (E0 + E1 e^u) u = L`` with ``L = logit(p)``. ``h`` is increasing
@@ -128,15 +138,15 @@ def _ttpf_inverse(p: Array, xp: Any) -> Array:
     """
     logit = xp.log(p) - xp.log1p(-p)
     negative = logit <= 0
-    lo = xp.where(negative, logit / TTPF_E0, 0.0)
-    hi = logit / (TTPF_E0 + TTPF_E1)
+    lo = xp.where(negative, logit / e0, 0.0)
+    hi = logit / (e0 + e1)
     u = 0.5 * (lo + hi)
     for _ in range(100):
         e_u = xp.exp(u)
-        residual = (TTPF_E0 + TTPF_E1 * e_u) * u - logit
+        residual = (e0 + e1 * e_u) * u - logit
         lo = xp.where(residual < 0, u, lo)
         hi = xp.where(residual > 0, u, hi)
-        slope = TTPF_E0 + TTPF_E1 * e_u * (1.0 + u)
+        slope = e0 + e1 * e_u * (1.0 + u)
         candidate = u - residual / slope
         outside = (candidate < lo) | (candidate > hi)
         candidate = xp.where(outside, 0.5 * (lo + hi), candidate)
@@ -213,6 +223,58 @@ def ttpf_inverse(probability: Array, n50: Array) -> Any:
     _arrays.require_open_unit_interval("probability", p, xp)
     _arrays.require_positive("n50", n50_, xp)
     return _arrays.result(_ttpf_inverse(p, xp) * n50_)
+
+
+def ttp_transform(cycles: Array, v50: Array) -> Any:
+    """Target transfer probability function of the TTP metric.
+
+    ``P = x^E / (1 + x^E)`` with ``x = V / V50`` and ``E = 1.51 + 0.24 x``: the TTPF that goes with
+    the targeting task performance metric's resolvable cycles ``V``
+    (:func:`targetacq.physics.ttp.ttp_cycles`), fitted to the NVESD identification experiments
+    (R. H. Vollmerhausen, E. Jacobs and R. G. Driggers, "New metric for predicting target
+    acquisition performance", Opt. Eng. 43(11) (2004) 2806; Vollmerhausen & Jacobs, NVESD
+    report AMSEL-NV-TR-230 (2004)). Its slope is lower than the Johnson TTPF's
+    (:func:`ttpf`, ``E = 2.7 + 0.7 x``); ``P(V50) = 0.5`` likewise.
+
+    Parameters
+    ----------
+    cycles : array_like
+        V, TTP cycles on target [cycles], >= 0.
+    v50 : array_like
+        V for a probability of 0.5 [cycles], > 0 (the ``ttp-vehicles`` criterion).
+
+    Returns
+    -------
+    array_like
+        P in [0, 1]; NaN where ``cycles`` is NaN.
+
+    Examples
+    --------
+    At twice V50, ``E = 1.51 + 0.48 = 1.99`` and ``P = 2^1.99 / (1 + 2^1.99) = 0.7989``:
+
+    >>> import numpy as np
+    >>> print(np.round(ttp_transform([10.0, 20.0, 40.0], 20.0), 4))
+    [0.2442 0.5    0.7989]
+    """
+    xp, (v, v50_) = _arrays.arrays(cycles, v50, names=("cycles", "v50"))
+    _arrays.require_nonnegative("cycles", v, xp)
+    _arrays.require_positive("v50", v50_, xp)
+    return _arrays.result(_ttpf(v / v50_, xp, TTP_E0, TTP_E1))
+
+
+def ttp_transform_inverse(probability: Array, v50: Array) -> Any:
+    """V at which the TTP metric's TTPF reaches a probability (inverse of :func:`ttp_transform`).
+
+    Examples
+    --------
+    >>> v = ttp_transform_inverse(0.8, 20.0)
+    >>> print(f"{v:.4f} {ttp_transform(v, 20.0):.4f}")
+    40.1194 0.8000
+    """
+    xp, (p, v50_) = _arrays.arrays(probability, v50, names=("probability", "v50"))
+    _arrays.require_open_unit_interval("probability", p, xp)
+    _arrays.require_positive("v50", v50_, xp)
+    return _arrays.result(_ttpf_inverse(p, xp, TTP_E0, TTP_E1) * v50_)
 
 
 # --------------------------------------------------------------------------------------------
@@ -771,6 +833,14 @@ def _ttpf_backward(probability: Any, n50: Any, task: str) -> Any:
     return ttpf_inverse(probability, n50)
 
 
+def _ttp_forward(cycles: Any, v50: Any, task: str) -> Any:
+    return ttp_transform(cycles, v50)
+
+
+def _ttp_backward(probability: Any, v50: Any, task: str) -> Any:
+    return ttp_transform_inverse(probability, v50)
+
+
 def _sw_forward(cycles: Any, n50: Any, task: str, **options: Any) -> Any:
     return schmieder_weathersby(cycles, n50, **options)
 
@@ -788,6 +858,15 @@ TRANSFORMS: Mapping[str, Transform] = MappingProxyType(
             tasks=None,
             options=MappingProxyType({}),
             source="NVESD target transfer probability function (ACQUIRE, NVTherm)",
+        ),
+        "ttp": Transform(
+            "ttp",
+            _ttp_forward,
+            _ttp_backward,
+            tasks=None,
+            options=MappingProxyType({}),
+            source="TTPF of the TTP metric, E = 1.51 + 0.24 V/V50 (Vollmerhausen, Jacobs & "
+            "Driggers, Opt. Eng. 43(11) 2004); with V from the ttp resolution model and V50s",
         ),
         "c2nveo": Transform(
             "c2nveo",

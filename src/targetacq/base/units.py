@@ -42,6 +42,7 @@ DIMENSIONS: dict[str, tuple[str, str]] = {
     "area density": ("1 / meter ** 2", "4 /km^2, 0.001 /m^2"),
     "speed": ("meter / second", "10 m/s, 5 mm/h (a rain rate)"),
     "power ratio": ("dimensionless", "30 dB, -20 dB, 3 dB (10 log10 of the ratio)"),
+    "structure constant": ("meter ** (-2/3)", "1e-14 m^(-2/3) (a refractive-index Cn²)"),
 }
 """Quantity kinds accepted at the boundary: the SI unit they become and an example."""
 
@@ -61,6 +62,7 @@ _PLAIN_UNITS: dict[str, dict[str, float]] = {
     "area density": {"/m^2": 1.0, "/m**2": 1.0, "/km^2": 1e-6, "/km**2": 1e-6},
     "speed": {"m/s": 1.0, "km/h": 1.0 / 3.6, "mm/h": 1e-3 / 3600.0},
     "power ratio": {},
+    "structure constant": {"m^(-2/3)": 1.0, "m**(-2/3)": 1.0},
 }
 
 # The SI unit of each pint base dimension, for converting any quantity to SI base units.

@@ -14,8 +14,8 @@ task's own curve, for the range solver). It is the array core along a line of ra
    (:func:`targetacq.core.pair_factors.imager_factors`, the one the scenario core calls after
    its geometry): ``N = d / (R · cycle)`` (§3.5, Fig. 3.3 and Eqs. (5.2), (5.3) in Sonesson
    (2004)), ``τ = exp(−γR)`` times the foliage's transmittance (Eq. (7.3), §6.8) and the SNR of
-   Eqs. (7.5)–(7.7) with the sensor's own noise; an MRTD curve gives the cycles instead
-   (:data:`RESOLUTION_MODELS`);
+   Eqs. (7.5)–(7.7) with the sensor's own noise; an MRTD curve or a TTP system gives the
+   cycles instead (:data:`RESOLUTION_MODELS`);
 2. probabilities: the transform with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform, ordered ``P_id <= P_rec <= P_det``
    (:func:`targetacq.acquisition.probabilities.acquisition_probabilities`, §3.5–3.9), the kernel
@@ -47,11 +47,14 @@ from targetacq.acquisition.probabilities import (
 )
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
+from targetacq.base.registry import lookup
 from targetacq.core.pair_factors import SensorNoise, imager_factors
 from targetacq.physics import optics
+from targetacq.physics.ttp import TtpSystem, ttp_cycles
 
 __all__ = [
     "RESOLUTION_MODELS",
+    "RESOLUTION_MODEL_ALIASES",
     "CaseAcquisition",
     "RangeCase",
     "RangePerformance",
@@ -59,6 +62,7 @@ __all__ = [
     "case_acquisition",
     "case_factors",
     "case_probability",
+    "get_resolution_model",
 ]
 
 
@@ -131,6 +135,13 @@ class RangeCase:
         The sensor's MRTD curve (:class:`targetacq.physics.mrtd.MrtdCurve`): the cycles on target
         are then MRTD-limited (:data:`RESOLUTION_MODELS` "mrtd"), with ``contrast`` the target's ΔT
         [K].
+    ttp : TtpSystem, optional
+        The imager, display and observer of the TTP metric
+        (:class:`targetacq.physics.ttp.TtpSystem`): the cycles on target are then the TTP
+        metric's V (:data:`RESOLUTION_MODELS` "ttp"), with ``contrast`` the target's ΔT [K] and
+        the characteristic dimension ``sqrt(target_area)`` (or the critical dimension). Its V
+        goes with V50s, not Johnson's N50s: a criterion and transform left at their defaults
+        (``johnson``, ``ttpf``) become ``ttp-vehicles`` and ``ttp``.
     motion : str
         How a moving target is detected (:data:`targetacq.acquisition.probabilities.MOTION_RULES`).
     semantics : str
@@ -173,6 +184,7 @@ class RangeCase:
     noise_equivalent_contrast: Any = None
     target_area: Any = None
     mrtd: Any = None
+    ttp: Any = None
     motion: str = "low-clutter"
     semantics: str = "nested"
     sky_to_ground: Any = None
@@ -191,6 +203,8 @@ class RangeCase:
         _arrays.require_flag("hot_spot", self.hot_spot, arrays=False)
         _arrays.require_flag("moving", self.moving, arrays=False)
         self._check_resolution()
+        if self.ttp is not None:
+            self._check_ttp()
         crit = get_criterion(self.criterion)
         object.__setattr__(self, "criterion", crit)
         object.__setattr__(self, "options", dict(self.options))
@@ -246,6 +260,20 @@ class RangeCase:
             _arrays.require_nonnegative("blur_sigma", sigma, xp, "rad")
             _arrays.require_finite("blur_sigma", sigma, xp, "rad")
 
+    def _check_ttp(self) -> None:
+        if not isinstance(self.ttp, TtpSystem):
+            raise ValueError(f"ttp must be a TtpSystem, got {type(self.ttp).__name__}")
+        if self.mrtd is not None:
+            raise ValueError("give an MRTD curve or a TTP system (ttp), not both")
+        if self.cycle is not None:
+            raise ValueError("give the cycle or a TTP system (ttp), not both")
+        if self.contrast is None:
+            raise ValueError("the TTP resolution model needs the target's contrast ΔT [K]")
+        if self.criterion == "johnson":
+            object.__setattr__(self, "criterion", "ttp-vehicles")
+        if self.transform == "ttpf":
+            object.__setattr__(self, "transform", "ttp")
+
     def _check_sensor_noise(self) -> None:
         if self.noise_equivalent_contrast is not None and self.contrast is None:
             raise ValueError(
@@ -261,10 +289,10 @@ class RangeCase:
                 raise ValueError("the MRTD resolution model needs the target's contrast ΔT [K]")
             if self.cycle is not None:
                 raise ValueError("give the cycle or an MRTD curve, not both")
-        elif self.contrast is not None and self.noise_equivalent_contrast is None:
+        elif self.contrast is not None and self.noise_equivalent_contrast is None and not self.ttp:
             raise ValueError(
-                "the target's contrast is used with the sensor's noise (e.g. a NETD) or an MRTD "
-                "curve; give one of them"
+                "the target's contrast is used with the sensor's noise (e.g. a NETD), an MRTD "
+                "curve or a TTP system; give one of them"
             )
         if self.contrast is not None:
             xp, (c,) = _arrays.arrays(self.contrast, names=("contrast",))
@@ -334,7 +362,15 @@ class RangeCase:
     @property
     def resolution_model(self) -> str:
         """The name of the resolution model in :data:`RESOLUTION_MODELS`."""
-        return "geometric" if self.mrtd is None else "mrtd"
+        if self.mrtd is not None:
+            return "mrtd"
+        return "johnson" if self.ttp is None else "ttp"
+
+    @property
+    def characteristic_dimension(self) -> Any:
+        """The TTP metric's target size ``sqrt(target_area)`` [m], or the critical dimension
+        where no area is given."""
+        return self.critical_dimension if self.target_area is None else self.target_area**0.5
 
     @property
     def in_clutter(self) -> bool:
@@ -444,11 +480,17 @@ class CaseAcquisition(Acquisition):
 
 @dataclass(frozen=True)
 class ResolutionModel:
-    """How a case's sensor resolves its target: ``cycles(case, range, transmittance) -> N``."""
+    """How a case's sensor resolves its target: ``cycles(case, range, transmittance) -> N``.
+
+    ``includes_noise``: whether the model's cycles already account for the sensor's noise and
+    the path's transmittance on the contrast (MRTD, TTP), so that a separate SNR noise model
+    would count them twice.
+    """
 
     name: str
     cycles: Callable[[RangeCase, Any, Any], Any]
     source: str
+    includes_noise: bool = False
 
 
 def _geometric_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
@@ -461,10 +503,14 @@ def _mrtd_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
     return mrtd_cycles(range, case.critical_dimension, case.contrast, transmittance, case.mrtd)
 
 
+def _ttp_cycles(case: RangeCase, range: Any, transmittance: Any) -> Any:
+    return ttp_cycles(range, case.characteristic_dimension, case.contrast, transmittance, case.ttp)
+
+
 RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
     {
-        "geometric": ResolutionModel(
-            "geometric",
+        "johnson": ResolutionModel(
+            "johnson",
             _geometric_cycles,
             "Johnson's pixel model: N = d / (R · cycle), one cycle two pixels or the optics "
             "limit (Sonesson 2004 §3.5, Fig. 3.3, Eqs. (5.2), (5.3))",
@@ -474,11 +520,39 @@ RESOLUTION_MODELS: Mapping[str, ResolutionModel] = MappingProxyType(
             _mrtd_cycles,
             "MRTD-limited, STANAG 4347 style: N = f*(R) · d / R with MRTD(f*) = τ(R) ΔT "
             "(:func:`targetacq.physics.mrtd.mrtd_cycles`)",
+            includes_noise=True,
+        ),
+        "ttp": ResolutionModel(
+            "ttp",
+            _ttp_cycles,
+            "targeting task performance metric: V = d / R · ∫ sqrt(C / CTF_sys) dξ, contrast "
+            "and system MTF with noise (Vollmerhausen, Jacobs & Driggers, Opt. Eng. 43(11) "
+            "2004; :func:`targetacq.physics.ttp.ttp_cycles`)",
+            includes_noise=True,
         ),
     }
 )
-"""Resolution models of a range case, by name (read-only); ``geometric`` is the default and
-``mrtd`` applies where the case has an MRTD curve."""
+"""Resolution models of a range case, by name (read-only): ``johnson`` is the default,
+``mrtd`` applies where the case has an MRTD curve and ``ttp`` where it has a TTP system."""
+
+RESOLUTION_MODEL_ALIASES: Mapping[str, str] = MappingProxyType({"geometric": "johnson"})
+"""Former names of resolution models, still accepted by :func:`get_resolution_model`."""
+
+
+def get_resolution_model(name: str) -> ResolutionModel:
+    """A resolution model by name (or a former name, ``geometric`` for ``johnson``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, listing the valid ones.
+
+    Examples
+    --------
+    >>> get_resolution_model("geometric").name
+    'johnson'
+    """
+    return lookup(RESOLUTION_MODELS, RESOLUTION_MODEL_ALIASES.get(name, name), "resolution model")
 
 
 def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
@@ -489,8 +563,8 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     Eqs. (5.2), (5.3) in Sonesson (2004)), the optical depth ``γR − ln τ_foliage`` (Eq. (7.3),
     §6.8), so ``τ = exp(−γR) · τ_foliage``, and the SNR of Eqs. (7.5)–(7.7) added in variance to
     the sensor's own (:func:`targetacq.physics.detector_noise.sensor_snr`, with the pixels the
-    target's area covers at the sensor's IFOV). An MRTD curve then gives the cycles instead
-    (:data:`RESOLUTION_MODELS`).
+    target's area covers at the sensor's IFOV). An MRTD curve or a TTP system then gives the
+    cycles instead (:data:`RESOLUTION_MODELS`).
 
     Parameters
     ----------
@@ -525,7 +599,7 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
             sky_to_ground=case.sky_to_ground,
         )
     cycles, tau, snr = imager_factors(r, case.critical_dimension, case.cycle_angle, depth, noise)
-    if case.resolution_model != "geometric":
+    if case.resolution_model != "johnson":
         cycles = RESOLUTION_MODELS[case.resolution_model].cycles(case, r, tau)
     return cycles, tau, snr
 

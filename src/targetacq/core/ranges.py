@@ -39,6 +39,7 @@ from targetacq.core.cases import (
     case_probability,
 )
 from targetacq.physics import optics
+from targetacq.physics.ttp import ttp_value_bound
 
 __all__ = [
     "CASE_KEYS",
@@ -154,7 +155,12 @@ def case_ranges(
                 r_free,
                 tolerance,
             )
-        elif case.noisy or case.mrtd is not None or (task == "detection" and case.graded):
+        elif (
+            case.noisy
+            or case.mrtd is not None
+            or case.ttp is not None
+            or (task == "detection" and case.graded)
+        ):
             if case.graded and task == "detection":
                 r_free = _graded_bracket(case, crit, chosen, probability)
             r_free = _solve(
@@ -240,6 +246,14 @@ def _noise_free_range(
             case.critical_dimension, case.mrtd.cutoff, xp.where(never | (n == 0), 1.0, n)
         )
         r = d * cut / safe_n
+    elif case.ttp is not None:
+        # V(R) <= d · Φ_bound / R (physics.ttp.ttp_value_bound) bounds it likewise.
+        xp, (d, bound, safe_n) = _arrays.arrays(
+            case.characteristic_dimension,
+            ttp_value_bound(case.ttp),
+            xp.where(never | (n == 0), 1.0, n),
+        )
+        r = d * bound / safe_n
     else:
         r = optics.range_for_cycles(
             case.critical_dimension, xp.where(never, 1.0, n), **case.resolution()

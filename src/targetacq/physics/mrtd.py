@@ -20,8 +20,9 @@ Three parts:
 - the curve as a function and its exact inverse (:func:`mrtd`, :func:`resolved_frequency`) and
   the resolved cycles (:func:`mrtd_cycles`), array-API kernels that broadcast;
 - a published formula for the MRTD of a staring imager from its NETD, its system MTF and the
-  observer's integration (:func:`parametric_mrtd`), with the MTFs it needs
-  (:func:`diffraction_mtf`, :func:`detector_mtf`, :func:`blur_mtf`, :func:`system_mtf`).
+  observer's integration (:func:`parametric_mrtd`), with the system MTF it needs
+  (:func:`system_mtf`, a product of the components of :mod:`targetacq.physics.mtf`, whose
+  :func:`diffraction_mtf`, :func:`detector_mtf` and :func:`blur_mtf` are re-exported here).
 
 Units: spatial frequency in cycles/rad inside (SI, like every kernel), cycles/mrad in the bench
 file (the unit bench curves are printed in); temperatures in kelvin.
@@ -44,6 +45,7 @@ import numpy as np
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.base.inputs import read_input_text
+from targetacq.physics.mtf import blur_mtf, detector_mtf, diffraction_mtf
 
 __all__ = [
     "DEFAULT_EYE_INTEGRATION_TIME",
@@ -557,126 +559,12 @@ def mrtd_cycles(
 # The parametric MRTD and its MTFs.
 
 
-def diffraction_mtf(frequency: Array, wavelength: Array, aperture: Array) -> Any:
-    """Diffraction MTF of an aberration-free circular aperture in incoherent light.
-
-    ``MTF(ν) = (2/π) (acos ν − ν sqrt(1 − ν²))`` for ``ν = f λ / D < 1``, 0 from the cut-off
-    ``f = D/λ`` up (the autocorrelation of a circular pupil: J. W. Goodman, *Introduction to
-    Fourier Optics*, ch. 6, frequency response of diffraction-limited incoherent imaging). One
-    wavelength stands for the band.
-
-    Parameters
-    ----------
-    frequency : array_like
-        Angular spatial frequency in object space [cycles/rad], >= 0.
-    wavelength : array_like
-        λ [m], > 0.
-    aperture : array_like
-        Entrance-pupil diameter D [m], > 0.
-
-    Returns
-    -------
-    array_like
-        MTF in [0, 1].
-
-    Examples
-    --------
-    >>> round(float(diffraction_mtf(0.0, 10e-6, 0.05)), 12)
-    1.0
-    >>> round(float(diffraction_mtf(0.5 * 0.05 / 10e-6, 10e-6, 0.05)), 6)  # ν = 0.5
-    0.391002
-    """
-    xp, (f, lam, d) = _arrays.arrays(frequency, wavelength, aperture)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("wavelength", lam, xp, "m")
-    _positive("aperture", d, xp, "m")
-    return _arrays.result(_diffraction_mtf(f, lam, d, xp))
-
-
-def _diffraction_mtf(f: Array, lam: Array, d: Array, xp: Any) -> Array:
-    nu = f * lam / d
-    inside = nu < 1.0
-    nu_in = xp.where(inside, nu, 0.0)
-    value = 2.0 / math.pi * (xp.acos(nu_in) - nu_in * xp.sqrt(1.0 - nu_in * nu_in))
-    return xp.where(inside, value, xp.where(xp.isnan(nu), nu, 0.0))
-
-
-def detector_mtf(frequency: Array, ifov: Array) -> Any:
-    """MTF of the detector footprint, a square pixel of angular width IFOV (100 % fill).
-
-    ``MTF(f) = |sinc(f · IFOV)| = |sin(π f IFOV) / (π f IFOV)|``, the Fourier transform of the
-    rectangular footprint (G. D. Boreman, *Modulation Transfer Function in Optical and
-    Electro-Optical Systems*, SPIE TT52 (2001), ch. 2, detector footprint MTF). Zero at
-    ``f = 1/IFOV``, twice the Nyquist frequency ``1/(2 IFOV)`` of the array.
-
-    Parameters
-    ----------
-    frequency : array_like
-        [cycles/rad], >= 0.
-    ifov : array_like
-        Detector angular subtense [rad], > 0.
-
-    Returns
-    -------
-    array_like
-        MTF in [0, 1].
-
-    Examples
-    --------
-    >>> round(float(detector_mtf(0.5 / 3.4e-4, 3.4e-4)), 6)  # Nyquist: 2/π
-    0.63662
-    """
-    xp, (f, i) = _arrays.arrays(frequency, ifov)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("ifov", i, xp, "rad")
-    return _arrays.result(_detector_mtf(f, i, xp))
-
-
-def _detector_mtf(f: Array, ifov: Array, xp: Any) -> Array:
-    x = math.pi * f * ifov
-    safe = xp.where(x == 0, 1.0, x)
-    return xp.where(x == 0, 1.0, xp.abs(xp.sin(safe) / safe))
-
-
-def blur_mtf(frequency: Array, blur_sigma: Array) -> Any:
-    """MTF of a Gaussian blur of angular standard deviation σ, ``exp(−2π² σ² f²)``.
-
-    The Fourier transform of the Gaussian point-spread function of Eq. (5.2) in Sonesson (2004)
-    (separable form, see :func:`targetacq.physics.optics.gaussian_psf`), along one axis.
-
-    Parameters
-    ----------
-    frequency : array_like
-        [cycles/rad], >= 0.
-    blur_sigma : array_like
-        σ [rad], >= 0 (0: no blur, MTF 1).
-
-    Returns
-    -------
-    array_like
-        MTF in (0, 1].
-
-    Examples
-    --------
-    >>> import math
-    >>> round(float(blur_mtf(1.0 / (math.pi * math.sqrt(2.0) * 1e-4), 1e-4)), 12)  # e^-1
-    0.367879441171
-    """
-    xp, (f, s) = _arrays.arrays(frequency, blur_sigma)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("blur_sigma", s, xp, "rad")
-    return _arrays.result(_blur_mtf(f, s, xp))
-
-
-def _blur_mtf(f: Array, sigma: Array, xp: Any) -> Array:
-    return xp.exp(-2.0 * math.pi**2 * sigma * sigma * f * f)
-
-
 def system_mtf(
     frequency: Array, *, ifov: Array, aperture: Array, wavelength: Array, blur_sigma: Array = 0.0
 ) -> Any:
-    """System MTF: the product of :func:`diffraction_mtf`, :func:`detector_mtf` and
-    :func:`blur_mtf` (the MTFs of cascaded linear stages multiply).
+    """System MTF of the MRTD formula: the product of :func:`diffraction_mtf`,
+    :func:`detector_mtf` and :func:`blur_mtf` (the MTFs of cascaded linear stages multiply; the
+    general product of named components is :func:`targetacq.physics.mtf.system_mtf`).
 
     Parameters
     ----------
@@ -713,7 +601,7 @@ def _check_mtf_inputs(f: Array, i: Array, d: Array, lam: Array, s: Array, xp: An
 
 
 def _system_mtf(f: Array, i: Array, d: Array, lam: Array, s: Array, xp: Any) -> Array:
-    return _diffraction_mtf(f, lam, d, xp) * _detector_mtf(f, i, xp) * _blur_mtf(f, s, xp)
+    return diffraction_mtf(f, lam, d) * detector_mtf(f, i) * blur_mtf(f, s)
 
 
 def parametric_mrtd(

@@ -49,6 +49,7 @@ from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.core.cases import RangeCase, case_acquisition, case_probability
 from targetacq.core.ranges import case_ranges
+from targetacq.physics.ttp import eye_ctf_minimum
 
 __all__ = [
     "SEARCH_DEPTH",
@@ -78,6 +79,7 @@ _OPTICS_AND_NOISE: dict[str, Any] = {
     "contrast": None,
     "noise_equivalent_contrast": None,
     "target_area": None,
+    "ttp": None,
 }
 
 CaseAt = Callable[[Any], RangeCase]
@@ -127,6 +129,9 @@ def _case_builder(
         if f_number is not None:
             f = focal_length if focal_length is not None else pitch / ifov
             keywords["aperture"] = f / f_number
+        if keywords.get("ttp") is not None:  # the TTP system's pixels (and lens) are the design's
+            lens = {} if f_number is None else {"aperture": keywords["aperture"]}
+            keywords["ttp"] = dataclasses.replace(keywords["ttp"], ifov=ifov, **lens)
         return RangeCase(critical_dimension, ifov, **keywords)
 
     case_at(_REFERENCE_IFOV)
@@ -139,7 +144,9 @@ def _geometric(case: RangeCase) -> RangeCase:
 
 
 def _is_geometric(case: RangeCase) -> bool:
-    return not case.noisy and case.wavelength is None and case.blur_sigma is None
+    return (
+        not case.noisy and case.wavelength is None and case.blur_sigma is None and case.ttp is None
+    )
 
 
 def _task_range(case: RangeCase, probability: Any, task: str) -> Any:
@@ -209,12 +216,25 @@ def _solve(case_at: CaseAt, distance: Any, probability: Any, task: str) -> Any:
     r, p, missing = _inputs(case_at, distance, probability)
     reference = _task_range(_geometric(case_at(_REFERENCE_IFOV)), p, task)
     geometric = _REFERENCE_IFOV * reference / r  # inf: any IFOV; NaN: never reached
+    ttp = case_at(_REFERENCE_IFOV).ttp
+    if ttp is not None:
+        # The TTP metric's V <= d / (R · IFOV) · sqrt(1 / min CTF_eye) (C <= 1, MTF <= 1, noise
+        # >= 1, frequencies up to 1/IFOV), against the geometric N = d / (2 R IFOV) for the same
+        # cycles: the IFOV can be that many times the geometric one at most.
+        geometric = (
+            geometric
+            * 2.0
+            / math.sqrt(eye_ctf_minimum(float(ttp.luminance), float(ttp.field_angle)))
+        )
     if _is_geometric(case_at(_REFERENCE_IFOV)):
         found = geometric
     else:
         bracketed = np.isfinite(geometric) & (geometric > 0)
         hi = np.where(bracketed, geometric, _REFERENCE_IFOV)
-        lo = hi * SEARCH_DEPTH
+        # With the TTP metric, V is not monotone in the IFOV for a fixed aperture (at the display
+        # magnification of a very fine pixel the optics' cut-off falls below the eye's peak
+        # sensitivity): its search starts two decades below the bound instead.
+        lo = hi * (SEARCH_DEPTH if ttp is None else 1e-2)
 
         tasks = list(case_ranges(_geometric(case_at(_REFERENCE_IFOV)), 0.5))
 

@@ -23,6 +23,7 @@ from targetacq.acquisition.criteria import CRITERIA
 from targetacq.acquisition.path_noise import NOISE_MODELS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
+from targetacq.core.cases import RESOLUTION_MODELS
 from targetacq.physics.atmosphere import EXTINCTION_LEVEL_WORDS, OBSCURANTS, VISIBILITY_CONVENTIONS
 from targetacq.physics.bands import BANDS
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
@@ -292,6 +293,41 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         str,
         "MRTD curve CSV (frequency [cycles/mrad], mrtd [K]); needs --delta-t.",
         NOISE,
+    ),
+    OptionSpec(
+        "resolution_model",
+        str,
+        f"Resolution model: {_names(RESOLUTION_MODELS)} (default mrtd with --mrtd, else "
+        "johnson); ttp needs --aperture or --f-number, --wavelength, --netd and --delta-t.",
+        NOISE,
+        choices=RESOLUTION_MODELS,
+    ),
+    OptionSpec(
+        "jitter",
+        str,
+        "Line-of-sight jitter, RMS per axis, e.g. 0.02mrad (ttp).",
+        NOISE,
+        quantity="angle",
+    ),
+    OptionSpec(
+        "smear", str, "Image motion during one frame, e.g. 0.1mrad (ttp).", NOISE, quantity="angle"
+    ),
+    OptionSpec(
+        "cn2",
+        str,
+        "Turbulence structure constant Cn², e.g. 1e-14m^(-2/3) (ttp).",
+        NOISE,
+        quantity="structure constant",
+    ),
+    OptionSpec(
+        "frame_rate", str, "Frame rate, e.g. 30Hz (ttp; default 30Hz).", NOISE, quantity="frequency"
+    ),
+    OptionSpec(
+        "scene_contrast",
+        str,
+        "Scene contrast temperature that sets the display gain, e.g. 5K (ttp; default 5K).",
+        NOISE,
+        quantity="temperature difference",
     ),
     OptionSpec(
         "semantics",

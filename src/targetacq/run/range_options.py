@@ -38,6 +38,7 @@ from targetacq.physics.bands import band_name, parse_band
 from targetacq.physics.radiometry import band_exitance_derivative
 from targetacq.physics.targets import TARGETS
 from targetacq.run.scene import scene_signature
+from targetacq.run.ttp_options import TTP_OPTIONS, read_resolution_model, ttp_system
 
 _SI_SUFFIX = {"aperture": "m", "wavelength": "m", "blur_sigma": "rad"}
 """The SI unit suffix of each optics limit's key in a report."""
@@ -579,6 +580,13 @@ class RangeOptions:
         Area of the target as seen [area].
     mrtd : str, optional
         Path of an MRTD curve CSV (frequency [cycles/mrad], mrtd [K]).
+    resolution_model : str, optional
+        :data:`targetacq.core.cases.RESOLUTION_MODELS` (default: mrtd with ``mrtd``, else
+        johnson); see :mod:`targetacq.run.ttp_options`.
+    jitter, smear, cn2, frame_rate, scene_contrast : str, optional
+        The TTP metric's line-of-sight jitter [angle], motion smear [angle], Cn² [structure
+        constant], frame rate [frequency] and scene contrast temperature [temperature
+        difference].
     semantics : str, optional
         :data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`.
     probability : str, optional
@@ -638,6 +646,12 @@ class RangeOptions:
     target_speed: str | None = None
     target_area: str | None = None
     mrtd: str | None = None
+    resolution_model: str | None = None
+    jitter: str | None = None
+    smear: str | None = None
+    cn2: str | None = None
+    frame_rate: str | None = None
+    scene_contrast: str | None = None
     semantics: str | None = None
     probability: str | None = None
     example: bool = False
@@ -853,6 +867,7 @@ def range_case(reading: RangeReading) -> tuple[RangeCase, dict[str, Any]]:
         options=settings["options"],
         region=settings["region"],
         mrtd=settings["mrtd"],
+        ttp=ttp_system(numbers, ifov_rad) if settings["resolution_model"] == "ttp" else None,
         noise_model=settings["noise_model"] or "variance-sum",
     )
     if settings["noise_model"] is not None and not case.noisy:
@@ -1026,6 +1041,14 @@ def read_range_options(
         if "noise_equivalent_contrast" not in noise_kw:
             raise ValueError("--target-area is used with the sensor's noise (--netd or --nec)")
         noise_kw["target_area"] = option_quantity(o.target_area, "area", "--target-area")
+    model, ttp = read_resolution_model(
+        {name: getattr(o, name) for name in ("resolution_model", *TTP_OPTIONS)}, optics_kw, noise_kw
+    )
+    if model == "ttp":  # the NETD goes into the TTP metric's noise, not a separate SNR
+        if o.criterion is None and o.n50 is None:  # V50s go with V, not Johnson's N50s
+            crit = get_criterion("ttp-vehicles")
+        numbers["ttp_netd"] = noise_kw.pop("noise_equivalent_contrast")
+        numbers |= {f"ttp_{name}": value for name, value in ttp.items()}
     # a zero extinction (--extinction 0/km) is a clear path: no noise from it
     extinction = path.get("extinction_np_per_m") or None
     numbers |= optics_kw | {name: value for name, value in noise_kw.items() if name != "mrtd"}
@@ -1042,11 +1065,12 @@ def read_range_options(
             "pixel_density": density,
             "semantics": o.semantics or "nested",
             "criterion": crit,
-            "transform": o.transform or "ttpf",
+            "transform": o.transform or ("ttp" if model == "ttp" else "ttpf"),
             "options": transform_options,
             "region": scene.get("region"),
             "mrtd": noise_kw.get("mrtd"),
             "noise_model": o.noise_model,
+            "resolution_model": model,
         },
         sensor=sensor,
         path=path,
@@ -1127,4 +1151,13 @@ def _noise_report(case: RangeCase) -> dict[str, Any]:
         out["sky_to_ground"] = float(case.sky_to_ground)
     if case.mrtd is not None:
         out["mrtd_cutoff_cycles_per_mrad"] = case.mrtd.cutoff * 1e-3
+    if case.ttp is not None:
+        out["ttp"] = {
+            "netd_k": float(case.ttp.netd),
+            "frame_rate_hz": float(case.ttp.frame_rate),
+            "jitter_rad": float(case.ttp.jitter),
+            "smear_rad": float(case.ttp.smear),
+            "cn2_m_minus_2_3": float(case.ttp.cn2),
+            "scene_contrast_k": float(case.ttp.scene_contrast),
+        }
     return out

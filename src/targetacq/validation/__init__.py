@@ -17,7 +17,9 @@ the model's curve through the printed points. The sections, in page order:
   Np/km ↔ dB/km (§7.4), the SNR of (7.5)–(7.7);
 - the signature at the sensor: sky reflection (§6.3), Koschmieder's and Duntley–Middleton's
   contrast reduction by airlight, the path's emission (§7.2), the hot spot's 0.5 LP/TGT (§3.9);
-- a vendor's published DRI ranges (thermal-camera datasheet pixel rule).
+- a vendor's published DRI ranges (thermal-camera datasheet pixel rule);
+- the TTP metric: the V50s of ``ttp-vehicles``, its TTPF at V50 and the diffraction MTF's closed
+  form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced).
 
 Published values are read from the bundled tables (``targetacq/data``, with their provenance)
 or quoted from the thesis's text; model values come from the public functions. A check's
@@ -58,6 +60,7 @@ from targetacq.validation._transforms import (
     observed_section,
     schmieder_weathersby_section,
 )
+from targetacq.validation._ttp import ttp_section
 
 __all__ = [
     "OBSERVED_TRANSFORM",
@@ -102,6 +105,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         optics_section(),
         signature_section(),
         vendor_section(),
+        ttp_section(),
     )
 
 

@@ -124,6 +124,11 @@ class RangeCase:
     semantics : str
         What the three probabilities mean
         (:data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`).
+    path : optional
+        The path's optical depth by a path model other than Beer–Lambert
+        (:data:`targetacq.physics.named_atmospheres.PATH_MODELS`): an object with
+        ``depth(range, xp)``, e.g. a :class:`targetacq.physics.named_atmospheres.NamedBandPath`
+        (a named atmosphere in the sensor's band), used instead of ``extinction · range``.
 
     Examples
     --------
@@ -158,6 +163,7 @@ class RangeCase:
     mrtd: Any = None
     motion: str = "low-clutter"
     semantics: str = "nested"
+    path: Any = None
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(
@@ -177,6 +183,11 @@ class RangeCase:
             gamma = _arrays.as_float(self.extinction, xp, "extinction")
             _arrays.require_nonnegative("extinction", gamma, xp, "Np/m")
             _arrays.require_finite("extinction", gamma, xp, "Np/m")
+        if self.path is not None:
+            if self.extinction is not None:
+                raise ValueError("give the path's extinction or a path model (path), not both")
+            if not callable(getattr(self.path, "depth", None)):
+                raise TypeError(f"path must have depth(range, xp); got {type(self.path).__name__}")
         if self.foliage is not None:
             tau = _arrays.as_float(self.foliage, xp, "foliage")
             _arrays.require_unit_interval("foliage", tau, xp)
@@ -271,6 +282,7 @@ class RangeCase:
             "hot_spot": self.hot_spot,
             "moving": self.moving,
             "extinction": self.extinction,
+            "path": self.path,
             "foliage": self.foliage,
             "contrast": self.contrast,
             "noise_equivalent_contrast": self.noise_equivalent_contrast,
@@ -285,8 +297,9 @@ class RangeCase:
 
     @property
     def attenuates(self) -> bool:
-        """Whether the path attenuates (an extinction or foliage is given), adding noise."""
-        return self.extinction is not None or self.foliage is not None
+        """Whether the path attenuates (an extinction, a path model or foliage is given),
+        adding noise."""
+        return self.extinction is not None or self.path is not None or self.foliage is not None
 
     @property
     def noisy(self) -> bool:
@@ -453,6 +466,8 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     xp, (r,) = _arrays.arrays(range, names=("range",))
     _arrays.require_positive("range", r, xp, "m")
     depth = 0.0 if case.extinction is None else case.extinction * r
+    if case.path is not None:  # a path model's optical depth, not Beer-Lambert in range
+        depth = case.path.depth(r, xp)
     if case.foliage is not None:  # τ_f more in front of the target: −ln τ_f of depth (§6.8)
         with np.errstate(divide="ignore"):
             depth = depth - xp.log(_arrays.as_float(case.foliage, xp))

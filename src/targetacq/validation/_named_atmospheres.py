@@ -104,7 +104,10 @@ def _figure() -> Figure:
             tau = named_atmospheres.named_band_transmittance(r, band, atmosphere, "rural", 23e3)
             ax.plot(r / 1e3, tau, lw=1.2, label=atmosphere)
         points = [(float(g), float(t)) for v, g, b, t in table.rows if b == band and v == "23"]
-        ax.plot(*zip(*points, strict=True), "ko", ms=4, label="MODTRAN 5.2.1, MLS (published)")
+        inside = [p for p in points if p[0] < 5.0]
+        horizon = [p for p in points if p[0] >= 5.0]
+        ax.plot(*zip(*inside, strict=True), "ko", ms=4, label="MODTRAN 5.2.1, MLS (published)")
+        ax.plot(*zip(*horizon, strict=True), "ko", mfc="none", ms=4, label="… at the horizon")
         ax.set_xscale("log")
         ax.set_xlabel("horizontal path at sea level [km]")
         ax.set_title(f"{band} ({_BAND_TEXT[band]}), rural 23 km", fontsize=9)

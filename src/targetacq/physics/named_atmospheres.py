@@ -54,6 +54,7 @@ __all__ = [
     "NamedBandPath",
     "NamedPath",
     "PathModel",
+    "TabulatedPath",
     "lowtran_band_transmittance",
     "named_band_transmittance",
     "named_optical_depth",
@@ -327,6 +328,26 @@ class NamedBandPath:
         """:meth:`optical_depth` of a checked float array of ``xp`` (the arithmetic kernel)."""
         nodes, depths = self.nodes
         return tabulated_depth(r, nodes, depths, xp)
+
+
+@dataclass(frozen=True)
+class TabulatedPath:
+    """A path's optical depth given at ranges, interpolated by :func:`tabulated_depth` (what a
+    compiled scenario holds per sensor band of a named atmosphere).
+
+    Examples
+    --------
+    >>> from targetacq.physics.named_atmospheres import TabulatedPath
+    >>> float(TabulatedPath((100.0, 400.0), (0.1, 0.3)).depth(200.0, np))
+    0.2
+    """
+
+    ranges: tuple[float, ...]
+    depths: tuple[float, ...]
+
+    def depth(self, r: Any, xp: Any) -> Any:
+        """The optical depth at ``r`` [m] (a checked float array of ``xp``)."""
+        return tabulated_depth(r, self.ranges, self.depths, xp)
 
 
 def _scalar(value: Any, name: str) -> float:

@@ -99,8 +99,15 @@ def test_interpolation_between_nodes_lies_between_them():
     for lo, hi, mid in ((5e3, 10e3, 7e3), (10e3, 23e3, 15e3)):
         d = [na.named_optical_depth(4e3, "visible", visibility=v, **path) for v in (lo, mid, hi)]
         assert d[0] > d[1] > d[2]  # more visibility, less depth
-    d = [na.named_optical_depth(4e3, "lwir", altitude=h, **path) for h in (1e3, 1.5e3, 2e3)]
-    assert d[1] == pytest.approx((d[0] + d[2]) / 2, rel=1e-12)  # linear in altitude
+    # Linear in altitude at the table's ranges (5 km is one).
+    d = [na.named_optical_depth(5e3, "lwir", altitude=h, **path) for h in (1e3, 1.5e3, 2e3)]
+    assert d[1] == pytest.approx((d[0] + d[2]) / 2, rel=1e-12)
+    # Between ranges: the power of R through the two nodes (3 and 5 km).
+    d3, d5 = (na.named_optical_depth(r, "lwir", **path) for r in (3e3, 5e3))
+    power = math.log(d5 / d3) / math.log(5 / 3)
+    assert na.named_optical_depth(4e3, "lwir", **path) == pytest.approx(
+        d3 * (4 / 3) ** power, rel=1e-12
+    )
 
 
 def test_short_and_long_paths_extend_the_table():
@@ -192,7 +199,7 @@ def test_tabulated_depth_runs_under_the_array_api():
     xp = pytest.importorskip("array_api_strict")
     r = xp.asarray([50.0, 150.0, 1e4])
     out = na.tabulated_depth(r, [100.0, 200.0], [0.1, 0.2], xp)
-    expected = [0.05, 0.1 + 0.1 * math.log(1.5) / math.log(2.0), 0.2 + 0.1 / 100.0 * 9800.0]
+    expected = [0.05, 0.15, 0.2 + 0.1 / 100.0 * 9800.0]  # d ∝ R between the nodes (p = 1)
     np.testing.assert_allclose(np.asarray(out), expected, rtol=1e-12)
 
 

@@ -15,7 +15,8 @@ none) at a visibility (the meteorological range), over path lengths 0.1–30 km 
 0–5 km, for the bands visible (0.4–0.7 µm), swir (0.9–2.5 µm), mwir (3–5 µm) and lwir (8–12 µm),
 each band mean flat in wavelength (Eq. (7.4)).
 
-Interpolation (the project's choice): d linear in ln R between the table's ranges; below 0.1 km
+Interpolation (the project's choice): ln d linear in ln R between the table's ranges (a power
+law through the two nodes: exact for Beer–Lambert and for a saturating ``d ∝ R^p``); below 0.1 km
 d ∝ R (d(0) = 0); beyond 30 km d continues linearly in R with the slope of the last interval
 (the extinction of what is left of the band); linear in 1/V between visibilities (an aerosol's
 extinction is linear in 1/V in LOWTRAN, 3.912/V − 0.012 km⁻¹ at 0.55 µm); linear in altitude.
@@ -179,9 +180,12 @@ def _hat_weights(x: Any, nodes: Sequence[float], xp: Any) -> list[Any]:
 def tabulated_depth(range: Array, nodes: Sequence[float], depths: Sequence[Any], xp: Any) -> Any:
     """Optical depth at ``range`` from a table of depths at ranges (the arithmetic kernel).
 
-    ``d`` is linear in ``ln R`` between the nodes, ``d(R) = d_0 R / R_0`` below the first node
-    (so d(0) = 0), and linear in ``R`` beyond the last with the slope of the last interval; NaN
-    gives NaN and +inf gives +inf.
+    Between two nodes ``d`` is a power of ``R`` through both, ``d = d_k (R / R_k)^p`` with
+    ``p = ln(d_{k+1} / d_k) / ln(R_{k+1} / R_k)`` (linear in ``ln d`` against ``ln R``: exact
+    for Beer–Lambert, ``p = 1``, and for a saturating line absorption ``d ∝ R^p``; linear in R
+    where a depth is 0); ``d(R) = d_0 R / R_0`` below the first node (so d(0) = 0), and linear
+    in ``R`` beyond the last with the slope of the last interval. NaN gives NaN and +inf
+    gives +inf.
 
     Parameters
     ----------
@@ -190,27 +194,45 @@ def tabulated_depth(range: Array, nodes: Sequence[float], depths: Sequence[Any],
     nodes : sequence of float
         The table's ranges [m], > 0 and increasing.
     depths : sequence of float or array
-        d at each node, each broadcasting with ``range``.
+        d >= 0 at each node, each broadcasting with ``range``.
     xp : namespace
 
     Examples
     --------
+    Depths 0.1 and 0.4 at 100 m and 400 m are ``d ∝ R`` (p = 1): 0.2 at 200 m.
+
     >>> import numpy as np
     >>> from targetacq.physics.named_atmospheres import tabulated_depth
     >>> r = np.array([50.0, 100.0, 200.0, 400.0, 1000.0])
-    >>> [round(float(d), 4) for d in tabulated_depth(r, [100.0, 400.0], [0.1, 0.3], np)]
-    [0.05, 0.1, 0.2, 0.3, 0.7]
+    >>> [round(float(d), 4) for d in tabulated_depth(r, [100.0, 400.0], [0.1, 0.4], np)]
+    [0.05, 0.1, 0.2, 0.4, 1.0]
     """
     first = nodes[0]
     finite = xp.where(xp.isinf(range), 0.0, range)  # +inf is set at the end; NaN stays NaN
     log_r = xp.log(xp.where(finite > 0, finite, first))
     out = depths[0] * (finite / first)
     for k, (lo, hi) in enumerate(itertools.pairwise(nodes)):
-        slope = (depths[k + 1] - depths[k]) / (math.log(hi) - math.log(lo))
-        out = xp.where(finite >= lo, depths[k] + slope * (log_r - math.log(lo)), out)
+        inside = _between(depths[k], depths[k + 1], lo, hi, finite, log_r, xp)
+        out = xp.where(finite >= lo, inside, out)
     last = (depths[-1] - depths[-2]) / (nodes[-1] - nodes[-2])
     out = xp.where(finite > nodes[-1], depths[-1] + last * (finite - nodes[-1]), out)
     return xp.where(xp.isinf(range), xp.inf, out)
+
+
+def _between(low: Any, high: Any, lo: float, hi: float, r: Any, log_r: Any, xp: Any) -> Any:
+    """``d`` between nodes ``(lo, low)`` and ``(hi, high)``: the power of R through both
+    (linear in R where a depth is 0). The exponent is clipped to ±50, far beyond any value
+    inside the interval (|ln(high / low)| < 10 in the table), so R outside gives no overflow."""
+    span = math.log(hi / lo)
+    if isinstance(low, float) and isinstance(high, float):  # one path: decided on the host
+        if low > 0 and high > 0:
+            power = math.log(high / low) / span
+            return low * xp.exp(xp.clip(power * (log_r - math.log(lo)), -50.0, 50.0))
+        return low + (high - low) * (r - lo) / (hi - lo)
+    both = (low > 0) & (high > 0)
+    power = xp.log(xp.where(both, high, 1.0) / xp.where(both, low, 1.0)) / span
+    curve = low * xp.exp(xp.clip(power * (log_r - math.log(lo)), -50.0, 50.0))
+    return xp.where(both, curve, low + (high - low) * (r - lo) / (hi - lo))
 
 
 @dataclass(frozen=True)
@@ -338,7 +360,7 @@ class TabulatedPath:
     Examples
     --------
     >>> from targetacq.physics.named_atmospheres import TabulatedPath
-    >>> float(TabulatedPath((100.0, 400.0), (0.1, 0.3)).depth(200.0, np))
+    >>> round(float(TabulatedPath((100.0, 400.0), (0.1, 0.4)).depth(200.0, np)), 12)
     0.2
     """
 

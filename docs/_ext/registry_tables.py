@@ -171,6 +171,63 @@ def _visibility() -> RegistryTable:
     )
 
 
+def _path_models() -> RegistryTable:
+    from targetacq.physics.named_atmospheres import PATH_MODELS
+
+    rows = tuple(
+        (name, ", ".join(entry.settings), entry.source) for name, entry in PATH_MODELS.items()
+    )
+    return RegistryTable(
+        "path_models",
+        "Path models",
+        "targetacq.physics.named_atmospheres.PATH_MODELS",
+        ("name", "settings", "source"),
+        rows,
+        _attr_doc("targetacq.physics.named_atmospheres", "PATH_MODELS"),
+    )
+
+
+def _named_aerosols() -> RegistryTable:
+    from targetacq.base.tables import load_table
+    from targetacq.physics.named_atmospheres import AEROSOLS, DEFAULT_VISIBILITY
+
+    table = load_table("named_atmospheres")
+    visibilities: dict[str, list[float]] = {}
+    for aerosol, vis in zip(table.column("aerosol"), table.numbers("visibility_km"), strict=True):
+        visibilities.setdefault(aerosol, [])
+        if vis not in visibilities[aerosol]:
+            visibilities[aerosol].append(vis)
+    rows = []
+    for name in AEROSOLS:
+        default = DEFAULT_VISIBILITY[name]
+        grid = sorted(visibilities[name])
+        rows.append(
+            (
+                name,
+                "–" if default is None else f"{default / 1e3:g}",
+                "–" if grid == [0.0] else ", ".join(f"{v:g}" for v in grid),
+                "data/named_atmospheres.csv",
+            )
+        )
+    return RegistryTable(
+        "named_aerosols",
+        "Aerosols of the named atmospheres",
+        "targetacq.physics.named_atmospheres.AEROSOLS",
+        ("name", "default visibility [km]", "table visibilities [km]", "source"),
+        tuple(rows),
+        _attr_doc("targetacq.physics.named_atmospheres", "AEROSOLS")
+        + " Model atmospheres: "
+        + ", ".join(_named_atmospheres())
+        + ".",
+    )
+
+
+def _named_atmospheres() -> tuple[str, ...]:
+    from targetacq.physics.named_atmospheres import ATMOSPHERES
+
+    return ATMOSPHERES
+
+
 def _bands() -> RegistryTable:
     from targetacq.base.tables import load_table
     from targetacq.physics.bands import BANDS
@@ -342,6 +399,8 @@ _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _obscurants,
     _levels,
     _visibility,
+    _path_models,
+    _named_aerosols,
     _clutter_regions,
     _motion_rules,
     _semantics,

@@ -60,6 +60,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.acquisition.transforms import CLUTTER_REGIONS, TRANSFORMS
     from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
     from targetacq.physics.bands import BANDS
+    from targetacq.physics.named_atmospheres import AEROSOLS, PATH_MODELS
     from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
     from targetacq.physics.targets import TARGETS
     from targetacq.scenario.plausibility import PLAUSIBLE_RANGES
@@ -75,6 +76,8 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.physics.atmosphere.OBSCURANTS": OBSCURANTS,
         "targetacq.physics.atmosphere.EXTINCTION_LEVELS": EXTINCTION_LEVELS,
         "targetacq.physics.atmosphere.VISIBILITY_CONVENTIONS": VISIBILITY_CONVENTIONS,
+        "targetacq.physics.named_atmospheres.PATH_MODELS": PATH_MODELS,
+        "targetacq.physics.named_atmospheres.AEROSOLS": AEROSOLS,
         "targetacq.acquisition.transforms.CLUTTER_REGIONS": CLUTTER_REGIONS,
         "targetacq.acquisition.probabilities.MOTION_RULES": MOTION_RULES,
         "targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS": ACQUISITION_SEMANTICS,

@@ -26,7 +26,15 @@ from targetacq.acquisition.criteria import CRITERIA
 from targetacq.base import arrays as _arrays
 from targetacq.base import constants
 from targetacq.core.cases import RESOLUTION_MODELS, RangeCase, case_acquisition
-from targetacq.physics import atmosphere, clutter, detector_noise, geometry, optics, radiometry
+from targetacq.physics import (
+    atmosphere,
+    clutter,
+    detector_noise,
+    geometry,
+    named_atmospheres,
+    optics,
+    radiometry,
+)
 
 # --------------------------------------------------------------------------------------------
 # The kernels and valid inputs: every float keyword is an array input of the kernel.
@@ -162,6 +170,15 @@ KERNELS: dict[str, Kernel] = {
     "np_per_km_to_db_per_km": (atmosphere.np_per_km_to_db_per_km, {"value": 1.0}),
     "snr_from_transmittance": (ta.snr_from_transmittance, {"tau": 0.4}),
     "snr_from_optical_depth": (atmosphere.snr_from_optical_depth, {"depth": 0.4}),
+    # Named atmospheres broadcast over range (the path's settings are scalars of the table).
+    "named_band_transmittance": (
+        named_atmospheres.named_band_transmittance,
+        {"range": 5000.0, "band": "lwir", "atmosphere": "tropical", "aerosol": "rural"},
+    ),
+    "named_optical_depth": (
+        named_atmospheres.named_optical_depth,
+        {"range": 300.0, "band": "mwir", "atmosphere": "subarctic-winter", "aerosol": "fog"},
+    ),
     "segmented_optical_depth": (
         atmosphere.segmented_optical_depth,
         {"range": 1000.0, "extinction": 1e-4},

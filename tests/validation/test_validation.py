@@ -38,6 +38,7 @@ SECTIONS = (
     "signature",
     "vendor-dri",
     "ttp",
+    "named-atmospheres",
 )
 
 
@@ -224,3 +225,16 @@ def test_a_write_error_exits_2_with_one_line(cli, tmp_path, monkeypatch):
     code, out, err = cli("validation", "--out", str(tmp_path / "v.html"))
     assert code == 2 and out == ""
     assert err == f"targetacq: error: cannot write '{tmp_path / 'v.html'}': Permission denied\n"
+
+
+def test_named_atmospheres_section_counts_paths_inside_the_horizon():
+    from targetacq.validation._named_atmospheres import named_atmospheres_section
+
+    section = named_atmospheres_section()
+    counted = [c for c in section.checks if c.exact]
+    assert len(counted) == 16  # 4 bands x 2 visibilities x 1 and 2 km
+    assert all(c.within for c in counted)
+    lwir_5km = [
+        c for c in section.checks if "5 km at sea level, lwir" in c.item and "tropical" in c.item
+    ]
+    assert lwir_5km and not lwir_5km[0].exact  # the uncited value: a comparison

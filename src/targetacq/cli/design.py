@@ -142,7 +142,11 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
     probabilities = setup.probabilities if crit.gives_probabilities else [math.nan]
     rows = []
     for weather in weathers:
-        kw = dict(model, extinction=None if weather is None else case.extinction)
+        kw = dict(
+            model,
+            extinction=None if weather is None else case.extinction,
+            path=None if weather is None else case.path,
+        )
         for name in wanted:
             for p in probabilities:
                 for r in ranges:
@@ -168,7 +172,7 @@ def design_report(options: dict[str, Any], range_text: str, task: str | None) ->
                         "weather": None if weather is None else weather["source"],
                         "extinction_np_per_km": 0.0
                         if weather is None
-                        else weather["extinction_np_per_km"],
+                        else weather.get("extinction_np_per_km"),  # None: a named atmosphere
                         "ifov_rad": ifov,
                     }
                     if pixels is not None:
@@ -247,7 +251,13 @@ def _render(report: dict[str, Any], output_format: str) -> str:
         f"target: critical dimension {report['target']['critical_dimension_m']:.4g} m"
         + (f"; {given}" if given else ""),
     ]
-    if report["path"]:
+    if report["path"] and report["path"].get("model") == "named":
+        path = report["path"]
+        lines.append(
+            f"weather: {path['description']}, band {path['band']} (named atmosphere, LOWTRAN7 "
+            "table); each design without it and with it"
+        )
+    elif report["path"]:
         path = report["path"]
         lines.append(
             f"weather: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['term']}; "
@@ -267,7 +277,13 @@ def _render(report: dict[str, Any], output_format: str) -> str:
     lines += [header, "-" * len(header)]
     for row in rows:
         p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
-        weather = "none" if row["weather"] is None else f"{row['extinction_np_per_km']:.4g} Np/km"
+        weather = (
+            "none"
+            if row["weather"] is None
+            else "named"
+            if row["extinction_np_per_km"] is None
+            else f"{row['extinction_np_per_km']:.4g} Np/km"
+        )
         line = (
             f"{row['task']:<16}{p:>6}  {row['range_m']:>10,.0f}  {weather:>14}  "
             f"{row[wanted[1]] * wanted[2]:>18.4g}"

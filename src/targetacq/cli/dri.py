@@ -20,9 +20,11 @@ from targetacq.cli import (
     app,
 )
 from targetacq.cli.options import range_case_options
+from targetacq.cli.params import complete_names
 from targetacq.io.files import json_text
-from targetacq.physics import atmosphere
+from targetacq.physics import atmosphere, named_atmospheres
 from targetacq.physics.atmosphere import np_per_km_to_db_per_km
+from targetacq.run.atmosphere_options import named_path_description, option_named_path
 from targetacq.run.option_table import option_lists, typed_options
 from targetacq.run.range_options import (
     dri_report,
@@ -117,17 +119,66 @@ def atmosphere_command(
     obscurant: ObscurantOption = None,
     visibility: VisibilityOption = None,
     visibility_convention: ConventionOption = None,
+    named_atmosphere: Annotated[
+        str | None,
+        typer.Option(
+            "--atmosphere",
+            help="Named model atmosphere (LOWTRAN7 table): "
+            + ", ".join(named_atmospheres.ATMOSPHERES)
+            + "; --visibility is then the aerosol's.",
+            autocompletion=complete_names(named_atmospheres.ATMOSPHERES, separator=None),
+        ),
+    ] = None,
+    aerosol: Annotated[
+        str | None,
+        typer.Option(
+            help="Aerosol of the named atmosphere: " + ", ".join(named_atmospheres.AEROSOLS) + ".",
+            autocompletion=complete_names(named_atmospheres.AEROSOLS, separator=None),
+        ),
+    ] = None,
+    path_altitude: Annotated[
+        str | None,
+        typer.Option(help="Height of the horizontal path above sea level, e.g. 500m (named)."),
+    ] = None,
     output_format: FormatOption = "table",
 ) -> None:
-    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path.
+    """Transmittance (7.3), SNR (7.7) and the Table 7.2 description of a path; or, with
+    --atmosphere/--aerosol, the band transmittance and optical depth of a horizontal path
+    through a named atmosphere (LOWTRAN7 table, not Beer-Lambert in range).
 
     Example: targetacq atmosphere --range 1km,2km,5km --band lwir --obscurant haze
+
+    Example: targetacq atmosphere --atmosphere tropical --aerosol rural --visibility 23km
+    --band 8-12um --range 5km
     """
     option_choice(output_format, FORMATS, "--format")
     lengths = [
         option_quantity(part, "length", "--range", zero_allowed=True) for part in range_.split(",")
     ]
     band_limits = option_band(band) if band else None
+    if named_atmosphere is not None or aerosol is not None or path_altitude is not None:
+        given = [
+            flag
+            for flag, value in (
+                ("--extinction", extinction),
+                ("--obscurant", obscurant),
+                ("--visibility-convention", visibility_convention),
+            )
+            if value is not None
+        ]
+        if given:
+            raise ValueError(
+                f"{' and '.join(given)} do not go with a named atmosphere (--atmosphere, "
+                "--aerosol): its --visibility is the aerosol's meteorological range"
+            )
+        if band_limits is None:
+            raise ValueError(
+                "a named atmosphere needs --band: " + ", ".join(named_atmospheres.NAMED_BANDS)
+            )
+        named = option_named_path(named_atmosphere, aerosol, visibility, path_altitude)
+        assert named is not None
+        _echo_named(named, band_limits, lengths, output_format)
+        return
     path = option_path(extinction, obscurant, visibility, visibility_convention, band_limits)
     if not path:
         raise ValueError("give the path's extinction: --extinction, --obscurant or --visibility")
@@ -140,6 +191,7 @@ def atmosphere_command(
             {
                 "range_m": r,
                 "transmittance": tau,
+                "optical_depth": float(gamma * r),
                 "snr_db": snr,
                 "snr": "+inf"
                 if snr == math.inf
@@ -151,7 +203,7 @@ def atmosphere_command(
         typer.echo(json_text(report))
         return
     if output_format == "csv":
-        typer.echo(_csv(rows, ["range_m", "transmittance", "snr_db"]), nl=False)
+        typer.echo(_csv(rows, ["range_m", "transmittance", "optical_depth", "snr_db"]), nl=False)
         return
     lines = [
         f"extinction {path['extinction_np_per_km']:.4g} Np/km "
@@ -162,6 +214,44 @@ def atmosphere_command(
     ]
     lines += [
         f"{row['range_m']:>12,.0f}  {row['transmittance']:>10.4g}  {row['snr']:>10}" for row in rows
+    ]
+    typer.echo("\n".join(lines))
+
+
+def _echo_named(
+    named: Any, band: tuple[float, float], lengths: list[float], output_format: str
+) -> None:
+    """The band transmittance, optical depth and SNR (7.7) of a named path at each length."""
+    path = named_path_description(named, band)
+    rows = []
+    for r in lengths:
+        depth = float(named.optical_depth(r, band))
+        snr = float(atmosphere.snr_from_optical_depth(depth))
+        rows.append(
+            {
+                "range_m": r,
+                "transmittance": math.exp(-depth),
+                "optical_depth": depth,
+                "snr_db": snr,
+                "snr": "+inf" if snr == math.inf else f"{snr:.4g}",
+            }
+        )
+    if output_format == "json":
+        typer.echo(json_text({"path": path, "rows": rows}))
+        return
+    if output_format == "csv":
+        typer.echo(_csv(rows, ["range_m", "transmittance", "optical_depth", "snr_db"]), nl=False)
+        return
+    lines = [
+        f"{path['description']}, band {path['band']}: band-mean transmittance (Eq. 7.4) from "
+        f"{path['source']}",
+        "",
+        f"{'range [m]':>12}  {'τ':>10}  {'−ln τ':>10}  {'SNR [dB]':>10}",
+    ]
+    lines += [
+        f"{row['range_m']:>12,.0f}  {row['transmittance']:>10.4g}  {row['optical_depth']:>10.4g}"
+        f"  {row['snr']:>10}"
+        for row in rows
     ]
     typer.echo("\n".join(lines))
 
@@ -197,7 +287,13 @@ def _render(report: dict[str, Any], output_format: str) -> str:
             f"(target contrast {target.get('delta_t_k', target.get('contrast')):.4g}), "
             f"noise model {report['noise_model']}, semantics {report['semantics']}"
         )
-    if report["path"]:
+    if report["path"] and report["path"].get("model") == "named":
+        path = report["path"]
+        lines.append(
+            f"path: {path['description']}, band {path['band']} (named atmosphere, LOWTRAN7 "
+            f"table), noise model {report['noise_model']}"
+        )
+    elif report["path"]:
         path = report["path"]
         lines.append(
             f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['description']}; "

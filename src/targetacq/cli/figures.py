@@ -86,7 +86,9 @@ def _field_of_view(setup: RangeSetup) -> str:
 def _conditions(setup: RangeSetup) -> dict[str, str]:
     """Weather, clutter and criterion of a case, for titles."""
     case = setup.case
-    if setup.path:
+    if setup.path.get("model") == "named":
+        weather = f"{setup.path['description']} (named atmosphere)"
+    elif setup.path:
         weather = f"{setup.path['source']} ({setup.path['extinction_np_per_km']:.3g} Np/km)"
     else:
         weather = "no atmosphere"
@@ -439,8 +441,9 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
         target[name] = f"{text} {unit}"
     path = (
         {
-            "extinction": f"{setup.path['extinction_np_per_km']:.4g} Np/km "
-            f"({setup.path['source']})",
+            "extinction": f"{setup.path['extinction_np_per_km']:.4g} Np/km ({setup.path['source']})"
+            if "extinction_np_per_km" in setup.path
+            else f"named atmosphere, band {setup.path['band']} ({setup.path['source']})",
             "description": setup.path["description"],
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
             "noise model": f"{setup.case.noise_model}: "

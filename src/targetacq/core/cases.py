@@ -152,6 +152,11 @@ class RangeCase:
         ``noise_equivalent_contrast``: the path's airlight leaves the contrast
         ``C τ / (τ + (1 − τ) K)`` (Duntley's law,
         :func:`targetacq.physics.atmosphere.contrast_transmittance`); None for ``C τ`` (K = 1).
+    path : optional
+        The path's optical depth by a path model other than Beer–Lambert
+        (:data:`targetacq.physics.named_atmospheres.PATH_MODELS`): an object with
+        ``depth(range, xp)``, e.g. a :class:`targetacq.physics.named_atmospheres.NamedBandPath`
+        (a named atmosphere in the sensor's band), used instead of ``extinction · range``.
 
     Examples
     --------
@@ -191,6 +196,7 @@ class RangeCase:
     hot_spot_ratio: Any = None
     hot_spot_size: Any = None
     target_speed: Any = None
+    path: Any = None
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(
@@ -212,6 +218,11 @@ class RangeCase:
             gamma = _arrays.as_float(self.extinction, xp, "extinction")
             _arrays.require_nonnegative("extinction", gamma, xp, "Np/m")
             _arrays.require_finite("extinction", gamma, xp, "Np/m")
+        if self.path is not None:
+            if self.extinction is not None:
+                raise ValueError("give the path's extinction or a path model (path), not both")
+            if not callable(getattr(self.path, "depth", None)):
+                raise TypeError(f"path must have depth(range, xp); got {type(self.path).__name__}")
         if self.foliage is not None:
             tau = _arrays.as_float(self.foliage, xp, "foliage")
             _arrays.require_unit_interval("foliage", tau, xp)
@@ -337,6 +348,7 @@ class RangeCase:
             "hot_spot_ratio": self.hot_spot_ratio,
             "target_speed": self.target_speed,
             "extinction": self.extinction,
+            "path": self.path,
             "foliage": self.foliage,
             "contrast": self.contrast,
             "noise_equivalent_contrast": self.noise_equivalent_contrast,
@@ -351,8 +363,9 @@ class RangeCase:
 
     @property
     def attenuates(self) -> bool:
-        """Whether the path attenuates (an extinction or foliage is given), adding noise."""
-        return self.extinction is not None or self.foliage is not None
+        """Whether the path attenuates (an extinction, a path model or foliage is given),
+        adding noise."""
+        return self.extinction is not None or self.path is not None or self.foliage is not None
 
     @property
     def noisy(self) -> bool:
@@ -586,6 +599,8 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     xp, (r,) = _arrays.arrays(range, names=("range",))
     _arrays.require_positive("range", r, xp, "m")
     depth = 0.0 if case.extinction is None else case.extinction * r
+    if case.path is not None:  # a path model's optical depth, not Beer-Lambert in range
+        depth = case.path.depth(r, xp)
     if case.foliage is not None:  # τ_f more in front of the target: −ln τ_f of depth (§6.8)
         with np.errstate(divide="ignore"):
             depth = depth - xp.log(_arrays.as_float(case.foliage, xp))

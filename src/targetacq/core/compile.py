@@ -39,6 +39,7 @@ from targetacq.core.records import (
 )
 from targetacq.physics import atmosphere, geometry, radiometry
 from targetacq.physics.clutter import signal_to_clutter_ratio
+from targetacq.physics.named_atmospheres import NamedBandPath
 from targetacq.scenario.schema import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
 
@@ -148,9 +149,12 @@ def _sensors(
             look_at[k] = s.look_at
         if s.azimuth is not None and s.depression is not None:
             pointing[k] = s.azimuth, s.depression
+    named = atm.named_path() is not None  # then each band's d(R) is in PathArrays instead
     extinction = np.array(
         [
-            _band_extinction(
+            0.0
+            if named
+            else _band_extinction(
                 s,
                 atm,
                 extinction=atm.extinction,
@@ -238,8 +242,37 @@ def _foliage(scenario: Any) -> np.ndarray | None:
     return np.array([1.0 if f is None else f for f in given], dtype=float)
 
 
+def _named_depths(scenario: Any) -> tuple[tuple[float, ...], np.ndarray | None]:
+    """A named atmosphere's table ranges [m] and each sensor row's optical depths there (0 for
+    a radar: the optical weather does not apply at its wavelength); ((), None) without one."""
+    named = scenario.atmosphere.named_path()
+    if named is None:
+        return (), None
+    rows: list[tuple[float, ...] | None] = []
+    ranges: tuple[float, ...] = ()
+    for s in sensor_rows(scenario):
+        kind = get_sensor_type(s.type).kind
+        if kind == "radar":
+            rows.append(None)
+            continue
+        if kind == "laser_radar":
+            raise ValueError(
+                f"sensor {s.name!r}: a laser radar takes atmosphere.extinction, not a named "
+                "atmosphere (model, aerosol)"
+            )
+        try:
+            ranges, depths = NamedBandPath(named, s.limits).nodes
+        except ValueError as error:
+            raise ValueError(f"sensor {s.name!r}: {error}") from error
+        rows.append(depths)
+    if not ranges:  # radars only
+        return (), None
+    return ranges, np.array([[0.0] * len(ranges) if r is None else r for r in rows], dtype=float)
+
+
 def _path(scenario: Any) -> PathArrays:
     atm = scenario.atmosphere
+    named_ranges, named_depths = _named_depths(scenario)
     return PathArrays(
         segment_length=np.array([seg.length for seg in atm.segments], dtype=float),
         cloud_center=np.array([c.center for c in atm.clouds], dtype=float).reshape(-1, 3),
@@ -247,6 +280,8 @@ def _path(scenario: Any) -> PathArrays:
         cloud_extinction=np.array([c.extinction for c in atm.clouds], dtype=float),
         # Foliage in front of a target attenuates the path too: its noise counts (§6.8).
         attenuates=bool(atm.present) or _foliage(scenario) is not None,
+        named_ranges=named_ranges,
+        named_depths=named_depths,
     )
 
 

@@ -101,7 +101,7 @@ from targetacq.core.records import (
     derived,
     pytree_record,
 )
-from targetacq.physics import atmosphere, detector_noise, geometry
+from targetacq.physics import atmosphere, detector_noise, geometry, named_atmospheres
 from targetacq.physics.clutter import signal_to_clutter_ratio
 
 __all__ = [
@@ -863,6 +863,8 @@ def _numpy_path(
     for value in (pointing, scr):
         if value is not None and not isinstance(value, np.ndarray):
             return False
+    if scene.path.named_depths is not None:  # a named atmosphere: the generic chain has it
+        return False
     return _numpy_scene(scene)
 
 
@@ -1173,6 +1175,14 @@ def _factors_generic(
             s_pos[:, None], t_pos[None], centers[c], path.cloud_radius[c]
         )
         depth = depth + path.cloud_extinction[c] * chord
+    if path.named_depths is not None:  # a named atmosphere: each band's table of d(R)
+        named = _arrays.as_float(path.named_depths, xp)
+        depth = depth + named_atmospheres.tabulated_depth(
+            rng,
+            path.named_ranges,
+            [_per_sensor(named[:, k], batch, xp) for k in range(named.shape[1])],
+            xp,
+        )
     if targets.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
         depth = depth + _per_target(_foliage_depth(targets.foliage, xp), batch, xp)
     if scr is None and scene.signature.scr is not None:

@@ -268,6 +268,13 @@ class PathArrays:
     attenuates : bool
         Whether the path has an atmosphere at all, or foliage in front of a target (neither:
         no path noise).
+    named_ranges : tuple of float
+        The ranges [m] of a named atmosphere's table (:mod:`targetacq.physics.named_atmospheres`),
+        static; empty: no named atmosphere (the path is Beer–Lambert in each band's extinction).
+    named_depths : array (n_s, n_k) or None
+        Each sensor row's band-mean optical depth at ``named_ranges`` (0 for a radar), which
+        :func:`targetacq.physics.named_atmospheres.tabulated_depth` interpolates per pair; it
+        adds to the segments' and clouds' depths.
     """
 
     segment_length: Any
@@ -275,6 +282,8 @@ class PathArrays:
     cloud_radius: Any
     cloud_extinction: Any
     attenuates: bool = _static(False)
+    named_ranges: tuple[float, ...] = _static(())
+    named_depths: Any = None
 
 
 @pytree_record

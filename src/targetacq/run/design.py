@@ -75,6 +75,7 @@ _OPTICS_AND_NOISE: dict[str, Any] = {
     "aperture": None,
     "blur_sigma": None,
     "extinction": None,
+    "path": None,
     "foliage": None,
     "contrast": None,
     "noise_equivalent_contrast": None,
@@ -434,15 +435,20 @@ def unreachable_reason(
             f"the criterion and the clutter alone make it impossible: {task} never reaches "
             f"P = {probability:g} at any resolution"
         )
-    without_path: dict[str, Any] = {"extinction": None, "foliage": None}
-    if model.get("extinction") is not None or model.get("foliage") is not None:
+    without_path: dict[str, Any] = {"extinction": None, "path": None, "foliage": None}
+    if any(model.get(name) is not None for name in without_path):
         clear = _solve(
             lambda x: dataclasses.replace(case_at(x), **without_path), range, probability, task
         )
         if not math.isnan(float(clear)):
             return (
-                f"the weather alone makes it impossible: through this path (extinction "
-                f"{(model.get('extinction') or 0.0) * 1e3:g} Np/km) {at} is out of reach at "
+                "the weather alone makes it impossible: through this path ("
+                + (
+                    "a named atmosphere"
+                    if model.get("path") is not None
+                    else f"extinction {(model.get('extinction') or 0.0) * 1e3:g} Np/km"
+                )
+                + f") {at} is out of reach at "
                 "any IFOV, its noise at that range does not depend on the sensor"
             )
     no_optics: dict[str, Any] = {"wavelength": None, "aperture": None, "blur_sigma": None}

@@ -44,6 +44,7 @@ from targetacq.core import engines
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluation import footprint_scr
 from targetacq.io.datasets import OUTPUT_FORMATS, Output, annotate, provenance, write_output
+from targetacq.physics.named_atmospheres import TabulatedPath
 from targetacq.scenario.schema import Scenario
 from targetacq.sensors import get_sensor_type
 
@@ -401,7 +402,15 @@ class ModelChain:
                     criterion=self.compiled.criteria[g],
                     transform=choices.transform,
                     options=dict(choices.options),
-                    extinction=float(sensors.extinction[s]) if scene.path.attenuates else None,
+                    extinction=float(sensors.extinction[s])
+                    if scene.path.attenuates and scene.path.named_depths is None
+                    else None,
+                    path=None
+                    if scene.path.named_depths is None
+                    else TabulatedPath(
+                        scene.path.named_ranges,
+                        tuple(float(v) for v in scene.path.named_depths[s]),
+                    ),
                     foliage=None if targets.foliage is None else float(targets.foliage[g]),
                     scr=None if row_clutter is None else float(row_clutter[g]),
                     region=choices.region,

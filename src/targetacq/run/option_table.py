@@ -26,6 +26,7 @@ from targetacq.acquisition.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRA
 from targetacq.core.cases import RESOLUTION_MODELS
 from targetacq.physics.atmosphere import EXTINCTION_LEVEL_WORDS, OBSCURANTS, VISIBILITY_CONVENTIONS
 from targetacq.physics.bands import BANDS
+from targetacq.physics.named_atmospheres import AEROSOLS, ATMOSPHERES
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.physics.targets import TARGETS
 from targetacq.run.range_options import PIXEL_DENSITY_DEFINITIONS, RangeOptions
@@ -234,7 +235,12 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         choices=OBSCURANTS,
     ),
     OptionSpec(
-        "visibility", str, "Visibility (visible band), e.g. 7.5km.", PATH, quantity="length"
+        "visibility",
+        str,
+        "Visibility, e.g. 7.5km: the visible band's extinction, or with --atmosphere/--aerosol "
+        "the aerosol's meteorological range (any band).",
+        PATH,
+        quantity="length",
     ),
     OptionSpec(
         "visibility_convention",
@@ -242,6 +248,27 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
         f"Visibility convention: {_names(VISIBILITY_CONVENTIONS)}.",
         PATH,
         choices=VISIBILITY_CONVENTIONS,
+    ),
+    OptionSpec(
+        "atmosphere",
+        str,
+        f"Named model atmosphere (LOWTRAN7 table, water vapour): {_names(ATMOSPHERES)}.",
+        PATH,
+        choices=ATMOSPHERES,
+    ),
+    OptionSpec(
+        "aerosol",
+        str,
+        f"Aerosol of the named atmosphere: {_names(AEROSOLS)} (default rural).",
+        PATH,
+        choices=AEROSOLS,
+    ),
+    OptionSpec(
+        "path_altitude",
+        str,
+        "Height of the named atmosphere's horizontal path above sea level, e.g. 500m.",
+        PATH,
+        quantity="length",
     ),
     OptionSpec(
         "noise_model",

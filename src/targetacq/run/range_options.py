@@ -35,8 +35,10 @@ from targetacq.core.cases import RangeCase
 from targetacq.physics import atmosphere, optics
 from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
 from targetacq.physics.bands import band_name, parse_band
+from targetacq.physics.named_atmospheres import NAMED_BANDS, NamedBandPath
 from targetacq.physics.radiometry import band_exitance_derivative
 from targetacq.physics.targets import TARGETS
+from targetacq.run.atmosphere_options import named_path_description, option_named_path
 from targetacq.run.scene import scene_signature
 from targetacq.run.ttp_options import TTP_OPTIONS, read_resolution_model, ttp_system
 
@@ -380,7 +382,8 @@ def option_path(
         if band is not None and band_name_or_none(band) != "visible":
             raise ValueError(
                 "--visibility gives the visible-band extinction; for an infrared --band give "
-                "--extinction or --obscurant"
+                "--extinction or --obscurant, or a named atmosphere (--atmosphere, --aerosol) "
+                "whose --visibility is the aerosol's"
             )
         if convention is None:
             raise ValueError(
@@ -560,6 +563,9 @@ class RangeOptions:
         Path extinction [extinction], e.g. ``"0.4/km"`` or ``"1.7dB/km"``.
     obscurant, visibility, visibility_convention : str, optional
         A Table 7.1 obscurant ``name[:level]``, or a visibility [length] and its convention.
+    atmosphere, aerosol, path_altitude : str, optional
+        A named atmosphere (:mod:`targetacq.physics.named_atmospheres`): model atmosphere,
+        aerosol and the horizontal path's height [length]; ``visibility`` is then the aerosol's.
     noise_model : str, optional
         :data:`targetacq.acquisition.path_noise.NOISE_MODELS`.
     netd, netd_temperature, delta_t : str, optional
@@ -634,6 +640,9 @@ class RangeOptions:
     obscurant: str | None = None
     visibility: str | None = None
     visibility_convention: str | None = None
+    atmosphere: str | None = None
+    aerosol: str | None = None
+    path_altitude: str | None = None
     noise_model: str | None = None
     netd: str | None = None
     netd_temperature: str | None = None
@@ -869,6 +878,7 @@ def range_case(reading: RangeReading) -> tuple[RangeCase, dict[str, Any]]:
         mrtd=settings["mrtd"],
         ttp=ttp_system(numbers, ifov_rad) if settings["resolution_model"] == "ttp" else None,
         noise_model=settings["noise_model"] or "variance-sum",
+        path=settings.get("path"),
     )
     if settings["noise_model"] is not None and not case.noisy:
         raise ValueError(
@@ -977,8 +987,11 @@ def read_range_options(
     if o.bound is not None:
         transform_options["bound"] = option_choice(o.bound, C2NVEO_BOUNDS, "--bound")
     band_limits_m = option_band(o.band) if o.band is not None else None
-    path = option_path(
-        o.extinction, o.obscurant, o.visibility, o.visibility_convention, band_limits_m
+    named_path = _named_path(o, band_limits_m)
+    path = (
+        option_path(o.extinction, o.obscurant, o.visibility, o.visibility_convention, band_limits_m)
+        if named_path is None
+        else named_path_description(named_path.path, named_path.band)
     )
     scene = _clutter(
         o.scr,
@@ -1071,6 +1084,7 @@ def read_range_options(
             "mrtd": noise_kw.get("mrtd"),
             "noise_model": o.noise_model,
             "resolution_model": model,
+            "path": named_path,
         },
         sensor=sensor,
         path=path,
@@ -1080,6 +1094,31 @@ def read_range_options(
         ),
         sized=sized,
     )
+
+
+def _named_path(o: RangeOptions, band: tuple[float, float] | None) -> NamedBandPath | None:
+    """The named atmosphere of --atmosphere, --aerosol, --visibility and --path-altitude in the
+    sensor's band, or None where neither --atmosphere nor --aerosol is given."""
+    named = option_named_path(o.atmosphere, o.aerosol, o.visibility, o.path_altitude)
+    if named is None:
+        return None
+    given = [
+        flag
+        for flag, value in (
+            ("--extinction", o.extinction),
+            ("--obscurant", o.obscurant),
+            ("--visibility-convention", o.visibility_convention),
+        )
+        if value is not None
+    ]
+    if given:
+        raise ValueError(
+            f"{' and '.join(given)} do not go with a named atmosphere (--atmosphere, --aerosol): "
+            "its --visibility is the aerosol's meteorological range"
+        )
+    if band is None:
+        raise ValueError("a named atmosphere needs --band: " + ", ".join(NAMED_BANDS))
+    return NamedBandPath(named, band)
 
 
 def _pixel_density(criterion: str | None, n50: str | None) -> bool:

@@ -94,6 +94,7 @@ from targetacq.base.limits import (
 from targetacq.base.registry import lookup, unknown_name
 from targetacq.base.units import is_quantity, to_si
 from targetacq.physics import atmosphere as _atmosphere
+from targetacq.physics.named_atmospheres import AEROSOLS, ATMOSPHERES, NamedPath
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.physics.radiometry import MATERIALS, diurnal_temperature
 from targetacq.scenario.plausibility import collected, emit, plausibility_warnings
@@ -968,27 +969,38 @@ def _check_obscurant(text: str | None) -> None:
 
 class Atmosphere(_Strict):
     """The path: one of ``extinction``, ``obscurant`` ("haze" or "haze:high", per sensor band,
-    Table 7.1) or ``visibility`` with its ``visibility_convention`` (visible band only);
-    ``segments`` near the sensor; local ``clouds``. ``rain_rate`` (e.g. "5 mm/h") attenuates
-    radars (ITU-R P.838-3); the optical extinctions above do not apply to a radar."""
+    Table 7.1) or ``visibility`` with its ``visibility_convention`` (visible band only); or a
+    named atmosphere, ``model`` (e.g. "tropical") and ``aerosol`` (e.g. "rural") with the
+    aerosol's ``visibility`` (any band) and the path's ``altitude`` (the LOWTRAN7 table of
+    :mod:`targetacq.physics.named_atmospheres`; every line of sight is taken as a horizontal
+    path at that altitude, sea level by default); ``segments`` near the sensor; local
+    ``clouds``. ``rain_rate`` (e.g. "5 mm/h") attenuates radars (ITU-R P.838-3); the optical
+    extinctions above do not apply to a radar."""
 
     extinction: Extinction | None = None
     obscurant: str | None = None
     visibility: Length | None = None
     visibility_convention: Literal["koschmieder", "mor"] | None = None
+    model: str | None = None
+    aerosol: str | None = None
+    altitude: Length | None = None
     segments: list[Segment] = []
     clouds: list[Cloud] = []
     rain_rate: Speed | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Atmosphere:
+        if self.model is not None or self.aerosol is not None:
+            self.named_path()  # checked: names, the visibility's and altitude's ranges
+        elif self.altitude is not None:
+            raise ValueError("altitude goes with a named atmosphere (model, aerosol)")
         if sum(v is not None for v in (self.extinction, self.obscurant, self.visibility)) > 1:
             raise ValueError("give one of extinction, obscurant and visibility")
         if self.extinction is not None and not self.extinction >= 0:
             raise ValueError("extinction must be >= 0")
         if self.rain_rate is not None and not self.rain_rate >= 0:
             raise ValueError("rain_rate must be >= 0 (e.g. 5 mm/h)")
-        if self.visibility is not None:
+        if self.visibility is not None and self.named_path() is None:
             if not self.visibility > 0:
                 raise ValueError("visibility must be > 0")
             if self.visibility_convention is None:
@@ -998,11 +1010,37 @@ class Atmosphere(_Strict):
         _check_obscurant(self.obscurant)
         return self
 
+    def named_path(self) -> NamedPath | None:
+        """The named atmosphere (None where neither ``model`` nor ``aerosol`` is given)."""
+        if self.model is None and self.aerosol is None:
+            return None
+        given = [
+            name
+            for name in ("extinction", "obscurant", "visibility_convention")
+            if getattr(self, name) is not None
+        ]
+        if given:
+            raise ValueError(
+                f"{', '.join(given)} do not go with a named atmosphere (model, aerosol): its "
+                "visibility is the aerosol's meteorological range"
+            )
+        if self.model is not None and self.model not in ATMOSPHERES:
+            raise unknown_name(self.model, ATMOSPHERES, "atmosphere model")
+        if self.aerosol is not None and self.aerosol not in AEROSOLS:
+            raise unknown_name(self.aerosol, AEROSOLS, "aerosol")
+        return NamedPath(
+            self.model or "us-standard",
+            self.aerosol or "rural",
+            self.visibility,
+            0.0 if self.altitude is None else self.altitude,
+        )
+
     @property
     def present(self) -> bool:
         """Whether the path attenuates at all."""
         return any(
-            v is not None for v in (self.extinction, self.obscurant, self.visibility)
+            v is not None
+            for v in (self.extinction, self.obscurant, self.visibility, self.model, self.aerosol)
         ) or bool(self.segments or self.clouds)
 
 

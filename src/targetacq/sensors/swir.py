@@ -94,9 +94,9 @@ def signature(sensor: Any, background: Any, targets: Sequence[Any]) -> Any:
 def requirements(scenario: Any) -> list[str]:
     """What a scenario lacks for SWIR sensors, each problem located (``table.key: what``)."""
     problems = reflective_requirements(scenario, "SWIR", "a SWIR sensor", emitting=True)
-    if scenario.atmosphere.visibility is not None:
+    if scenario.atmosphere.visibility is not None and scenario.atmosphere.named_path() is None:
         problems.append(
             "atmosphere.visibility: gives the visible-band extinction; with SWIR sensors give "
-            "extinction or obscurant"
+            "extinction or obscurant, or a named atmosphere (model, aerosol)"
         )
     return problems

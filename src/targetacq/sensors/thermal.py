@@ -74,9 +74,9 @@ def requirements(scenario: Any) -> list[str]:
         for k, t in enumerate(scenario.targets)
         if t.temperature is None
     ]
-    if scenario.atmosphere.visibility is not None:
+    if scenario.atmosphere.visibility is not None and scenario.atmosphere.named_path() is None:
         problems.append(
             "atmosphere.visibility: gives the visible-band extinction; with thermal sensors give "
-            "extinction or obscurant"
+            "extinction or obscurant, or a named atmosphere (model, aerosol)"
         )
     return problems

@@ -19,7 +19,9 @@ the model's curve through the printed points. The sections, in page order:
   contrast reduction by airlight, the path's emission (§7.2), the hot spot's 0.5 LP/TGT (§3.9);
 - a vendor's published DRI ranges (thermal-camera datasheet pixel rule);
 - the TTP metric: the V50s of ``ttp-vehicles``, its TTPF at V50 and the diffraction MTF's closed
-  form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced).
+  form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced);
+- named atmospheres: the LOWTRAN7 band-transmittance table against published MODTRAN spectra
+  (midlatitude summer, rural aerosol), within 20 %.
 
 Published values are read from the bundled tables (``targetacq/data``, with their provenance)
 or quoted from the thesis's text; model values come from the public functions. A check's
@@ -43,6 +45,7 @@ import pandas as pd
 from targetacq.io.files import output_path, write_atomically
 from targetacq.validation._dri import vendor_section
 from targetacq.validation._model import Check, Section, Summary, half_unit, summarise
+from targetacq.validation._named_atmospheres import named_atmospheres_section
 from targetacq.validation._page import render_page
 from targetacq.validation._physics import (
     extinction_section,
@@ -106,6 +109,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         signature_section(),
         vendor_section(),
         ttp_section(),
+        named_atmospheres_section(),
     )
 
 

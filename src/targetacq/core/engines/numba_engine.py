@@ -89,6 +89,11 @@ def supported(scene: SceneArrays) -> str | None:
             "the numba engine compiles the path of the atmosphere; foliage in front of a target "
             "(a target's foliage) runs on engine='numpy' (or 'jax')"
         )
+    if scene.path.named_depths is not None:
+        return (
+            "the numba engine compiles Beer-Lambert paths; a named atmosphere (atmosphere.model, "
+            "aerosol) runs on engine='numpy' (or 'jax')"
+        )
     if scene.sensors.quantisation_step is not None:
         return (
             "the numba engine compiles the probabilities without a digitiser; a sensor's "

@@ -360,7 +360,7 @@ class ModelChain:
         seen = self.compute([t])["critical_dimension"][..., 0]
         scene = self.compiled.scene
         sensors, targets, choices = scene.sensors, scene.targets, scene.choices
-        noise = [
+        noise: list[list[dict[str, Any]]] = [
             [
                 {
                     "contrast": float(scene.signature.contrast[s, g]),
@@ -410,6 +410,10 @@ class ModelChain:
                     noise_model=choices.noise_model,
                     motion=choices.motion,
                     semantics=choices.semantics,
+                    # The scenario core forms the SNR by the thesis's law (Eq. (7.7) + the
+                    # sensor's): its contrast is an exitance, and the contrast law's σ_path in
+                    # W/m² is not carried by the core's records yet.
+                    snr_law="sonesson",
                     **noise[s][g],
                 )
         return cases

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.acquisition.criteria import CRITERIA, Criterion, get_criterion
-from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.base.limits import (
@@ -547,7 +547,10 @@ class RangeOptions:
     obscurant, visibility, visibility_convention : str, optional
         A Table 7.1 obscurant ``name[:level]``, or a visibility [length] and its convention.
     noise_model : str, optional
-        :data:`targetacq.acquisition.path_noise.NOISE_MODELS`.
+        :data:`targetacq.acquisition.path_noise.NOISE_MODELS` (default: ``variance-sum``, or none
+        where an MRTD curve already holds the noise).
+    snr_law : str, optional
+        :data:`targetacq.acquisition.path_noise.SNR_LAWS` (default ``contrast``).
     netd, netd_temperature, delta_t : str, optional
         The NETD [temperature difference], the temperature it is quoted at [temperature], and
         the target's ΔT [temperature difference].
@@ -604,6 +607,7 @@ class RangeOptions:
     visibility: str | None = None
     visibility_convention: str | None = None
     noise_model: str | None = None
+    snr_law: str | None = None
     netd: str | None = None
     netd_temperature: str | None = None
     delta_t: str | None = None
@@ -822,8 +826,11 @@ def range_case(reading: RangeReading) -> tuple[RangeCase, dict[str, Any]]:
         options=settings["options"],
         region=settings["region"],
         mrtd=settings["mrtd"],
-        noise_model=settings["noise_model"] or "variance-sum",
+        noise_model=settings["noise_model"],
+        snr_law=settings["snr_law"] or "contrast",
     )
+    if settings["snr_law"] is not None and case.noise_equivalent_contrast is None:
+        raise ValueError("--snr-law applies to a sensor's noise: give --netd or --nec")
     if settings["noise_model"] is not None and not case.noisy:
         raise ValueError(
             "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
@@ -946,6 +953,8 @@ def read_range_options(
     )
     if o.noise_model is not None:
         option_choice(o.noise_model, NOISE_MODELS, "--noise-model")
+    if o.snr_law is not None:
+        option_choice(o.snr_law, SNR_LAWS, "--snr-law")
     if o.semantics is not None:
         option_choice(o.semantics, ACQUISITION_SEMANTICS, "--semantics")
     if o.pixel_density is not None:
@@ -997,6 +1006,7 @@ def read_range_options(
             "region": scene.get("region"),
             "mrtd": noise_kw.get("mrtd"),
             "noise_model": o.noise_model,
+            "snr_law": o.snr_law,
         },
         sensor=sensor,
         path=path,
@@ -1054,7 +1064,8 @@ def dri_report(setup: RangeSetup) -> dict[str, Any]:
         "criterion_kind": crit.kind,
         "transform": case.transform if crit.gives_probabilities else None,
         "options": case.options,
-        "noise_model": case.noise_model if case.noisy else None,
+        "noise_model": case.applied_noise_model if case.noisy else None,
+        "snr_law": case.snr_law if case.applies_snr and case.noise_equivalent_contrast else None,
         "semantics": case.semantics,
         "resolution_model": case.resolution_model,
         "ranges": rows,

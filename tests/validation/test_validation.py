@@ -36,6 +36,7 @@ SECTIONS = (
     "planck",
     "text",
     "vendor-dri",
+    "noise",
 )
 
 

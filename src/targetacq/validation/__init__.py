@@ -15,7 +15,9 @@ the model's curve through the printed points. The sections, in page order:
 - Planck: band exitance (6.12) against a numerical quadrature of (6.2) done here, and σT⁴ (6.1);
 - the check values in the text: diffraction (5.3), Fig. 3.3's cycles, vignetting cos⁴ (6.17),
   Np/km ↔ dB/km (§7.4), the SNR of (7.5)–(7.7);
-- a vendor's published DRI ranges (thermal-camera datasheet pixel rule).
+- a vendor's published DRI ranges (thermal-camera datasheet pixel rule);
+- noise that can hide a target: the ``contrast`` SNR law at Eq. (7.7)'s reference target, the
+  detection threshold's reference points, and MRTD-limited ranges against an independent solution.
 
 Published values are read from the bundled tables (``targetacq/data``, with their provenance)
 or quoted from the thesis's text; model values come from the public functions. A check's
@@ -39,6 +41,7 @@ import pandas as pd
 from targetacq.io.files import output_path, write_atomically
 from targetacq.validation._dri import vendor_section
 from targetacq.validation._model import Check, Section, Summary, half_unit, summarise
+from targetacq.validation._noise import noise_section
 from targetacq.validation._page import render_page
 from targetacq.validation._physics import (
     extinction_section,
@@ -98,6 +101,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         planck_section(),
         optics_section(),
         vendor_section(),
+        noise_section(),
     )
 
 

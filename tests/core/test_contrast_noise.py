@@ -149,3 +149,98 @@ def test_mrtd_ranges_with_the_default_noise_equal_an_independent_bisection(task,
 
 def test_ttpf_exponent_is_the_one_the_checks_assume():
     assert TTPF_E1 > 0  # the ranges above read P = 0.5 at N = N50 (Eq. (3.2))
+
+
+# --- the scenario core: [model] snr_law, the same formula, MRTD rows without double counting
+
+
+def _scenario(model=None, mrtd=False, netd=0.05):
+    from importlib import resources
+
+    from targetacq.scenario.schema import Scenario
+
+    sensor = {"name": "ir", "band": "lwir", "ifov": 3.4e-4, "position": [0, 0, 2]}
+    if netd is not None:
+        sensor["netd"] = netd
+    at = {"position": [3000.0, 0.0, 2.0]}
+    if mrtd:
+        sensor["mrtd"] = str(resources.files("targetacq") / "data" / "example_mrtd.csv")
+    return Scenario.model_validate(
+        {
+            "sensors": [sensor],
+            "targets": [
+                {"name": "truck", "dimensions": [7, 2.5, 3], "temperature": 295.5, **at},
+                {"name": "hot", "dimensions": [7, 2.5, 3], "temperature": 340.0, **at},
+            ],
+            "background": {"temperature": 295.0},
+            "atmosphere": {"extinction": "0.2/km"},
+            **({"model": model} if model else {}),
+        }
+    )
+
+
+def _core(scenario, range_m=3000.0):
+    from targetacq.core import compile_scenario, factors, probabilities
+
+    scene = compile_scenario(scenario).scene
+    s_pos = np.array([[[0.0, 0.0, 2.0]]])
+    t_pos = np.array([[[range_m, 0.0, 2.0]], [[range_m, 0.0, 2.0]]])
+    found = factors(scene, s_pos, t_pos)
+    return scene, found, probabilities(scene, found)
+
+
+def test_the_core_forms_the_contrast_law_snr():
+    """The array core's SNR of a thermal pair: τC / sqrt((NEΔM/g)² + ((1 − τ)·1 K·∂M/∂T)²),
+    C the exitance contrast, written out here from the core's own factors."""
+    from targetacq.physics.detector_noise import netd_exitance
+
+    scene, found, _ = _core(_scenario())
+    tau = float(found.transmittance[0, 0, 0])
+    assert tau == pytest.approx(math.exp(-0.6), rel=1e-12)
+    slope = float(netd_exitance(1.0, "lwir", 300.0))
+    nec = float(netd_exitance(0.05, "lwir", 300.0))
+    r = float(found.range[0, 0, 0])
+    # The outline of a box seen along an axis: its length or its width, by its height (3 m).
+    critical = float(found.critical_dimension[0, 0, 0])
+    area = (7.0 if critical == pytest.approx(3.0) else 2.5) * 3.0
+    for g in range(2):
+        c = float(scene.signature.contrast[0, g])
+        g_gain = math.sqrt(area / (r * 3.4e-4) ** 2)
+        expected = 20 * math.log10(tau * abs(c) / math.hypot(nec / g_gain, (1 - tau) * slope))
+        assert float(found.snr[0, g, 0]) == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_core_keeps_the_thesis_law_by_name():
+    from targetacq.physics.detector_noise import netd_exitance
+
+    scene, found, _ = _core(_scenario({"snr_law": "sonesson"}))
+    tau = float(found.transmittance[0, 0, 0])
+    r = float(found.range[0, 0, 0])
+    nec = float(netd_exitance(0.05, "lwir", 300.0))
+    critical = float(found.critical_dimension[0, 0, 0])
+    area = (7.0 if critical == pytest.approx(3.0) else 2.5) * 3.0
+    g_gain = math.sqrt(area / (r * 3.4e-4) ** 2)
+    c = float(scene.signature.contrast[0, 0])
+    expected = -10 * math.log10(((1 - tau) / tau) ** 2 + (nec / (tau * c * g_gain)) ** 2)
+    assert float(found.snr[0, 0, 0]) == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_core_sees_a_hotter_target_better_and_applies_the_threshold():
+    _, found, p = _core(_scenario(), range_m=6000.0)
+    assert float(found.snr[0, 1, 0]) > float(found.snr[0, 0, 0]) + 20.0
+    assert float(p.detection[0, 1, 0]) > float(p.detection[0, 0, 0])
+    _, _, thesis = _core(_scenario({"snr_law": "sonesson"}), range_m=6000.0)
+    # The threshold and the contrast-aware noise only ever take away from the 0.5 K target here.
+    assert float(p.detection[0, 0, 0]) < float(thesis.detection[0, 0, 0])
+
+
+def test_the_core_applies_no_snr_on_top_of_an_mrtd_curve_by_default():
+    _, found, _ = _core(_scenario(mrtd=True))
+    assert np.all(np.isinf(found.snr) & (found.snr > 0))
+    _, named, _ = _core(_scenario({"noise_model": "variance-sum"}, mrtd=True))
+    assert np.all(np.isfinite(named.snr))
+
+
+def test_an_unknown_snr_law_is_named_with_the_choices():
+    with pytest.raises(ValueError, match="SNR law"):
+        _scenario({"snr_law": "loud"})

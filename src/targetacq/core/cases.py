@@ -619,4 +619,7 @@ def case_probability(case: RangeCase, range: Array, task: str) -> Any:
 def _seen(case: RangeCase, snr: Any) -> Any:
     """The probability that the case's target is seen above the noise (1 without a threshold)."""
     k = case.seen_threshold
-    return 1.0 if k is None else seen_probability(snr, k)
+    if k is None:
+        return 1.0
+    xp, (nec,) = _arrays.arrays(case.noise_equivalent_contrast)
+    return seen_probability(snr, xp.where(nec > 0, k, -xp.inf))  # NEC 0: no noise of its own

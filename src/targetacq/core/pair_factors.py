@@ -14,7 +14,7 @@ same arithmetic for speed; the tests hold them to this one.
 2. path: ``τ = exp(−d_opt)`` (Eq. (7.3), the optical depth summed over segments, clouds and
    foliage) and the SNR of Eq. (7.7) from the depth directly
    (:func:`targetacq.physics.atmosphere.snr_from_optical_depth`);
-3. the sensor's own noise, where it has one, by the SNR law
+3. the sensor's own noise, where it has one (NEC > 0), by the SNR law
    (:data:`targetacq.acquisition.path_noise.SNR_LAWS`): ``contrast`` (default), the contrast the
    path leaves, ``τ · |C|``, against the sensor's noise-equivalent contrast over the gain of the
    pixels the target covers and the path radiance's noise ``(1 − τ) · σ_path``, in variance
@@ -127,9 +127,12 @@ def imager_factors(
     if noise is not None:
         pixels = detector_noise.pixels_on_target(noise.area, shortest, noise.ifov)
         if get_snr_law(noise.law).contrast_aware:
-            snr = detector_noise.contrast_snr(
+            aware = detector_noise.contrast_snr(
                 noise.contrast, noise.noise_equivalent, noise.path_contrast, tau, pixels
             )
+            # A row without a noise of its own (NEC = 0, none given) keeps Eq. (7.7).
+            quiet = _arrays.as_float(noise.noise_equivalent, xp) == 0
+            snr = xp.where(quiet, snr, aware)
         else:
             own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, tau, pixels)
             snr = detector_noise.combined_snr(snr, own)

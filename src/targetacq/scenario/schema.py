@@ -77,7 +77,7 @@ from pydantic import (
 
 from targetacq.acquisition.criteria import CRITERIA
 from targetacq.acquisition.engagement import REDRAW_RULES
-from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.base.inputs import read_input_text
@@ -1007,6 +1007,7 @@ class Atmosphere(_Strict):
 _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
     "criterion": (CRITERIA, "criterion"),
     "noise_model": (NOISE_MODELS, "noise model"),
+    "snr_law": (SNR_LAWS, "SNR law"),
     "motion": (MOTION_RULES, "motion rule"),
     "semantics": (ACQUISITION_SEMANTICS, "semantics"),
     "redraw": (REDRAW_RULES, "redraw rule"),
@@ -1014,7 +1015,10 @@ _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
 
 
 class ModelChoices(_Strict):
-    """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
+    """Model choices: criterion (or a user N50 triple), transform, noise model (default
+    ``variance-sum``, except on the rows whose MRTD curve already holds the noise and the path:
+    there no SNR, unless a noise model is named), SNR law
+    (``snr_law``, :data:`targetacq.acquisition.path_noise.SNR_LAWS`), motion rule
     (how a moving target is detected), semantics (nested or conditional: what the three
     probabilities mean, hence what is reported and sampled), fusion, the search model's
     time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default), and when a
@@ -1033,7 +1037,8 @@ class ModelChoices(_Strict):
     ) = None
     transform: str = "ttpf"
     bound: str | None = None
-    noise_model: str = "variance-sum"
+    noise_model: str | None = None
+    snr_law: str = "contrast"
     motion: str = "low-clutter"
     semantics: str = "nested"
     fusion: Literal["sensor-level"] = "sensor-level"
@@ -1041,9 +1046,11 @@ class ModelChoices(_Strict):
     redraw: str = "never"
     decorrelation_time: Time | None = None
 
-    @field_validator("criterion", "noise_model", "motion", "semantics", "redraw")
+    @field_validator("criterion", "noise_model", "snr_law", "motion", "semantics", "redraw")
     @classmethod
-    def _registered(cls, value: str, info: ValidationInfo) -> str:
+    def _registered(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:  # noise_model: the default (variance-sum; none on an MRTD curve)
+            return value
         registry, kind = _MODEL_REGISTRIES[info.field_name or ""]
         lookup(registry, value, kind)
         return value

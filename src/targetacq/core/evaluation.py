@@ -1020,7 +1020,8 @@ def _seen_tasks(
     k = _thresholds(scene, np)
     if k is None or (ratio is None and snr is None):
         return tasks
-    rho = np.asarray(noise_ratio(snr)) if ratio is None else ratio
+    # From the SNR in dB where it is there, as the other engines read it (the same rounding).
+    rho = ratio if snr is None else np.asarray(noise_ratio(snr))
     seen = seen_of_ratio(rho, k[sensor()], np)
     return [np.asarray(p, dtype=float) * seen for p in tasks]
 

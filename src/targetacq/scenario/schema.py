@@ -470,7 +470,8 @@ class Sensor(_Strict):
     CSV file (:meth:`targetacq.physics.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
     folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
     resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
-    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    ΔT at ``netd_temperature``); the curve holds the sensor's noise, so no SNR acts on top of
+    it unless the model table names a ``noise_model`` (then the NETD's noise adds to it).
     The digitiser (§6.8): ``quantisation_step`` (e.g. "0.01 W/m^2"), or ``adc_bits`` with
     ``adc_span`` (the signal span its levels cover, step = span / (2^bits − 1),
     :func:`targetacq.physics.radiometry.quantisation_step`); a pair whose contrast at the scene, in

@@ -276,7 +276,8 @@ def _variance_sum_factor(snr: Any) -> Any:
 def _variance_sum_of_ratio(inverse: Any, xp: Any = None) -> Any:
     """The ``variance-sum`` factor of the noise-to-signal amplitude ratio (:func:`noise_ratio`)."""
     xp = xp or _arrays.namespace(inverse)
-    ratio = QUADRATURE_CONSTANT * inverse
+    with np.errstate(over="ignore"):  # a vanishing signal: ρ near the float limit, f = inf
+        ratio = QUADRATURE_CONSTANT * inverse
     if isinstance(ratio, np.ndarray) and not bool(np.any(ratio > 1.0)):
         ratio *= ratio  # every ratio <= 1 (or NaN): the small branch alone, as below
         ratio += 1.0

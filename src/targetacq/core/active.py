@@ -211,9 +211,9 @@ def active_probabilities(
     and noise (an SNR, or none where neither the path nor the sensor adds noise); the radar rows
     through :func:`_radar_tasks`.
 
-    ``task_probabilities(cycles, snr, scr, scene, moving=moving)``: the imagers' ordered
-    probabilities. ``moving``: the targets' moving flags for this call (default their own), for
-    the imaging and laser-radar rows.
+    ``task_probabilities(cycles, snr, scr, scene, moving=moving, rows=rows)``: the imagers'
+    ordered probabilities of the sensor rows ``rows``. ``moving``: the targets' moving flags
+    for this call (default their own), for the imaging and laser-radar rows.
 
     Returns
     -------
@@ -238,6 +238,7 @@ def active_probabilities(
             _rows(found.scr, rows, xp) if has_scr else None,
             scene,
             moving=moving,
+            rows=rows,
         )
         for k, row in enumerate(rows):
             parts[row] = (tasks[0][k], tasks[1][k], tasks[2][k])

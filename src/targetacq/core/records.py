@@ -44,6 +44,7 @@ __all__ = [
     "SensorArrays",
     "SignatureArrays",
     "TargetArrays",
+    "TtpArrays",
     "as_jax",
     "derived",
     "pytree_record",
@@ -164,6 +165,9 @@ class SensorArrays:
         :func:`targetacq.physics.radiometry.quantisation_step`): a pair whose contrast at the scene
         (:attr:`SignatureArrays.contrast`) is below it has every probability 0. 0 where a row
         has none; None where no row has one.
+    ttp : TtpArrays or None
+        The rows whose resolution is the TTP metric (thermal sensors under ``[model]
+        resolution_model = "ttp"``); None where there are none.
     """
 
     cycle: Any
@@ -181,6 +185,7 @@ class SensorArrays:
     groups: tuple[str, ...] = _static(())
     mrtd: MrtdArrays | None = None
     quantisation_step: Any = None
+    ttp: TtpArrays | None = None
 
     @property
     def group_names(self) -> tuple[str, ...]:
@@ -213,6 +218,32 @@ class MrtdArrays:
     exitance_slope: Any
     rows: tuple[int, ...] = _static()
     curves: tuple[Any, ...] = _static()
+
+
+@pytree_record
+@dataclass(frozen=True)
+class TtpArrays:
+    """The sensor rows whose resolution is the TTP metric (:mod:`targetacq.physics.ttp`), one
+    entry each (:mod:`targetacq.core.ttp_rows`).
+
+    The cycles on target of these rows are the TTP metric's ``V``
+    (:func:`targetacq.physics.ttp.ttp_cycles`) at the pair's range, ΔT and transmittance instead
+    of the geometric ``d / (R · cycle)``, with ΔT the pair's exitance contrast over the slope
+    ``∂M_bb,band/∂T`` at the reference temperature (as :class:`MrtdArrays`).
+
+    Attributes
+    ----------
+    exitance_slope : array (n_t,)
+        ``∂M_bb,band/∂T`` of each row's band at its sensor's ``netd_temperature`` [W/(m²·K)].
+    rows : tuple of int
+        The rows among the scene's sensors.
+    systems : tuple of targetacq.physics.ttp.TtpSystem
+        Each row's imager, display and observer (static: constants under ``jax.jit``).
+    """
+
+    exitance_slope: Any
+    rows: tuple[int, ...] = _static()
+    systems: tuple[Any, ...] = _static()
 
 
 @pytree_record

@@ -25,6 +25,7 @@ from targetacq.core.engines import bind
 from targetacq.core.evaluation import evaluate, evaluate_step
 from targetacq.physics import radiometry
 from targetacq.physics.ttp import TtpSystem
+from targetacq.run.model_chain import ModelChain
 from targetacq.scenario.schema import ScenarioError, load_scenario, parse_scenario
 
 TASKS = ("detection", "recognition", "identification")
@@ -288,3 +289,19 @@ def test_jax_engine_gives_the_same_numbers(scenario_path: Path) -> None:
         np.testing.assert_allclose(
             np.asarray(getattr(got, task)), getattr(want, task), rtol=1e-10, atol=1e-13
         )
+
+
+def test_range_cases_carry_the_ttp_system(scenario_path: Path) -> None:
+    chain = ModelChain(load_scenario(scenario_path))
+    cases = chain.range_cases()
+    for g, name in enumerate(("cool", "hot")):
+        case = cases[f"ir → {name}"]
+        assert case.resolution_model == "ttp"
+        assert case.ttp == _system()
+        assert case.contrast == pytest.approx(_delta_t(TEMPERATURES[g]), rel=1e-9)
+        assert case.target_area == pytest.approx(21.0, rel=1e-9)  # 7 m × 3 m broadside
+        # At the scenario's own geometry (3 km), the core's cycles and P are the case's.
+        found, p = evaluate(chain.compiled.scene, *_positions(3000.0))
+        expected = case_acquisition(case, 3000.0)
+        np.testing.assert_allclose(found.cycles[0, g, 0], expected.cycles, rtol=1e-9)
+        np.testing.assert_allclose(p.recognition[0, g, 0], expected.recognition, rtol=1e-9)

@@ -39,7 +39,7 @@ from targetacq.core.records import SceneArrays
 from targetacq.physics import geometry
 from targetacq.physics.ttp import ttp_cycles
 
-__all__ = ["ttp_factors"]
+__all__ = ["outline_area", "ttp_factors"]
 
 
 def ttp_factors(
@@ -100,7 +100,7 @@ def ttp_factors(
     )
     _, (s_pos, t_pos) = _arrays.arrays(sensor_positions, target_positions)
     shape = tuple(rng.shape)
-    area = xp.broadcast_to(_outline_area(scene, s_pos, t_pos, headings, visible, xp), shape)
+    area = xp.broadcast_to(outline_area(scene, s_pos, t_pos, headings, visible), shape)
     tau = xp.broadcast_to(tau, shape)
     contrast = _arrays.as_float(scene.signature.contrast, xp)
     slope = _arrays.as_float(limited.exitance_slope, xp)
@@ -124,12 +124,49 @@ def ttp_factors(
     return dataclasses.replace(found, **changes)
 
 
-def _outline_area(
-    scene: SceneArrays, s_pos: Any, t_pos: Any, headings: Any, visible: Any, xp: Any
+def outline_area(
+    scene: SceneArrays,
+    sensor_positions: Array,
+    target_positions: Array,
+    headings: Array = None,
+    visible: Array = None,
 ) -> Any:
     """The area of each pair's outline as seen [m²], ``(n_s, n_g, *batch)``: the outline's
     horizontal side times the visible part of its height
-    (:func:`targetacq.physics.geometry.box_outline`, as the core's factors have it)."""
+    (:func:`targetacq.physics.geometry.box_outline`, as the core's factors have it): the TTP
+    metric's target area ``A``.
+
+    Parameters
+    ----------
+    scene : SceneArrays
+    sensor_positions, target_positions : array
+        ``(n_s, *batch, 3)``, ``(n_g, *batch, 3)`` [m].
+    headings : array ``(n_g, *batch)``, optional
+        [rad]; default the targets' own.
+    visible : array, optional
+        Visible fraction of each target's height, broadcasting with the pairs; default the
+        targets' own.
+
+    Returns
+    -------
+    array
+        [m²].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from targetacq.core import compile_scenario
+    >>> from targetacq.scenario.schema import Scenario
+    >>> scene = compile_scenario(Scenario.model_validate({
+    ...     "sensors": [{"name": "ir", "band": "lwir", "ifov": 1e-4, "position": [0, 0, 2]}],
+    ...     "targets": [{"name": "truck", "dimensions": [7, 2.5, 3], "temperature": 297.0,
+    ...                  "position": [1000, 0, 2]}],
+    ...     "background": {"temperature": 295.0}})).scene
+    >>> area = outline_area(scene, np.array([[[0.0, 0.0, 2.0]]]), np.array([[[1000.0, 0, 2]]]))
+    >>> round(float(area[0, 0, 0]), 9)  # broadside at eye level: length × height
+    21.0
+    """
+    xp, (s_pos, t_pos) = _arrays.arrays(sensor_positions, target_positions)
     targets = scene.targets
     batch = s_pos.ndim - 2
     per_target = (1, -1) + (1,) * batch

@@ -311,6 +311,39 @@ def require_nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> Non
         raise ValueError(f"{name} must be {valid}, got {_describe(value, xp, mask)}")
 
 
+def require_where(name: str, value: Array, mask: Array, xp: Any, valid: str) -> None:
+    """Raise ``ValueError`` where ``mask`` holds at a known element; NaN (scalars too) passes.
+
+    The check of the kernels whose NaN inputs give NaN outputs even as scalars (the MTFs, the
+    MRTD and the TTP metric): ``mask`` marks the out-of-range elements, ``valid`` says what is
+    valid ("> 0 m").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> require_where("range", np.float64("nan"), np.False_, np, "> 0 m")  # NaN passes
+    >>> require_where("range", np.float64(-1.0), np.True_, np, "> 0 m")
+    Traceback (most recent call last):
+    ...
+    ValueError: range must be > 0 m, got -1
+    """
+    if is_traced(value) or not any_known(mask, xp):
+        return
+    bad = value[mask] if value.ndim else value
+    first = float(xp.reshape(bad, (-1,))[0])
+    raise ValueError(f"{name} must be {valid}, got {first:g}")
+
+
+def require_positive_or_nan(name: str, value: Array, xp: Any, unit: str = "") -> None:
+    """:func:`require_where` of ``value > 0`` (NaN passes, scalars too)."""
+    require_where(name, value, value <= 0, xp, f"> 0{' ' + unit if unit else ''}")
+
+
+def require_nonnegative_or_nan(name: str, value: Array, xp: Any, unit: str = "") -> None:
+    """:func:`require_where` of ``value >= 0`` (NaN passes, scalars too)."""
+    require_where(name, value, value < 0, xp, f">= 0{' ' + unit if unit else ''}")
+
+
 def require_unit_interval(name: str, value: Array, xp: Any) -> None:
     """Raise ``ValueError`` unless every non-NaN element lies in [0, 1]."""
     _check_scalar_nan(name, value, xp, "in [0, 1]")

@@ -87,24 +87,8 @@ _PER_MRAD = 1000.0  # a bench frequency in cycles/mrad is 1000 × that in cycles
 # Checks that keep NaN as NaN (scalars too) and raise for out-of-range values.
 
 
-def _require(name: str, value: Array, mask: Array, xp: Any, valid: str) -> None:
-    if _arrays.is_traced(value) or not _arrays.any_known(mask, xp):
-        return
-    bad = value[mask] if value.ndim else value
-    first = float(xp.reshape(bad, (-1,))[0])
-    raise ValueError(f"{name} must be {valid}, got {first:g}")
-
-
-def _positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value <= 0, xp, f"> 0{' ' + unit if unit else ''}")
-
-
-def _nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value < 0, xp, f">= 0{' ' + unit if unit else ''}")
-
-
 def _unit_interval(name: str, value: Array, xp: Any) -> None:
-    _require(name, value, (value < 0) | (value > 1), xp, "in [0, 1]")
+    _arrays.require_where(name, value, (value < 0) | (value > 1), xp, "in [0, 1]")
 
 
 # --------------------------------------------------------------------------------------------
@@ -456,7 +440,7 @@ def mrtd(frequency: Array, curve: MrtdCurve) -> Any:
     """
     curve = _check_curve(curve)
     xp, (f,) = _arrays.arrays(frequency)
-    _nonnegative("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
     return _arrays.result(_mrtd_law(f, curve, xp))
 
 
@@ -548,8 +532,8 @@ def mrtd_cycles(
     """
     curve = _check_curve(curve)
     xp, (r, d, dt, tau) = _arrays.arrays(range, critical_dimension, delta_t, transmittance)
-    _positive("range", r, xp, "m")
-    _positive("critical_dimension", d, xp, "m")
+    _arrays.require_positive_or_nan("range", r, xp, "m")
+    _arrays.require_positive_or_nan("critical_dimension", d, xp, "m")
     _unit_interval("transmittance", tau, xp)
     f_star = _frequency_law(tau * xp.abs(dt), curve, xp)
     return _arrays.result(f_star * d / r)
@@ -593,11 +577,11 @@ def system_mtf(
 
 
 def _check_mtf_inputs(f: Array, i: Array, d: Array, lam: Array, s: Array, xp: Any) -> None:
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("ifov", i, xp, "rad")
-    _positive("aperture", d, xp, "m")
-    _positive("wavelength", lam, xp, "m")
-    _nonnegative("blur_sigma", s, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_positive_or_nan("ifov", i, xp, "rad")
+    _arrays.require_positive_or_nan("aperture", d, xp, "m")
+    _arrays.require_positive_or_nan("wavelength", lam, xp, "m")
+    _arrays.require_nonnegative_or_nan("blur_sigma", s, xp, "rad")
 
 
 def _system_mtf(f: Array, i: Array, d: Array, lam: Array, s: Array, xp: Any) -> Array:
@@ -692,11 +676,11 @@ def parametric_mrtd(
         noise_bandwidth_dwell,
     )
     _check_mtf_inputs(f, i, d, lam, s, xp)
-    _positive("netd", n, xp, "K")
-    _positive("frame_rate", fr, xp, "Hz")
-    _positive("eye_integration_time", te, xp, "s")
-    _positive("snr_threshold", k, xp)
-    _positive("noise_bandwidth_dwell", bd, xp)
+    _arrays.require_positive_or_nan("netd", n, xp, "K")
+    _arrays.require_positive_or_nan("frame_rate", fr, xp, "Hz")
+    _arrays.require_positive_or_nan("eye_integration_time", te, xp, "s")
+    _arrays.require_positive_or_nan("snr_threshold", k, xp)
+    _arrays.require_positive_or_nan("noise_bandwidth_dwell", bd, xp)
     mtf = _system_mtf(f, i, d, lam, s, xp)
     # Beyond the first zero of the MTF (detector: 1/IFOV; optics: D/λ) the formula is void.
     first_zero = xp.minimum(1.0 / i, d / lam)

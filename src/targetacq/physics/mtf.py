@@ -69,22 +69,6 @@ EXPOSURES: tuple[str, ...] = ("long", "short")
 # Checks that keep NaN as NaN (scalars too) and raise for out-of-range values.
 
 
-def _require(name: str, value: Array, mask: Array, xp: Any, valid: str) -> None:
-    if _arrays.is_traced(value) or not _arrays.any_known(mask, xp):
-        return
-    bad = value[mask] if value.ndim else value
-    first = float(xp.reshape(bad, (-1,))[0])
-    raise ValueError(f"{name} must be {valid}, got {first:g}")
-
-
-def _positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value <= 0, xp, f"> 0{' ' + unit if unit else ''}")
-
-
-def _nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value < 0, xp, f">= 0{' ' + unit if unit else ''}")
-
-
 def _choice(name: str, value: str, choices: tuple[str, ...]) -> None:
     if value not in choices:
         raise ValueError(f"{name} must be one of {', '.join(choices)}; got {value!r}")
@@ -135,9 +119,9 @@ def diffraction_mtf(frequency: Array, wavelength: Array, aperture: Array) -> Any
     0.391002
     """
     xp, (f, lam, d) = _arrays.arrays(frequency, wavelength, aperture)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("wavelength", lam, xp, "m")
-    _positive("aperture", d, xp, "m")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_positive_or_nan("wavelength", lam, xp, "m")
+    _arrays.require_positive_or_nan("aperture", d, xp, "m")
     return _arrays.result(_diffraction(f, lam, d, xp))
 
 
@@ -175,8 +159,8 @@ def detector_mtf(frequency: Array, ifov: Array) -> Any:
     0.63662
     """
     xp, (f, i) = _arrays.arrays(frequency, ifov)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("ifov", i, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_positive_or_nan("ifov", i, xp, "rad")
     return _arrays.result(_sinc(f * i, xp))
 
 
@@ -207,8 +191,8 @@ def sampling_mtf(frequency: Array, pitch: Array) -> Any:
     0.900316
     """
     xp, (f, p) = _arrays.arrays(frequency, pitch)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("pitch", p, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_positive_or_nan("pitch", p, xp, "rad")
     return _arrays.result(_sinc(f * p, xp))
 
 
@@ -237,8 +221,8 @@ def blur_mtf(frequency: Array, blur_sigma: Array) -> Any:
     0.367879441171
     """
     xp, (f, s) = _arrays.arrays(frequency, blur_sigma)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("blur_sigma", s, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("blur_sigma", s, xp, "rad")
     return _arrays.result(_gaussian(f, s, xp))
 
 
@@ -269,8 +253,8 @@ def jitter_mtf(frequency: Array, jitter: Array) -> Any:
     0.820869
     """
     xp, (f, s) = _arrays.arrays(frequency, jitter)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("jitter", s, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("jitter", s, xp, "rad")
     return _arrays.result(_gaussian(f, s, xp))
 
 
@@ -299,8 +283,8 @@ def motion_mtf(frequency: Array, smear: Array) -> Any:
     0.63662
     """
     xp, (f, a) = _arrays.arrays(frequency, smear)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("smear", a, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("smear", a, xp, "rad")
     return _arrays.result(_sinc(f * a, xp))
 
 
@@ -338,9 +322,9 @@ def fried_parameter(range: Array, wavelength: Array, cn2: Array, wave: str = "sp
     """
     _choice("wave", wave, WAVES)
     xp, (r, lam, c) = _arrays.arrays(range, wavelength, cn2)
-    _nonnegative("range", r, xp, "m")
-    _positive("wavelength", lam, xp, "m")
-    _nonnegative("cn2", c, xp, "m^-2/3")
+    _arrays.require_nonnegative_or_nan("range", r, xp, "m")
+    _arrays.require_positive_or_nan("wavelength", lam, xp, "m")
+    _arrays.require_nonnegative_or_nan("cn2", c, xp, "m^-2/3")
     return _arrays.result(_fried(r, lam, c, wave, xp))
 
 
@@ -400,11 +384,11 @@ def turbulence_mtf(
     """
     _choice("exposure", exposure, EXPOSURES)
     xp, (f, r, lam, c, d) = _arrays.arrays(frequency, range, wavelength, cn2, aperture)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("range", r, xp, "m")
-    _positive("wavelength", lam, xp, "m")
-    _nonnegative("cn2", c, xp, "m^-2/3")
-    _positive("aperture", d, xp, "m")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("range", r, xp, "m")
+    _arrays.require_positive_or_nan("wavelength", lam, xp, "m")
+    _arrays.require_nonnegative_or_nan("cn2", c, xp, "m^-2/3")
+    _arrays.require_positive_or_nan("aperture", d, xp, "m")
     return _arrays.result(_turbulence(f, r, lam, c, d, exposure, xp))
 
 
@@ -535,6 +519,6 @@ def system_mtf(frequency: Array, components: Mapping[str, Mapping[str, Any]]) ->
         total = total * component.kernel(frequency, *args, **options)
     if not components:
         xp, (f,) = _arrays.arrays(frequency)
-        _nonnegative("frequency", f, xp, "cycles/rad")
+        _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
         return _arrays.result(xp.ones_like(f))
     return total

@@ -98,22 +98,6 @@ _KAPPA = math.sqrt(math.pi / 4.4) * math.exp(1.0 / 17.6)  # ∫ B(ξ'/ξ)² dξ'
 # Checks (NaN kept, out-of-range values raise for the whole call).
 
 
-def _require(name: str, value: Array, mask: Array, xp: Any, valid: str) -> None:
-    if _arrays.is_traced(value) or not _arrays.any_known(mask, xp):
-        return
-    bad = value[mask] if value.ndim else value
-    first = float(xp.reshape(bad, (-1,))[0])
-    raise ValueError(f"{name} must be {valid}, got {first:g}")
-
-
-def _positive(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value <= 0, xp, f"> 0{' ' + unit if unit else ''}")
-
-
-def _nonnegative(name: str, value: Array, xp: Any, unit: str = "") -> None:
-    _require(name, value, value < 0, xp, f">= 0{' ' + unit if unit else ''}")
-
-
 # --------------------------------------------------------------------------------------------
 # The observer.
 
@@ -156,9 +140,9 @@ def eye_ctf(
     0.00207
     """
     xp, (f, lum, w) = _arrays.arrays(frequency, luminance, field_angle)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _positive("luminance", lum, xp, "cd/m²")
-    _positive("field_angle", w, xp, "rad")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_positive_or_nan("luminance", lum, xp, "cd/m²")
+    _arrays.require_positive_or_nan("field_angle", w, xp, "rad")
     return _arrays.result(_eye_ctf(f, lum, w, xp))
 
 
@@ -238,11 +222,11 @@ def noise_factor(
     1.00726
     """
     xp, (f, n, i, fr, scn) = _arrays.arrays(frequency, netd, ifov, frame_rate, scene_contrast)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("netd", n, xp)
-    _positive("ifov", i, xp, "rad")
-    _positive("frame_rate", fr, xp, "Hz")
-    _positive("scene_contrast", scn, xp)
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("netd", n, xp)
+    _arrays.require_positive_or_nan("ifov", i, xp, "rad")
+    _arrays.require_positive_or_nan("frame_rate", fr, xp, "Hz")
+    _arrays.require_positive_or_nan("scene_contrast", scn, xp)
     return _arrays.result(_noise_factor(f, n, i, fr, scn, xp))
 
 
@@ -283,8 +267,8 @@ def apparent_contrast(contrast: Array, transmittance: Array, scene_contrast: Arr
     0.1
     """
     xp, (c, tau, scn) = _arrays.arrays(contrast, transmittance, scene_contrast)
-    _require("transmittance", tau, (tau < 0) | (tau > 1), xp, "in [0, 1]")
-    _positive("scene_contrast", scn, xp)
+    _arrays.require_where("transmittance", tau, (tau < 0) | (tau > 1), xp, "in [0, 1]")
+    _arrays.require_positive_or_nan("scene_contrast", scn, xp)
     return _arrays.result(_apparent_contrast(c, tau, scn, xp))
 
 
@@ -382,14 +366,14 @@ class TtpSystem:
         nonnegative = {"netd": "K", "blur_sigma": "rad", "jitter": "rad", "smear": "rad"}
         for name, unit in positive.items():
             xp, (value,) = _arrays.arrays(getattr(self, name), names=(name,))
-            _positive(name, value, xp, unit)
+            _arrays.require_positive_or_nan(name, value, xp, unit)
         for name, unit in nonnegative.items():
             xp, (value,) = _arrays.arrays(getattr(self, name), names=(name,))
-            _nonnegative(name, value, xp, unit)
+            _arrays.require_nonnegative_or_nan(name, value, xp, unit)
         xp, (cn2,) = _arrays.arrays(self.cn2, names=("cn2",))
-        _nonnegative("cn2", cn2, xp, "m^-2/3")
+        _arrays.require_nonnegative_or_nan("cn2", cn2, xp, "m^-2/3")
         xp, (fill,) = _arrays.arrays(self.fill_factor, names=("fill_factor",))
-        _require("fill_factor", fill, (fill <= 0) | (fill > 1), xp, "in (0, 1]")
+        _arrays.require_where("fill_factor", fill, (fill <= 0) | (fill > 1), xp, "in (0, 1]")
 
     @property
     def magnification(self) -> Any:
@@ -466,8 +450,8 @@ def system_ctf(frequency: Array, range: Array, system: TtpSystem) -> Any:
     0.00284
     """
     xp, (f, r) = _arrays.arrays(frequency, range)
-    _nonnegative("frequency", f, xp, "cycles/rad")
-    _nonnegative("range", r, xp, "m")
+    _arrays.require_nonnegative_or_nan("frequency", f, xp, "cycles/rad")
+    _arrays.require_nonnegative_or_nan("range", r, xp, "m")
     return _arrays.result(_system_ctf(f, r, system, xp))
 
 
@@ -521,8 +505,8 @@ def ttp_value(
     19768.0
     """
     xp, (r, c, tau) = _arrays.arrays(range, contrast, transmittance)
-    _positive("range", r, xp, "m")
-    _require("transmittance", tau, (tau < 0) | (tau > 1), xp, "in [0, 1]")
+    _arrays.require_positive_or_nan("range", r, xp, "m")
+    _arrays.require_where("transmittance", tau, (tau < 0) | (tau > 1), xp, "in [0, 1]")
     if not isinstance(samples, int) or samples < 2:
         raise ValueError(f"samples must be an integer >= 2, got {samples!r}")
     return _arrays.result(_ttp_value(r, c, tau, system, samples, xp))
@@ -617,6 +601,6 @@ def ttp_cycles(
     45.47
     """
     xp, (r, d, c, tau) = _arrays.arrays(range, critical_dimension, contrast, transmittance)
-    _positive("range", r, xp, "m")
-    _positive("critical_dimension", d, xp, "m")
+    _arrays.require_positive_or_nan("range", r, xp, "m")
+    _arrays.require_positive_or_nan("critical_dimension", d, xp, "m")
     return _arrays.result(d / r * ttp_value(r, c, tau, system))

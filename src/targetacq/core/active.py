@@ -202,6 +202,7 @@ def active_probabilities(
     found: Any,
     task_probabilities: Callable[..., tuple[Any, Any, Any]],
     moving: Any = None,
+    cues: Any = None,
 ) -> tuple[Any, Any, Any]:
     """Every row's ordered probabilities by its kind, before the field of view.
 
@@ -213,7 +214,8 @@ def active_probabilities(
 
     ``task_probabilities(cycles, snr, scr, scene, moving=moving)``: the imagers' ordered
     probabilities. ``moving``: the targets' moving flags for this call (default their own), for
-    the imaging and laser-radar rows.
+    the imaging and laser-radar rows. ``cues``: the pairs' graded cues
+    (:class:`targetacq.core.evaluation.GradedCues`, with ``rows(rows, xp)``), or None.
 
     Returns
     -------
@@ -238,6 +240,7 @@ def active_probabilities(
             _rows(found.scr, rows, xp) if has_scr else None,
             scene,
             moving=moving,
+            cues=None if cues is None else cues.rows(rows, xp),
         )
         for k, row in enumerate(rows):
             parts[row] = (tasks[0][k], tasks[1][k], tasks[2][k])

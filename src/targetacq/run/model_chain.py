@@ -172,6 +172,9 @@ def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
             hot_spot=t.hot_spot[targets],
             moving=t.moving[targets],
             foliage=None if t.foliage is None else t.foliage[targets],
+            hot_spot_ratio=None if t.hot_spot_ratio is None else t.hot_spot_ratio[targets],
+            hot_spot_size=None if t.hot_spot_size is None else t.hot_spot_size[targets],
+            graded_motion=t.graded_motion[targets],
         ),
         signature=dataclasses.replace(
             sig,
@@ -273,6 +276,13 @@ class ModelChain:
             scene = _subset(scene, targets)
         positions = self.steps["positions"](self, t, chosen)
         found = self.steps["factors"](self, scene, positions)
+        if any(scene.targets.graded_motion):  # graded motion: the scripted paths' velocities
+            found = dataclasses.replace(
+                found,
+                crossing_speed=core.crossing_speeds(
+                    positions[0], positions[1], core.scenario_velocities(self.scenario, t, chosen)
+                ),
+            )
         found = self.steps["clutter"](self, scene, found, positions[1], chosen)
         p = self.steps["probabilities"](self, scene, found)
         out = {

@@ -101,6 +101,10 @@ class SensorType:
     table : str or None
         The scenario key of the table that belongs to this type only (``bands`` of a colour
         camera, ``radar``, ``laser``): required for it, refused for every other type.
+    airlight : bool
+        Whether the path's airlight reduces the contrast the type's own noise sees, by the
+        background's sky-to-ground ratio (the visible band's reflected light,
+        :func:`targetacq.physics.atmosphere.contrast_transmittance`); False: ``τ`` of it.
     """
 
     name: str
@@ -120,6 +124,7 @@ class SensorType:
     noise_key: str | None = None
     noise_elsewhere: str = ""
     table: str | None = None
+    airlight: bool = False
 
 
 SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
@@ -144,6 +149,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             noise_equivalent=tv.noise_equivalent,
             source="Sonesson (2004) §6.2, §9.4.1",
             noise_key="nec",
+            airlight=True,
         ),
         "colour": SensorType(
             "colour",
@@ -156,6 +162,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             rows=colour.rows,
             noise_key="nec",
             table="bands",
+            airlight=True,
         ),
         "swir": SensorType(
             "swir",

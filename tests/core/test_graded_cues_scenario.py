@@ -309,3 +309,18 @@ def test_sky_to_ground_leaves_a_thermal_camera_as_it_was():
     plain = _detection(_scenario(_target("t")), 0.0)
     with_k = _detection(_scenario(_target("t"), sky_to_ground=3.0), 0.0)
     np.testing.assert_allclose(with_k, plain, rtol=1e-14)
+
+
+def test_the_chains_range_cases_carry_the_graded_cues():
+    scenario = _scenario(
+        _target("h", hot_spot_ratio=3.0, hot_spot_size="0.5 m"),
+        _crossing("c", 1.0, graded_motion=True),
+    )
+    chain = ModelChain(scenario)
+    cases = chain.range_cases(50.0)
+    assert cases["ir → h"].hot_spot_size == 0.5
+    assert cases["ir → c"].target_speed == pytest.approx(1.0, rel=1e-12)
+    p = _detection(scenario)
+    for k, name in enumerate(("h", "c")):
+        found = case_acquisition(cases[f"ir → {name}"], RANGE).detection
+        assert float(found) == pytest.approx(p[k], rel=1e-12)

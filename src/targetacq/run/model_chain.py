@@ -354,7 +354,9 @@ class ModelChain:
         dimension covers: the range curves do not follow the outline's other side). A sensor
         with an MRTD curve gives MRTD-limited cases: its curve, with the contrast and the NETD
         as temperature differences (over the band's ``∂M_bb/∂T`` at ``netd_temperature``, as
-        the core has them: :mod:`targetacq.core.mrtd_rows`). Imaging
+        the core has them: :mod:`targetacq.core.mrtd_rows`). A target's graded hot spot, its
+        speed across each line of sight at ``time`` (graded motion) and the background's
+        sky-to-ground ratio (TV and colour rows with their own noise) are the cases' too. Imaging
         sensors only. A scenario's ranges in ``targetacq dri`` and its report (command
         line and web) do not use these cases: they come from the core for every sensor type
         (:func:`targetacq.core.pair_ranges.pair_performance`), with the outline seen from each
@@ -399,6 +401,7 @@ class ModelChain:
                     }
                     for g in range(len(targets.names))
                 ]
+        graded = self._graded_cases(t)
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
             if get_sensor_type(sensors.types[s]).kind != "imaging":
@@ -430,8 +433,34 @@ class ModelChain:
                     motion=choices.motion,
                     semantics=choices.semantics,
                     **noise[s][g],
+                    **graded[s][g],
                 )
         return cases
+
+    def _graded_cases(self, time: float) -> list[list[dict[str, Any]]]:
+        """Each pair's graded cues as :class:`RangeCase` fields: a target's hot spot, its speed
+        across the sensor's line of sight at ``time`` (graded motion) and the background's
+        sky-to-ground ratio for a TV or colour row with its own noise."""
+        scene = self.compiled.scene
+        n_s, n_g = scene.shape
+        out: list[list[dict[str, Any]]] = [[{} for _ in range(n_g)] for _ in range(n_s)]
+        crossing = None
+        if any(scene.targets.graded_motion):
+            s_pos, t_pos, _ = core.scenario_positions(self.scenario, [time])
+            velocities = core.scenario_velocities(self.scenario, [time])
+            crossing = np.asarray(core.crossing_speeds(s_pos, t_pos, velocities))[..., 0]
+        k = scene.sensors.sky_to_ground
+        for g, target in enumerate(self.scenario.targets):
+            for s in range(n_s):
+                given = out[s][g]
+                if target.hot_spot_ratio is not None:
+                    given["hot_spot_ratio"] = target.hot_spot_ratio
+                    given["hot_spot_size"] = target.hot_spot_size
+                if crossing is not None and target.graded_motion:
+                    given["target_speed"] = float(crossing[s, g])
+                if k is not None and scene.sensors.noise_equivalent[s] > 0:
+                    given["sky_to_ground"] = float(k[s])
+        return out
 
     def evaluate(self, times: Any = None) -> Results:
         """Evaluate every sensor × target × time (default: the scenario's time grid), held in

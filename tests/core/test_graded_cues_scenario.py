@@ -324,3 +324,31 @@ def test_the_chains_range_cases_carry_the_graded_cues():
     for k, name in enumerate(("h", "c")):
         found = case_acquisition(cases[f"ir → {name}"], RANGE).detection
         assert float(found) == pytest.approx(p[k], rel=1e-12)
+
+
+def test_the_environment_takes_graded_cues_and_its_flying_platform_gives_no_motion_cue():
+    pytest.importorskip("gymnasium")
+    from targetacq.envs import SensorPointingEnv
+
+    def episode(overrides: dict[str, object]) -> tuple[np.ndarray, list[float]]:
+        env = SensorPointingEnv(targets=3, duration=20.0, scenario_overrides=overrides)
+        obs, _ = env.reset(seed=2)
+        trace, rewards, done = [obs], [], False
+        while not done:
+            obs, reward, terminated, truncated, _ = env.step(env.greedy_action())
+            trace.append(obs)
+            rewards.append(float(reward))
+            done = terminated or truncated
+        assert env.scenario.targets[0].graded_motion == bool(overrides)
+        return np.array(trace), rewards
+
+    base = episode({})
+    assert sum(base[1]) > 0  # the seed's episode acquires something
+    # The targets stand still under a platform flying at 40 m/s: graded motion adds nothing.
+    graded = episode({"target": {"graded_motion": True}})
+    np.testing.assert_array_equal(graded[0], base[0])
+    assert graded[1] == base[1]
+    env = SensorPointingEnv(targets=3, scenario_overrides={"target": {"hot_spot_ratio": 5.0}})
+    env.reset(seed=2)
+    assert env.scenario.targets[0].hot_spot_ratio == 5.0
+    assert env._sim.compiled.scene.targets.graded

@@ -597,7 +597,10 @@ class Simulation:
         Only the array core runs on the inputs (:func:`targetacq.core.evaluate`), so NumPy
         arrays give NumPy and JAX arrays give JAX, under ``jax.jit`` too: with JAX positions
         the core gets the scene in JAX arrays (:func:`targetacq.core.records.as_jax`, made
-        once). A scenario with a terrain map needs NumPy arrays.
+        once). A scenario with a terrain map needs NumPy arrays. Positions alone carry no
+        velocity: targets with a graded motion cue are taken as standing still here (their
+        motion is graded in :meth:`targetacq.Simulation.step`, or by
+        :func:`targetacq.core.evaluate` with ``target_velocities``).
 
         Parameters
         ----------

@@ -102,6 +102,23 @@ def _noise_models() -> RegistryTable:
     )
 
 
+def _snr_laws() -> RegistryTable:
+    from targetacq.acquisition.path_noise import SNR_LAWS
+
+    rows = tuple(
+        (name, "none" if law.threshold is None else f"Φ(SNR − {law.threshold:g})", law.source)
+        for name, law in SNR_LAWS.items()
+    )
+    return RegistryTable(
+        "snr_laws",
+        "SNR laws",
+        "targetacq.acquisition.path_noise.SNR_LAWS",
+        ("name", "detection threshold", "what it is and its source"),
+        rows,
+        _attr_doc("targetacq.acquisition.path_noise", "SNR_LAWS"),
+    )
+
+
 def _sensor_types() -> RegistryTable:
     from targetacq.sensors import SENSOR_TYPES
 
@@ -393,6 +410,7 @@ _GENERATORS: tuple[Callable[[], RegistryTable], ...] = (
     _criteria,
     _transforms,
     _noise_models,
+    _snr_laws,
     _sensor_types,
     _targets,
     _bands,

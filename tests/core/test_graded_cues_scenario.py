@@ -258,9 +258,9 @@ def test_moving_and_graded_motion_together_are_refused():
 
 
 def test_sky_to_ground_reaches_a_tv_cameras_noise_as_the_range_case():
-    extinction, nec, k = 0.2e-3, 0.1, 3.0  # [Np/m], [1], [1]
-    distance = RANGE / 2  # N = 3.3 cycles through τ = 0.30
-    rho_t, rho_b = 0.12, 0.1
+    extinction, nec, k = 0.05e-3, 0.02, 3.0  # [Np/m], [1], [1]
+    distance = RANGE / 2  # N = 3.3 cycles through τ = 0.74
+    rho_t, rho_b = 0.3, 0.1  # contrast 2
 
     def scenario(**background: object) -> Scenario:
         return Scenario.model_validate(

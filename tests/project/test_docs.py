@@ -55,7 +55,7 @@ def registry_tables():  # the docs' Sphinx extension, docs/_ext/registry_tables.
 def test_every_registry_entry_is_a_row(registry_tables) -> None:
     from targetacq.acquisition.criteria import CRITERIA
     from targetacq.acquisition.engagement import REDRAW_RULES
-    from targetacq.acquisition.path_noise import NOISE_MODELS
+    from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
     from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS, MOTION_RULES
     from targetacq.acquisition.transforms import CLUTTER_REGIONS, TRANSFORMS
     from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS, VISIBILITY_CONVENTIONS
@@ -70,6 +70,7 @@ def test_every_registry_entry_is_a_row(registry_tables) -> None:
         "targetacq.acquisition.criteria.CRITERIA": CRITERIA,
         "targetacq.acquisition.transforms.TRANSFORMS": TRANSFORMS,
         "targetacq.acquisition.path_noise.NOISE_MODELS": NOISE_MODELS,
+        "targetacq.acquisition.path_noise.SNR_LAWS": SNR_LAWS,
         "targetacq.sensors.SENSOR_TYPES": SENSOR_TYPES,
         "targetacq.physics.targets.TARGETS": TARGETS,
         "targetacq.physics.bands.BANDS": BANDS,

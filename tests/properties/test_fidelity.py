@@ -308,7 +308,14 @@ def test_done_when_a_moving_target_at_a_tenth_of_a_cycle():
         {},
         {"scr": 0.5},
         {"scr": 50.0},
-        {"extinction": 0.1e-3, "contrast": 5.0, "noise_equivalent_contrast": 0.05},
+        # The motion rule under test, with the thesis's SNR law (the contrast law's threshold
+        # would take P_seen < 1 off the certain detection of a moving target at τ = e^−1).
+        {
+            "extinction": 0.1e-3,
+            "contrast": 5.0,
+            "noise_equivalent_contrast": 0.05,
+            "snr_law": "sonesson",
+        },
     ):
         for semantics in SEMANTICS:
             for transform, options in TRANSFORM_CHOICES:
@@ -354,7 +361,10 @@ def test_done_when_a_hot_target_is_recognised_farther_than_a_faint_one(label, ex
     half the difference the documented noise law gives, solved independently
     (:func:`_rose_recognition_range`): the solver's tolerance (1e-9) is far below it. Both
     ranges must also be that law's, to 1e-7: the effect is small (ΔT/NETD = 5 per pixel, times
-    the Rose gain of >= 8 at recognition), so a wrong law could otherwise hide behind it."""
+    the Rose gain of >= 8 at recognition), so a wrong law could otherwise hide behind it.
+    The law written out is the thesis's (``snr_law="sonesson"``), so this also holds that law
+    to its formula; the default contrast law has its own check in
+    ``tests/core/test_contrast_noise.py``."""
     d, area, ifov, netd = 2.3, 2.3 * 4.6, 0.25e-3, 0.1
     found = {}
     for delta_t in (0.5, 45.0):
@@ -365,6 +375,7 @@ def test_done_when_a_hot_target_is_recognised_farther_than_a_faint_one(label, ex
             contrast=delta_t,
             noise_equivalent_contrast=netd,
             target_area=area,
+            snr_law="sonesson",
         )
         found[delta_t] = float(case_ranges(case, 0.5)["recognition"])
     gamma = 0.0 if extinction is None else extinction
@@ -431,7 +442,8 @@ def _scene(semantics):
             ],
             "background": {"temperature": "295 K", "scr": SCENE_SCR},
             "atmosphere": {"extinction": f"{SCENE_EXTINCTION * 1e3} /km"},
-            "model": {"n50": list(N50.values()), "semantics": semantics},
+            # The thesis's SNR law: the curves below are written without a threshold.
+            "model": {"n50": list(N50.values()), "semantics": semantics, "snr_law": "sonesson"},
         }
     )
 

@@ -107,6 +107,8 @@ def _cases(chain: ModelChain, g: int, extinction: float | None) -> list[RangeCas
             IFOV,
             contrast=float(scene.signature.contrast[1, g]),
             noise_equivalent_contrast=float(scene.sensors.noise_equivalent[1]),
+            # σ_path of the contrast SNR law in the contrast's unit, W/m² (1 K · ∂M/∂T).
+            path_contrast=float(scene.sensors.path_contrast[1]),
             target_area=21.0,
             **base,
         ),
@@ -222,7 +224,9 @@ def test_dri_ranges_shrink_behind_foliage(tmp_path: Path) -> None:
                 row = dri[(dri["case"] == f"{sensor} → {target}") & (dri["task"] == task)]
                 return float(row["range_m"].iloc[0])
 
-            assert at("truck") < at("jeep")
+            # NaN: never reached (the contrast law's foliage, emitting as 1 − τ_f, can hide it).
+            truck = at("truck")
+            assert math.isnan(truck) or truck < at("jeep")
 
 
 def test_jax_engine_gives_the_same_numbers(chain: ModelChain) -> None:

@@ -39,6 +39,7 @@ SECTIONS = (
     "vendor-dri",
     "ttp",
     "named-atmospheres",
+    "noise",
 )
 
 

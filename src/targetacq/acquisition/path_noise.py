@@ -40,6 +40,35 @@ is the total one: the atmosphere's of Eq. (7.7) and the sensor's own
 
 A user model is any function ``f(snr_db) -> N50 factor >= 1``, passed as ``noise_model=``; it
 multiplies every task's N50 (detection in clutter too, at the clutter's own SCR).
+
+Which SNR, and a threshold: :data:`SNR_LAWS`
+--------------------------------------------
+Where the target's contrast and the sensor's noise are known, the SNR law says how the SNR is
+formed and whether a detection threshold acts:
+
+``contrast`` (default)
+    The apparent contrast against the sensor's noise plus the path radiance's,
+    ``SNR = τ|C| / sqrt((NEC/g)² + ((1 − τ) σ_path)²)``
+    (:func:`targetacq.physics.detector_noise.contrast_snr`), τ counted once; and the probability
+    that the target is seen above the noise at all (:func:`seen_probability`),
+    ``P_seen = Φ(SNR_lin − k)``, multiplying the probabilities of detection, recognition and
+    identification (so their order is kept). Φ is the standard normal distribution: the
+    threshold-detection form of a signal in Gaussian noise, ``P_D = ½[1 + erf((SNR − TNR)/√2)]``
+    with TNR the threshold-to-noise ratio (G. C. Holst, *Electro-Optical Imaging System
+    Performance*, the probability of detection of a threshold detector). ``k`` =
+    :data:`THRESHOLD_SNR` = 3 is the threshold SNR of the Rose model of visual detection over the
+    target's area (A. Rose, J. Opt. Soc. Am. 38 (1948) 196–208, who put the constant ``k`` between
+    about 3 and 7 and took about 5 for a certain detection): ``P_seen`` is 0.5 at the low end,
+    SNR = 3, and 0.98 at Rose's 5. The project's reading (stated assumption): the lower end as the
+    50 % point. ``P_seen`` is smooth in SNR (no cliff): a 1 % change of the contrast moves it by at
+    most ``0.01 · max x φ(x − 3) ≈ 0.013``.
+``sonesson``
+    The thesis's Eq. (7.7), ``20 log10(τ/(1 − τ))``, which ignores the contrast, added in variance
+    to the sensor's own ``τ|C|g/NEC`` (:func:`targetacq.physics.detector_noise.combined_snr`); no
+    threshold. The numbers of earlier releases.
+
+Where no contrast or sensor noise is known, both laws are Eq. (7.7) of the path alone, and no
+threshold acts.
 """
 
 from __future__ import annotations
@@ -52,6 +81,7 @@ from types import MappingProxyType
 from typing import Any
 
 import numpy as np
+from scipy import special
 
 from targetacq.acquisition.transforms import clutter_n50, sw_high_anchor
 from targetacq.base import arrays as _arrays
@@ -61,12 +91,17 @@ from targetacq.base.registry import lookup
 __all__ = [
     "NOISE_MODELS",
     "QUADRATURE_CONSTANT",
+    "SNR_LAWS",
+    "THRESHOLD_SNR",
     "NoiseModel",
+    "SnrLaw",
     "effective_scr",
     "get_noise_model",
+    "get_snr_law",
     "noise_n50_factor",
     "noise_ratio",
     "ratio_n50",
+    "seen_probability",
     "snr_ratio",
 ]
 
@@ -241,7 +276,8 @@ def _variance_sum_factor(snr: Any) -> Any:
 def _variance_sum_of_ratio(inverse: Any, xp: Any = None) -> Any:
     """The ``variance-sum`` factor of the noise-to-signal amplitude ratio (:func:`noise_ratio`)."""
     xp = xp or _arrays.namespace(inverse)
-    ratio = QUADRATURE_CONSTANT * inverse
+    with np.errstate(over="ignore"):  # a vanishing signal: ρ near the float limit, f = inf
+        ratio = QUADRATURE_CONSTANT * inverse
     if isinstance(ratio, np.ndarray) and not bool(np.any(ratio > 1.0)):
         ratio *= ratio  # every ratio <= 1 (or NaN): the small branch alone, as below
         ratio += 1.0
@@ -376,3 +412,120 @@ def noise_n50_factor(
     if not _arrays.is_traced(f) and _arrays.any_known(f < 1, xp):
         raise ValueError(f"noise model {model.name!r} returned an N50 factor below 1")
     return _arrays.result(f)
+
+
+THRESHOLD_SNR = 3.0
+"""k of the ``contrast`` law's threshold, ``P_seen = Φ(SNR_lin − k)`` (module docstring)."""
+
+
+def seen_probability(snr: Array, threshold: Array = THRESHOLD_SNR) -> Any:
+    """Probability that a target is seen above the noise: ``P = Φ(SNR_lin − k)``.
+
+    The threshold-detection form (Holst) with the Rose threshold ``k`` (module docstring, the
+    ``contrast`` law). Smooth and increasing in SNR; 0 without signal, 1 without noise.
+
+    Parameters
+    ----------
+    snr : array_like
+        The total SNR [dB] (+inf: no noise; −inf: no signal).
+    threshold : array_like
+        k, the SNR (amplitude ratio) at which P = 0.5, >= 0 (−inf: no threshold, P = 1).
+
+    Returns
+    -------
+    array_like
+        P in [0, 1].
+
+    Examples
+    --------
+    0.5 at SNR = k = 3 (9.54 dB), 0.977 two noise units above, ~0 at SNR = 0.5:
+
+    >>> import math
+    >>> from targetacq.acquisition.path_noise import seen_probability
+    >>> snr = [20 * math.log10(x) for x in (3.0, 5.0, 0.5)]
+    >>> print([round(float(p), 4) for p in seen_probability(snr)])
+    [0.5, 0.9772, 0.0062]
+    """
+    xp, (s, k) = _arrays.arrays(snr, threshold, names=("snr", "threshold"))
+    if _arrays.any_known((k < 0) & ~xp.isinf(k), xp):
+        raise ValueError(f"threshold must be >= 0 (or -inf for none), got {threshold!r}")
+    return _arrays.result(seen_of_ratio(noise_ratio(s), k, xp))
+
+
+def seen_of_ratio(inverse: Any, k: Any, xp: Any) -> Any:
+    """:func:`seen_probability` of the noise-to-signal amplitude ratio ``ρ = 1/SNR_lin``
+    (:func:`noise_ratio`) and a checked threshold (the arithmetic kernel)."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        lin = 1.0 / inverse  # +inf without noise, 0 without signal
+        # −inf threshold (none): P = 1 whatever the SNR, NaN kept.
+        x = xp.where(xp.isinf(k) & (k < 0), xp.inf, lin - xp.where(xp.isinf(k), 0.0, k))
+    out = _normal_cdf(x, xp)
+    return xp.where(xp.isnan(inverse), xp.nan, out)
+
+
+def _normal_cdf(x: Any, xp: Any) -> Any:
+    if isinstance(x, np.ndarray | float | np.floating):
+        return special.ndtr(x)
+    from jax.scipy.special import ndtr  # the JAX array core: its own, differentiable
+
+    return ndtr(x)
+
+
+@dataclass(frozen=True)
+class SnrLaw:
+    """How the SNR of a pair with a known contrast and sensor noise is formed (module docstring).
+
+    Attributes
+    ----------
+    name : str
+    contrast_aware : bool
+        Whether the path's noise is the contrast-aware ``(1 − τ) σ_path``
+        (:func:`targetacq.physics.detector_noise.contrast_snr`); else Eq. (7.7) added in variance
+        to the sensor's (:func:`targetacq.physics.detector_noise.combined_snr`).
+    threshold : float or None
+        k of :func:`seen_probability`; None: no threshold.
+    source : str
+    """
+
+    name: str
+    contrast_aware: bool
+    threshold: float | None
+    source: str
+
+
+SNR_LAWS: Mapping[str, SnrLaw] = MappingProxyType(
+    {
+        "contrast": SnrLaw(
+            "contrast",
+            True,
+            THRESHOLD_SNR,
+            "project assumption: apparent contrast τ|C| against sensor noise NEC/g plus "
+            "path-radiance noise (1 − τ)·σ_path (σ_path 1 K, or a contrast ratio of 1; a target "
+            "of that contrast gets Eq. (7.7) of Sonesson 2004), and P_seen = Φ(SNR − 3) "
+            "(threshold detection, Holst; Rose 1948's k)",
+        ),
+        "sonesson": SnrLaw(
+            "sonesson",
+            False,
+            None,
+            "Sonesson 2004 Eq. (7.7), 20 log10(τ/(1 − τ)) regardless of contrast, added in "
+            "variance to the sensor's τ|C|g/NEC; no threshold",
+        ),
+    }
+)
+"""SNR laws by name (read-only); ``contrast`` is the default."""
+
+
+def get_snr_law(snr_law: str | SnrLaw) -> SnrLaw:
+    """Resolve an SNR law by name (``ValueError`` with the choices) or return it as given.
+
+    Examples
+    --------
+    >>> get_snr_law("sonesson").threshold is None
+    True
+    """
+    if isinstance(snr_law, SnrLaw):
+        return snr_law
+    if isinstance(snr_law, str):
+        return lookup(SNR_LAWS, snr_law, "SNR law")
+    raise TypeError(f"snr_law must be a name or an SnrLaw, got {snr_law!r}")

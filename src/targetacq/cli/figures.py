@@ -446,8 +446,8 @@ def _report_sections(setup: RangeSetup) -> dict[str, dict[str, str]]:
             else f"named atmosphere, band {setup.path['band']} ({setup.path['source']})",
             "description": setup.path["description"],
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7)",
-            "noise model": f"{setup.case.noise_model}: "
-            f"{NOISE_MODELS[setup.case.noise_model].source}",
+            "noise model": f"{setup.case.applied_noise_model}: "
+            f"{NOISE_MODELS[setup.case.applied_noise_model].source}",
         }
         if setup.path
         else {"atmosphere": "none (geometry, clutter and optics only)"}

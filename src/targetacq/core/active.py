@@ -212,10 +212,11 @@ def active_probabilities(
     and noise (an SNR, or none where neither the path nor the sensor adds noise); the radar rows
     through :func:`_radar_tasks`.
 
-    ``task_probabilities(cycles, snr, scr, scene, moving=moving)``: the imagers' ordered
-    probabilities. ``moving``: the targets' moving flags for this call (default their own), for
-    the imaging and laser-radar rows. ``cues``: the pairs' graded cues
-    (:class:`targetacq.core.evaluation.GradedCues`, with ``rows(rows, xp)``), or None.
+    ``task_probabilities(cycles, snr, scr, scene, moving=moving, rows=rows, cues=cues)``: the
+    imagers' ordered probabilities of the sensor rows ``rows``. ``moving``: the targets' moving
+    flags for this call (default their own), for the imaging and laser-radar rows. ``cues``:
+    the pairs' graded cues (:class:`targetacq.core.evaluation.GradedCues`, with
+    ``rows(rows, xp)``), or None.
 
     Returns
     -------
@@ -240,6 +241,7 @@ def active_probabilities(
             _rows(found.scr, rows, xp) if has_scr else None,
             scene,
             moving=moving,
+            rows=rows,
             cues=None if cues is None else cues.rows(rows, xp),
         )
         for k, row in enumerate(rows):

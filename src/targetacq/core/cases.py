@@ -19,10 +19,15 @@ task's own curve, for the range solver). It is the array core along a line of ra
 2. probabilities: the transform with the noise model and, for detection in clutter, the
    Schmieder–Weathersby transform, ordered ``P_id <= P_rec <= P_det``
    (:func:`targetacq.acquisition.probabilities.acquisition_probabilities`, §3.5–3.9), the kernel
-   under the scenario core's probabilities too.
+   under the scenario core's probabilities too; under the ``contrast`` SNR law with the sensor's
+   noise, times the probability that the target is seen above the noise
+   (:func:`targetacq.acquisition.path_noise.seen_probability`).
 
 Without ``extinction`` and ``foliage`` the path adds no noise (the SNR is +inf and the noise
-model is not applied).
+model is not applied). Where the resolution model already holds the noise and the path (MRTD:
+the curve is the sensor's noise-limited threshold, met by the apparent ``τ · ΔT``; TTP), the
+default noise handling (``noise_model=None``) applies no SNR, so τ is counted once; a noise model
+given by name is applied as given.
 """
 
 from __future__ import annotations
@@ -36,7 +41,7 @@ import numpy as np
 
 from targetacq.acquisition import transforms as _transforms
 from targetacq.acquisition.criteria import Criterion, get_criterion
-from targetacq.acquisition.path_noise import get_noise_model
+from targetacq.acquisition.path_noise import get_noise_model, get_snr_law, seen_probability
 from targetacq.acquisition.probabilities import (
     Acquisition,
     Clutter,
@@ -53,6 +58,7 @@ from targetacq.physics import optics
 from targetacq.physics.ttp import TtpSystem, ttp_cycles
 
 __all__ = [
+    "NOISE_INSIDE_RESOLUTION",
     "RESOLUTION_MODELS",
     "RESOLUTION_MODEL_ALIASES",
     "CaseAcquisition",
@@ -119,8 +125,19 @@ class RangeCase:
         A graded motion cue: the target's speed across the line of sight [m/s], >= 0; it crosses
         ``v / (R · IFOV)`` pixels per second, whose weight blends the motion rule into
         detection (:func:`targetacq.acquisition.cues.motion_weight`).
-    noise_model : str, NoiseModel or callable
-        How the noise moves the transforms (:mod:`targetacq.acquisition.path_noise`).
+        See :func:`targetacq.acquisition.transforms.schmieder_weathersby`.
+    noise_model : str, NoiseModel, callable or None
+        How the noise moves the transforms (:mod:`targetacq.acquisition.path_noise`). None (the
+        default): ``variance-sum``, except where the resolution model already holds the noise
+        and the path (MRTD, TTP), where no SNR is applied (:attr:`applies_snr`).
+    snr_law : str
+        How a known contrast and sensor noise form the SNR
+        (:data:`targetacq.acquisition.path_noise.SNR_LAWS`): ``contrast`` (default; the path
+        radiance's noise and a detection threshold) or ``sonesson`` (Eq. (7.7) + the sensor's).
+    path_contrast : array_like
+        ``σ_path`` of the ``contrast`` law, > 0, in the unit of ``contrast``: the reference
+        target's contrast whose SNR is Eq. (7.7) (default 1: 1 K for a ΔT in kelvin, a contrast
+        ratio of 1 for a TV camera's contrast).
     contrast : array_like, optional
         Target–background contrast at the scene, in the unit of ``noise_equivalent_contrast``
         (a thermal sensor: ΔT [K]); with ``noise_equivalent_contrast``, the sensor's own noise
@@ -184,7 +201,7 @@ class RangeCase:
     region: str | None = None
     hot_spot: bool = False
     moving: bool = False
-    noise_model: Any = "variance-sum"
+    noise_model: Any = None
     contrast: Any = None
     noise_equivalent_contrast: Any = None
     target_area: Any = None
@@ -197,6 +214,8 @@ class RangeCase:
     hot_spot_size: Any = None
     target_speed: Any = None
     path: Any = None
+    snr_law: str = "contrast"
+    path_contrast: Any = 1.0
 
     def __post_init__(self) -> None:
         xp, (d, i) = _arrays.arrays(
@@ -233,7 +252,12 @@ class RangeCase:
                 _arrays.require_nonnegative(name, value, xp, unit)
                 _arrays.require_finite(name, value, xp, unit)
         self.clutter.check_cues(xp)
-        get_noise_model(self.noise_model)
+        if self.noise_model is not None:
+            get_noise_model(self.noise_model)
+        get_snr_law(self.snr_law)
+        xp, (sigma,) = _arrays.arrays(self.path_contrast, names=("path_contrast",))
+        _arrays.require_positive("path_contrast", sigma, xp)
+        _arrays.require_finite("path_contrast", sigma, xp)
         get_motion_rule(self.motion)
         get_semantics(self.semantics)
         self._check_sensor_noise()
@@ -371,6 +395,31 @@ class RangeCase:
     def noisy(self) -> bool:
         """Whether any noise acts: the path's (it attenuates) or the sensor's own."""
         return self.attenuates or self.noise_equivalent_contrast is not None
+
+    @property
+    def applies_snr(self) -> bool:
+        """Whether the SNR acts on the probabilities: noise acts (:attr:`noisy`), and either a
+        noise model is given or the resolution model does not already hold the noise (MRTD,
+        TTP: their threshold is the sensor's noise-limited one, met by the apparent contrast)."""
+        inside = self.resolution_model in NOISE_INSIDE_RESOLUTION
+        return self.noisy and (self.noise_model is not None or not inside)
+
+    @property
+    def applied_noise_model(self) -> Any:
+        """The noise model that acts: the one given, else ``variance-sum`` where
+        :attr:`applies_snr` and ``none`` where not."""
+        if self.noise_model is not None:
+            return self.noise_model
+        return "variance-sum" if self.applies_snr else "none"
+
+    @property
+    def seen_threshold(self) -> float | None:
+        """k of the probability that the target is seen above the noise
+        (:func:`targetacq.acquisition.path_noise.seen_probability`): the SNR law's, where the SNR
+        acts and the sensor's noise is known; else None (no threshold)."""
+        if not self.applies_snr or self.noise_equivalent_contrast is None:
+            return None
+        return get_snr_law(self.snr_law).threshold
 
     @property
     def resolution_model(self) -> str:
@@ -568,6 +617,14 @@ def get_resolution_model(name: str) -> ResolutionModel:
     return lookup(RESOLUTION_MODELS, RESOLUTION_MODEL_ALIASES.get(name, name), "resolution model")
 
 
+NOISE_INSIDE_RESOLUTION = frozenset(
+    name for name, model in RESOLUTION_MODELS.items() if model.includes_noise
+)
+"""Resolution models whose threshold already holds the sensor's noise and the path's
+transmittance (the MRTD curve met by ``τ · ΔT``; the TTP metric's noise-raised contrast threshold):
+with the default noise handling no SNR is applied on top (:attr:`RangeCase.applies_snr`)."""
+
+
 def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
     """Cycles on target, transmittance and SNR of a case at ranges.
 
@@ -612,6 +669,8 @@ def case_factors(case: RangeCase, range: Array) -> tuple[Any, Any, Any]:
             ifov=case.resolution()["ifov"],
             area=case.critical_dimension**2 if case.target_area is None else case.target_area,
             sky_to_ground=case.sky_to_ground,
+            path_contrast=case.path_contrast,
+            law=case.snr_law,
         )
     cycles, tau, snr = imager_factors(r, case.critical_dimension, case.cycle_angle, depth, noise)
     if case.resolution_model != "johnson":
@@ -651,17 +710,18 @@ def case_acquisition(case: RangeCase, range: Array) -> CaseAcquisition:
         cycles,
         case.criterion,
         case.transform,
-        snr=snr if case.noisy else None,
-        noise_model=case.noise_model,
+        snr=snr if case.applies_snr else None,
+        noise_model=case.applied_noise_model,
         motion=case.motion,
         semantics=case.semantics,
         clutter=case.clutter,
         **case.options,
     )
+    seen = _seen(case, snr)
     return CaseAcquisition(
-        detection=acq.detection,
-        recognition=acq.recognition,
-        identification=acq.identification,
+        detection=acq.detection * seen,
+        recognition=acq.recognition * seen,
+        identification=acq.identification * seen,
         semantics=acq.semantics,
         cycles=cycles,
         transmittance=tau,
@@ -695,14 +755,24 @@ def case_probability(case: RangeCase, range: Array, task: str) -> Any:
     0.6895
     """
     cycles, _, snr = case_factors(case, range)
-    return probability(
+    p = probability(
         cycles,
         task,
         case.criterion,
         case.transform,
-        snr=snr if case.noisy else None,
-        noise_model=case.noise_model,
+        snr=snr if case.applies_snr else None,
+        noise_model=case.applied_noise_model,
         motion=case.motion,
         clutter=case.clutter,
         **case.options,
     )
+    return p * _seen(case, snr)
+
+
+def _seen(case: RangeCase, snr: Any) -> Any:
+    """The probability that the case's target is seen above the noise (1 without a threshold)."""
+    k = case.seen_threshold
+    if k is None:
+        return 1.0
+    xp, (nec,) = _arrays.arrays(case.noise_equivalent_contrast)
+    return seen_probability(snr, xp.where(nec > 0, k, -xp.inf))  # NEC 0: no noise of its own

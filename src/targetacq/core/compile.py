@@ -198,6 +198,13 @@ def _sensors(
             for s in sensors
         ),
         has_noise=bool(np.any(noise > 0)),
+        path_contrast=np.array(
+            [
+                get_sensor_type(s.type).path_contrast(s, sig)
+                for s, sig in zip(sensors, seen, strict=True)
+            ],
+            dtype=float,
+        ).reshape(len(sensors)),
         groups=groups if len(sensors) > len(scenario.sensors) else (),
         quantisation_step=_quantisation_steps(sensors),
         sky_to_ground=_sky_to_ground(scenario, sensors),
@@ -645,11 +652,13 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     choices = ModelChoices(
         transform=model.transform,
         options=() if model.bound is None else (("bound", model.bound),),
-        noise_model=model.noise_model,
+        noise_model=model.noise_model or "variance-sum",
         region=scenario.background.clutter,
         search_time=model.search_time,
         motion=model.motion,
         semantics=model.semantics,
+        snr_law=model.snr_law,
+        snr_on_mrtd=model.noise_model is not None,
     )
     scene = SceneArrays(
         sensors=dataclasses.replace(

@@ -80,7 +80,13 @@ import numpy as np
 
 from targetacq.acquisition import transforms as _transforms
 from targetacq.acquisition.fusion import fuse, fuse_groups, fused_along
-from targetacq.acquisition.path_noise import NoiseModel, get_noise_model
+from targetacq.acquisition.path_noise import (
+    NoiseModel,
+    get_noise_model,
+    get_snr_law,
+    noise_ratio,
+    seen_of_ratio,
+)
 from targetacq.acquisition.probabilities import (
     Clutter,
     MotionRule,
@@ -570,6 +576,7 @@ class _Parts:
     lengths: tuple[float, ...]
     contrast: np.ndarray  # (n_s, n_g, 1)
     foliage: np.ndarray | None = None  # (n_g, 1): −ln τ_f of the targets' foliage; None: none
+    path_contrast: np.ndarray | None = None  # (n_s, 1, 1): σ_path of the contrast law; None: off
 
 
 def _scene_parts(scene: SceneArrays) -> _Parts:
@@ -598,7 +605,30 @@ def _scene_parts(scene: SceneArrays) -> _Parts:
         lengths,
         scene.signature.contrast.reshape(n_s, n_g, 1),
         foliage=None if targets.foliage is None else _foliage_depth(targets.foliage, np)[:, None],
+        path_contrast=None if not _contrast_law(scene) else per_sensor(sensors.path_contrast),
     )
+
+
+def _contrast_law(scene: SceneArrays) -> bool:
+    """Whether the scene's SNR is formed by a contrast-aware law
+    (:func:`targetacq.physics.detector_noise.contrast_snr`): its choice says so, some sensor has
+    a noise of its own, and the sensors' reference contrasts are known."""
+    return (
+        scene.sensors.has_noise
+        and scene.sensors.path_contrast is not None
+        and get_snr_law(scene.choices.snr_law).contrast_aware
+    )
+
+
+def _thresholds(scene: SceneArrays, xp: Any) -> Any:
+    """``(n_s,)`` k of each sensor row's detection threshold
+    (:func:`targetacq.acquisition.path_noise.seen_probability`): the SNR law's where the row has
+    a noise of its own, −inf (none) where not; None where no threshold acts in the scene."""
+    threshold = get_snr_law(scene.choices.snr_law).threshold
+    if threshold is None or not _contrast_law(scene):
+        return None
+    nec = _arrays.as_float(scene.sensors.noise_equivalent, xp)
+    return xp.where(nec > 0, threshold, -xp.inf)
 
 
 def _foliage_depth(foliage: Any, xp: Any) -> Any:
@@ -668,6 +698,7 @@ def _factors_numpy(
                 parts.noise_equivalent[sb],
                 parts.contrast[sb, gb],
                 None if parts.foliage is None else parts.foliage[gb],
+                None if parts.path_contrast is None else parts.path_contrast[sb],
             )
 
             def ends(
@@ -736,6 +767,7 @@ class _Chain(NamedTuple):
     noise_equivalent: Any
     contrast: Any
     foliage: Any = None  # −ln τ_f of the targets' foliage (§6.8); None: none
+    path_contrast: Any = None  # σ_path of the contrast SNR law; None: the sonesson law
 
 
 def _chain_numpy(
@@ -787,15 +819,23 @@ def _chain_numpy(
         # The area seen: the outline's horizontal side times the visible part of its height.
         area = horizontal * vertical * chain.visible
         pixels = detector_noise.pixels_on_target_unchecked(area, np.maximum(r, 1e-9), chain.ifov)
-        own, inverse, unknown = detector_noise.sensor_db(
-            chain.contrast, chain.noise_equivalent, tau, pixels, np
-        )
-        snr = detector_noise.combined_db([snr, own], np)
-        # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
-        path_inverse = np.expm1(depth)
-        total = path_inverse * path_inverse
-        total += inverse * inverse
-        np.sqrt(total, out=total)
+        path_inverse = np.expm1(depth)  # Eq. (7.7) in amplitude: (1 − τ)/τ = e^d − 1
+        if chain.path_contrast is not None:  # the contrast law; NEC = 0 rows keep Eq. (7.7)
+            aware, inverse, unknown = detector_noise.contrast_db(
+                chain.contrast, chain.noise_equivalent, chain.path_contrast, tau, pixels, np
+            )
+            quiet = chain.noise_equivalent == 0
+            snr = np.where(quiet, snr, aware)
+            total = np.where(quiet, path_inverse, inverse)
+        else:
+            own, inverse, unknown = detector_noise.sensor_db(
+                chain.contrast, chain.noise_equivalent, tau, pixels, np
+            )
+            snr = detector_noise.combined_db([snr, own], np)
+            # 1/SNR_lin² = Σ 1/SNR_i², in amplitude ratios: the path's is e^d − 1.
+            total = path_inverse * path_inverse
+            total += inverse * inverse
+            np.sqrt(total, out=total)
         ratio = np.where(unknown | np.isnan(depth), np.nan, total)
     return r, seen, cycles, depth, tau, snr, ratio
 
@@ -944,6 +984,14 @@ def _probabilities_numpy(
         return (index // per_pair) % n_g
 
     tasks = _in_view_tasks(cycles, snr, ratio, scr, target, scene, moving)
+    if noisy:
+
+        def sensor() -> np.ndarray:  # each element's sensor row
+            per_sensor = rng.size // shape[0]
+            index = np.arange(rng.size) if picked is None else picked
+            return index // per_sensor
+
+        tasks = _seen_tasks(scene, tasks, ratio, snr, sensor)
     unknown = np.isnan(rng)
     cycles_all = np.asarray(found.cycles, dtype=float)
     unknown |= np.isnan(
@@ -971,6 +1019,26 @@ def _probabilities_numpy(
         else:
             fused.append(_fused_sparse(whole, picked, unknown if some_unknown else None))
     return Probabilities(*out, *fused)
+
+
+def _seen_tasks(
+    scene: SceneArrays,
+    tasks: list[np.ndarray],
+    ratio: np.ndarray | None,
+    snr: np.ndarray | None,
+    sensor: Callable[[], np.ndarray],
+) -> list[np.ndarray]:
+    """The tasks of flat arrays of pairs (``sensor()``: each element's sensor row) times the
+    probability that the target is seen above the noise
+    (:func:`targetacq.acquisition.path_noise.seen_probability`), where the scene's SNR law has a
+    threshold; as they are where not."""
+    k = _thresholds(scene, np)
+    if k is None or (ratio is None and snr is None):
+        return tasks
+    # From the SNR in dB where it is there, as the other engines read it (the same rounding).
+    rho = ratio if snr is None else np.asarray(noise_ratio(snr))
+    seen = seen_of_ratio(rho, k[sensor()], np)
+    return [np.asarray(p, dtype=float) * seen for p in tasks]
 
 
 def _fused_sparse(p: np.ndarray, picked: np.ndarray, unknown: np.ndarray | None) -> np.ndarray:
@@ -1113,9 +1181,30 @@ def factors(
         found = _factors_generic(scene, s_pos, t_pos, headings, pointing, scr, xp, visible)
     if scene.sensors.mrtd is not None:  # MRTD-limited thermal rows: their cycles from the curve
         found = mrtd_rows.mrtd_factors(scene, found)
+        if not scene.choices.snr_on_mrtd:  # the curve holds the noise and τ: no SNR on top
+            found = _without_snr(found, scene.sensors.mrtd.rows)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
         return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
+
+
+def _without_snr(found: Factors, rows: tuple[int, ...]) -> Factors:
+    """``found`` with no noise at the sensor rows ``rows`` (SNR +inf): the MRTD-limited rows
+    under the default noise handling (:attr:`targetacq.core.records.ModelChoices.snr_on_mrtd`)."""
+    xp, (snr,) = _arrays.arrays(found.snr)
+    n_s = snr.shape[0]
+    mask = np.zeros((n_s,) + (1,) * (snr.ndim - 1), dtype=bool)
+    mask[list(rows)] = True
+    quiet = dataclasses.replace(found, snr=xp.where(mask, xp.inf, snr))
+    source = found.__dict__.get(_RATIO)
+    if source is not None:  # the NumPy core's noise-to-signal ratio: 0 there
+        with np.errstate(over="ignore"):
+            ratio = np.expm1(found.optical_depth) if isinstance(source, str) else source
+        object.__setattr__(quiet, _RATIO, np.where(mask, 0.0, ratio))
+    spare = found.__dict__.get(_SPARE)
+    if spare is not None:
+        object.__setattr__(quiet, _SPARE, spare)
+    return quiet
 
 
 def _pairs(scene: SceneArrays, s_pos: Any, t_pos: Any) -> tuple[int, ...]:
@@ -1210,6 +1299,10 @@ def _factors_generic(
             ifov=_per_sensor(sensors.ifov, batch, xp),
             # The area seen: the outline's horizontal side times the visible part of its height.
             area=horizontal * vertical * visible,
+            path_contrast=1.0
+            if sensors.path_contrast is None
+            else _per_sensor(sensors.path_contrast, batch, xp),
+            law=scene.choices.snr_law if _contrast_law(scene) else "sonesson",
             sky_to_ground=None
             if sensors.sky_to_ground is None
             else _per_sensor(_arrays.as_float(sensors.sky_to_ground, xp), batch, xp),
@@ -1364,6 +1457,7 @@ def task_probabilities(
     scr: Array,
     scene: SceneArrays,
     moving: Array = None,
+    rows: tuple[int, ...] | None = None,
     cues: GradedCues | None = None,
 ) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
@@ -1383,13 +1477,37 @@ def task_probabilities(
     scene : SceneArrays
     moving : array of bool (n_g,), optional
         The targets' moving flags for this call (:func:`check_moving`); default their own.
+    rows : tuple of int, optional
+        The scene's sensor rows that the first axis holds (default all, in order).
     cues : GradedCues, optional
         The graded hot-spot and motion cues of the pairs (:func:`graded_cues`); None: none.
 
     Returns
     -------
     detection, recognition, identification : array
+        Under a contrast SNR law with a threshold, times the probability that the target is
+        seen above the noise (:func:`targetacq.acquisition.path_noise.seen_probability`).
     """
+    found = _transform_probabilities(cycles, snr, scr, scene, moving, cues)
+    xp, (n,) = _arrays.arrays(cycles)
+    k = None if snr is None else _thresholds(scene, xp)
+    if k is None:
+        return found
+    if rows is not None:
+        k = xp.stack([k[row] for row in rows]) if rows else k[:0]
+    seen = seen_of_ratio(noise_ratio(snr), _per_sensor(k, n.ndim - 2, xp), xp)
+    return found[0] * seen, found[1] * seen, found[2] * seen
+
+
+def _transform_probabilities(
+    cycles: Array,
+    snr: Array,
+    scr: Array,
+    scene: SceneArrays,
+    moving: Array = None,
+    cues: GradedCues | None = None,
+) -> tuple[Any, Any, Any]:
+    """:func:`task_probabilities` before the threshold."""
     xp, (n,) = _arrays.arrays(cycles)
     choices, targets = scene.choices, scene.targets
     batch = n.ndim - 2
@@ -1753,6 +1871,7 @@ def _step_numpy(
             per_sensor(parts.noise_equivalent),
             contrast,
             None if parts.foliage is None else parts.foliage[g_of, 0],
+            None if parts.path_contrast is None else per_sensor(parts.path_contrast),
         )
         cycles = np.empty(shape)
         r, _, cycles, depth, _, snr, ratio = _chain_numpy(
@@ -1789,6 +1908,14 @@ def _step_numpy(
             scene,
             flags,
         )
+        if noisy:
+            tasks = _seen_tasks(
+                scene,
+                tasks,
+                None if ratio is None else ratio.reshape(-1),
+                snr.reshape(-1),
+                lambda: np.repeat(np.arange(n_s), n_g) if picked is None else s_of,
+            )
         lost = np.isnan(r.reshape(-1))  # NaN geometry: NaN probabilities
         lost |= np.isnan(flat)
         where = slice(None) if picked is None else picked

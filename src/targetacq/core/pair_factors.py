@@ -14,9 +14,12 @@ same arithmetic for speed; the tests hold them to this one.
 2. path: ``τ = exp(−d_opt)`` (Eq. (7.3), the optical depth summed over segments, clouds and
    foliage) and the SNR of Eq. (7.7) from the depth directly
    (:func:`targetacq.physics.atmosphere.snr_from_optical_depth`);
-3. the sensor's own noise, where it has one: the contrast that the path leaves,
-   ``τ · ΔS``, over the noise-equivalent contrast, with the gain of the pixels the target
-   covers (:func:`targetacq.physics.detector_noise.sensor_snr`), added to the path's SNR in
+3. the sensor's own noise, where it has one (NEC > 0), by the SNR law
+   (:data:`targetacq.acquisition.path_noise.SNR_LAWS`): ``contrast`` (default), the contrast the
+   path leaves, ``τ · |C|``, against the sensor's noise-equivalent contrast over the gain of the
+   pixels the target covers and the path radiance's noise ``(1 − τ) · σ_path``, in variance
+   (:func:`targetacq.physics.detector_noise.contrast_snr`); ``sonesson``, the sensor's
+   ``τ|C|g/NEC`` (:func:`targetacq.physics.detector_noise.sensor_snr`) added to Eq. (7.7) in
    variance (:func:`targetacq.physics.detector_noise.combined_snr`).
 """
 
@@ -26,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from targetacq.acquisition.path_noise import get_snr_law
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
 from targetacq.physics import atmosphere, detector_noise
@@ -56,6 +60,12 @@ class SensorNoise:
         (:func:`targetacq.physics.atmosphere.contrast_transmittance`) instead of ``τ``; None for
         ``τ`` (K = 1, and the thermal bands, whose path radiance adds equally to target and
         background).
+    path_contrast : array_like
+        ``σ_path`` of the ``contrast`` law, > 0, in the unit of ``contrast``: the contrast of the
+        thesis's reference target (1 K for a ΔT in kelvin; a thermal sensor in W/m²: 1 K times
+        ``∂M_bb,band/∂T``; a reflective sensor: the background's exitance).
+    law : str
+        The SNR law, :data:`targetacq.acquisition.path_noise.SNR_LAWS` (default ``contrast``).
     """
 
     contrast: Array
@@ -63,6 +73,8 @@ class SensorNoise:
     ifov: Array
     area: Array
     sky_to_ground: Array | None = None
+    path_contrast: Array = 1.0
+    law: str = "contrast"
 
 
 def imager_factors(
@@ -75,8 +87,8 @@ def imager_factors(
     """Cycles on target, transmittance and SNR of imaging pairs.
 
     ``N = d / (max(R, 1 nm) · cycle)``, ``τ = exp(−d_opt)``, the SNR of Eq. (7.7) from the
-    optical depth, added in variance to the sensor's own (see the module's notes). Inputs are
-    not checked here: the callers check their records once.
+    optical depth; with the sensor's noise, the SNR of its law (see the module's notes). Inputs
+    are not checked here: the callers check their records once.
 
     Parameters
     ----------
@@ -89,7 +101,7 @@ def imager_factors(
     optical_depth : array_like
         The path's optical depth [1], >= 0 (+inf: nothing gets through).
     noise : SensorNoise, optional
-        The sensor's own noise; None for none (the SNR is then the path's).
+        The sensor's own noise; None for none (the SNR is then the path's, Eq. (7.7)).
 
     Returns
     -------
@@ -104,6 +116,14 @@ def imager_factors(
     >>> n, tau, snr = imager_factors(1150.0, 2.3, 4e-4, 1.15)
     >>> round(float(n), 12), round(float(tau), 6), round(float(snr), 3)
     (5.0, 0.316637, -6.682)
+
+    With a 0.5 K target and a 50 mK NETD (default ``contrast`` law), the SNR is
+    ``τ · 0.5 / sqrt((0.05/g)² + (1 − τ)²)``, g = 10 for the 100 pixels of a 2.3 m square at
+    a 0.2 mrad IFOV:
+
+    >>> noise = SensorNoise(0.5, 0.05, 2e-4, 2.3**2)
+    >>> round(float(imager_factors(1150.0, 2.3, 4e-4, 1.15, noise)[2]), 3)
+    -12.703
     """
     xp, (r, depth) = _arrays.arrays(range, optical_depth)
     shortest = xp.maximum(r, _SHORTEST)
@@ -116,6 +136,14 @@ def imager_factors(
         seen = tau  # the contrast the path leaves: τ, or with airlight Duntley's law (§7.2)
         if noise.sky_to_ground is not None:
             seen = atmosphere.contrast_transmittance(tau, noise.sky_to_ground)
-        own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, seen, pixels)
-        snr = detector_noise.combined_snr(snr, own)
+        if get_snr_law(noise.law).contrast_aware:
+            aware = detector_noise.contrast_snr(
+                noise.contrast, noise.noise_equivalent, noise.path_contrast, seen, pixels
+            )
+            # A row without a noise of its own (NEC = 0, none given) keeps Eq. (7.7).
+            quiet = _arrays.as_float(noise.noise_equivalent, xp) == 0
+            snr = xp.where(quiet, snr, aware)
+        else:
+            own = detector_noise.sensor_snr(noise.contrast, noise.noise_equivalent, seen, pixels)
+            snr = detector_noise.combined_snr(snr, own)
     return cycles, tau, snr

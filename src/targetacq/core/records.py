@@ -164,6 +164,10 @@ class SensorArrays:
         :func:`targetacq.physics.radiometry.quantisation_step`): a pair whose contrast at the scene
         (:attr:`SignatureArrays.contrast`) is below it has every probability 0. 0 where a row
         has none; None where no row has one.
+    path_contrast : array (n_s,) or None
+        ``σ_path`` of the ``contrast`` SNR law [W/m²] (:class:`ModelChoices`): each row's
+        reference contrast (:attr:`targetacq.sensors.SensorType.path_contrast`); None: unknown,
+        the SNR is then formed by the ``sonesson`` law.
     sky_to_ground : array (n_s,) or None
         The sky-to-ground ratio K [1] of the background each row's own noise sees its contrast
         against: a reflective (TV, colour) row's path airlight leaves ``τ / (τ + (1 − τ) K)`` of
@@ -186,6 +190,7 @@ class SensorArrays:
     groups: tuple[str, ...] = _static(())
     mrtd: MrtdArrays | None = None
     quantisation_step: Any = None
+    path_contrast: Any = None
     sky_to_ground: Any = None
 
     @property
@@ -431,6 +436,11 @@ class ModelChoices:
         :data:`targetacq.acquisition.probabilities.MOTION_RULES`.
     semantics : str
         :data:`targetacq.acquisition.probabilities.ACQUISITION_SEMANTICS`.
+    snr_law : str
+        :data:`targetacq.acquisition.path_noise.SNR_LAWS` (default ``contrast``).
+    snr_on_mrtd : bool
+        Whether the SNR acts on the MRTD-limited rows too (a noise model named by the user); by
+        default not: their curve already holds the sensor's noise and the path (``τ · ΔT``).
     """
 
     transform: str = "ttpf"
@@ -440,6 +450,8 @@ class ModelChoices:
     search_time: float = 3.4
     motion: str = "low-clutter"
     semantics: str = "nested"
+    snr_law: str = "contrast"
+    snr_on_mrtd: bool = False
 
 
 @pytree_record

@@ -28,6 +28,23 @@ the rule that combines them. All three are the project's stated assumptions:
    ``1/SNR² = Σ 1/SNR_i²`` (:func:`combined_snr`), in linear amplitude ratios
    (``SNR_lin = 10^(SNR_dB/20)``, the dB of Eq. (7.6)).
 
+4. **Contrast-aware path noise** (:func:`contrast_snr`, the ``contrast`` law of
+   :data:`targetacq.acquisition.path_noise.SNR_LAWS`): the path's own noise is the fluctuation of
+   its path radiance, which is proportional to the path's emissivity ``1 − τ`` (Kirchhoff's law for
+   the path; its radiance is ``(1 − τ)`` times that of a blackbody at the air's temperature,
+   Sonesson 2004 §7.2). It is written as a noise-equivalent contrast ``(1 − τ) · σ_path``, with
+   ``σ_path`` the contrast of the thesis's reference target, so that a target of contrast
+   ``σ_path`` without sensor noise gets exactly the thesis's Eq. (7.7),
+   ``SNR = τ / (1 − τ)``. Together with the sensor's noise, in variance:
+
+   ``SNR = τ |C| / sqrt((NEC / g(n))² + ((1 − τ) σ_path)²)``
+
+   — the apparent contrast against sensor noise plus path-radiance noise, τ counted once. The
+   project's stated assumption for ``σ_path``: 1 K for a thermal sensor (in exitance, the same
+   ``∂M_bb,band/∂T`` as the NETD: :func:`netd_exitance` of 1 K), a contrast ratio of 1 of the
+   background's exitance for a reflective sensor. Unlike Eq. (7.7) + item 3 (the ``sonesson``
+   law), a hotter target is seen farther through the same haze.
+
 A zero contrast gives ``SNR = 0`` (−inf dB), whatever the range: the noise model then makes every
 probability 0. No noise given (``NEC = 0``) gives +inf: the model is exactly the noise-free one.
 """
@@ -43,6 +60,7 @@ from targetacq.base.arrays import Array
 
 __all__ = [
     "combined_snr",
+    "contrast_snr",
     "netd_exitance",
     "pixel_gain",
     "pixels_on_target",
@@ -199,6 +217,90 @@ def sensor_db(c: Any, noise: Any, tau: Any, n: Any, xp: Any) -> tuple[Any, Any, 
         db = 20.0 * xp.log10(ratio)
         inverse = xp.where(quiet, 0.0, noise / xp.where(quiet, 1.0, signal))
     unknown = xp.isnan(c) | xp.isnan(noise) | xp.isnan(tau) | xp.isnan(n)
+    return xp.where(unknown, xp.nan, db), inverse, unknown
+
+
+def contrast_snr(
+    contrast: Array,
+    noise_equivalent: Array,
+    path_contrast: Array,
+    transmittance: Array,
+    pixels: Array,
+) -> Any:
+    """The contrast-aware SNR of a target through a path [dB] (module docstring, item 4).
+
+    ``SNR = τ |C| / sqrt((NEC / g(n))² + ((1 − τ) σ_path)²)``, ``g`` of :func:`pixel_gain`.
+
+    Parameters
+    ----------
+    contrast : array_like
+        Target–background contrast at the scene ``C``, in the unit of ``noise_equivalent``.
+    noise_equivalent : array_like
+        The sensor's noise-equivalent contrast ``NEC``, >= 0 (0: the path's noise alone).
+    path_contrast : array_like
+        ``σ_path``, the contrast whose target gets the thesis's Eq. (7.7), > 0, in the same unit
+        (a thermal sensor in kelvin: 1 K).
+    transmittance : array_like
+        τ of the path, in [0, 1].
+    pixels : array_like
+        Pixels on target (:func:`pixels_on_target`), >= 0.
+
+    Returns
+    -------
+    array_like
+        SNR [dB]: −inf for a zero contrast (or τ = 0), +inf without any noise (``NEC = 0`` and
+        ``τ = 1``).
+
+    Examples
+    --------
+    Without the sensor's noise, a target of the reference contrast gets Eq. (7.7),
+    ``20 log10(τ / (1 − τ))`` (0 dB at τ = 0.5); one 45 times hotter is 33 dB above it:
+
+    >>> round(float(contrast_snr(1.0, 0.0, 1.0, 0.5, 100.0)), 6)
+    0.0
+    >>> round(float(contrast_snr(45.0, 0.0, 1.0, 0.5, 100.0)), 4)
+    33.0643
+
+    A 1 mK target on 100 pixels at 50 mK NETD through τ = 0.9: the path's noise (0.1 K) hides it.
+
+    >>> round(float(contrast_snr(0.001, 0.05, 1.0, 0.9, 100.0)), 2)
+    -40.93
+    """
+    xp, (c, noise, sigma, tau, n) = _arrays.arrays(
+        contrast,
+        noise_equivalent,
+        path_contrast,
+        transmittance,
+        pixels,
+        names=("contrast", "noise_equivalent", "path_contrast", "transmittance", "pixels"),
+    )
+    _arrays.require_nonnegative("noise_equivalent", noise, xp)
+    _arrays.require_positive("path_contrast", sigma, xp)
+    _arrays.require_unit_interval("transmittance", tau, xp)
+    _arrays.require_nonnegative("pixels", n, xp)
+    return _arrays.result(contrast_db(c, noise, sigma, tau, n, xp)[0])
+
+
+def contrast_db(c: Any, noise: Any, sigma: Any, tau: Any, n: Any, xp: Any) -> tuple[Any, Any, Any]:
+    """:func:`contrast_snr` of checked float arrays (the arithmetic kernel).
+
+    Returns
+    -------
+    snr, inverse, unknown
+        The SNR [dB], its noise-to-signal amplitude ratio
+        ``sqrt((NEC/g)² + ((1 − τ) σ)²) / (τ |C|)`` (0 without any noise, +inf without signal;
+        not NaN-masked) and where an input is NaN.
+    """
+    signal = tau * xp.abs(c)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        gain = _gain(n, xp)
+        own = xp.where(noise == 0, 0.0, noise / xp.where(gain > 0, gain, 0.0))
+        path = (1.0 - tau) * sigma
+        total = xp.sqrt(own * own + path * path)
+        quiet = total == 0
+        inverse = xp.where(quiet, 0.0, total / xp.where(quiet, 1.0, signal))
+        db = 20.0 * xp.log10(xp.where(quiet, xp.inf, signal / xp.where(quiet, 1.0, total)))
+    unknown = xp.isnan(c) | xp.isnan(noise) | xp.isnan(tau) | xp.isnan(n) | xp.isnan(sigma)
     return xp.where(unknown, xp.nan, db), inverse, unknown
 
 

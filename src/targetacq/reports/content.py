@@ -313,7 +313,8 @@ def scenario_report(
             "clutter": _clutter_text(scenario.background),
             "atmosphere": _atmosphere_text(atm),
             "noise": "SNR = 20 log10(τ/(1−τ)) dB, Eqs. (7.5)–(7.7); noise model "
-            f"{model.noise_model}: {NOISE_MODELS[model.noise_model].source}",
+            f"{model.noise_model or 'variance-sum'}: "
+            f"{NOISE_MODELS[model.noise_model or 'variance-sum'].source}",
         },
         "Model choices and sources": {
             "transform": f"{model.transform}: {TRANSFORMS[model.transform].source}",

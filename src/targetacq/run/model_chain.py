@@ -373,11 +373,16 @@ class ModelChain:
         seen = self.compute([t])["critical_dimension"][..., 0]
         scene = self.compiled.scene
         sensors, targets, choices = scene.sensors, scene.targets, scene.choices
-        noise = [
+        noise: list[list[dict[str, Any]]] = [
             [
                 {
                     "contrast": float(scene.signature.contrast[s, g]),
                     "noise_equivalent_contrast": float(sensors.noise_equivalent[s]),
+                    **(
+                        {"path_contrast": float(sensors.path_contrast[s])}
+                        if sensors.path_contrast is not None and sensors.path_contrast[s] > 0
+                        else {}
+                    ),
                 }
                 if sensors.noise_equivalent[s] > 0
                 else {}
@@ -397,6 +402,8 @@ class ModelChain:
                     {
                         "contrast": float(scene.signature.contrast[s, g]) / slope,
                         "mrtd": limited.curves[k],
+                        # The default: the curve holds the noise, no SNR on top (as the core).
+                        "noise_model": choices.noise_model if choices.snr_on_mrtd else None,
                         **({"noise_equivalent_contrast": netd} if netd > 0 else {}),
                     }
                     for g in range(len(targets.names))
@@ -429,9 +436,11 @@ class ModelChain:
                     region=choices.region,
                     hot_spot=targets.hot_spot[g],
                     moving=targets.moving[g],
-                    noise_model=choices.noise_model,
+                    **({"noise_model": choices.noise_model} if "mrtd" not in noise[s][g] else {}),
                     motion=choices.motion,
                     semantics=choices.semantics,
+                    # σ_path unknown: the core forms the SNR by the thesis's law too.
+                    snr_law=choices.snr_law if sensors.path_contrast is not None else "sonesson",
                     **noise[s][g],
                     **graded[s][g],
                 )

@@ -20,7 +20,7 @@ from dataclasses import dataclass, fields
 from typing import Any
 
 from targetacq.acquisition.criteria import CRITERIA
-from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.core.cases import RESOLUTION_MODELS
@@ -273,9 +273,19 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
     OptionSpec(
         "noise_model",
         str,
-        f"Noise model: {_names(NOISE_MODELS)} (default variance-sum).",
+        f"Noise model: {_names(NOISE_MODELS)} (default variance-sum; none with --mrtd, whose "
+        "curve already holds the noise and the path).",
         NOISE,
         choices=NOISE_MODELS,
+    ),
+    OptionSpec(
+        "snr_law",
+        str,
+        f"SNR law with --netd or --nec: {_names(SNR_LAWS)} (default contrast: the apparent "
+        "contrast against sensor and path-radiance noise, with a detection threshold; sonesson: "
+        "the thesis's contrast-free Eq. (7.7)).",
+        NOISE,
+        choices=SNR_LAWS,
     ),
     OptionSpec(
         "netd",

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.acquisition.criteria import CRITERIA, Criterion, get_criterion
-from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, CLUTTER_REGIONS, TRANSFORMS
 from targetacq.base.limits import (
@@ -567,7 +567,10 @@ class RangeOptions:
         A named atmosphere (:mod:`targetacq.physics.named_atmospheres`): model atmosphere,
         aerosol and the horizontal path's height [length]; ``visibility`` is then the aerosol's.
     noise_model : str, optional
-        :data:`targetacq.acquisition.path_noise.NOISE_MODELS`.
+        :data:`targetacq.acquisition.path_noise.NOISE_MODELS` (default: ``variance-sum``, or none
+        where an MRTD curve already holds the noise).
+    snr_law : str, optional
+        :data:`targetacq.acquisition.path_noise.SNR_LAWS` (default ``contrast``).
     netd, netd_temperature, delta_t : str, optional
         The NETD [temperature difference], the temperature it is quoted at [temperature], and
         the target's ΔT [temperature difference].
@@ -644,6 +647,7 @@ class RangeOptions:
     aerosol: str | None = None
     path_altitude: str | None = None
     noise_model: str | None = None
+    snr_law: str | None = None
     netd: str | None = None
     netd_temperature: str | None = None
     delta_t: str | None = None
@@ -877,9 +881,12 @@ def range_case(reading: RangeReading) -> tuple[RangeCase, dict[str, Any]]:
         region=settings["region"],
         mrtd=settings["mrtd"],
         ttp=ttp_system(numbers, ifov_rad) if settings["resolution_model"] == "ttp" else None,
-        noise_model=settings["noise_model"] or "variance-sum",
         path=settings.get("path"),
+        noise_model=settings["noise_model"],
+        snr_law=settings["snr_law"] or "contrast",
     )
+    if settings["snr_law"] is not None and case.noise_equivalent_contrast is None:
+        raise ValueError("--snr-law applies to a sensor's noise: give --netd or --nec")
     if settings["noise_model"] is not None and not case.noisy:
         raise ValueError(
             "--noise-model applies to a noisy path or sensor: give --extinction, --obscurant, "
@@ -1006,6 +1013,8 @@ def read_range_options(
     )
     if o.noise_model is not None:
         option_choice(o.noise_model, NOISE_MODELS, "--noise-model")
+    if o.snr_law is not None:
+        option_choice(o.snr_law, SNR_LAWS, "--snr-law")
     if o.semantics is not None:
         option_choice(o.semantics, ACQUISITION_SEMANTICS, "--semantics")
     if o.pixel_density is not None:
@@ -1085,6 +1094,7 @@ def read_range_options(
             "noise_model": o.noise_model,
             "resolution_model": model,
             "path": named_path,
+            "snr_law": o.snr_law,
         },
         sensor=sensor,
         path=path,
@@ -1167,7 +1177,8 @@ def dri_report(setup: RangeSetup) -> dict[str, Any]:
         "criterion_kind": crit.kind,
         "transform": case.transform if crit.gives_probabilities else None,
         "options": case.options,
-        "noise_model": case.noise_model if case.noisy else None,
+        "noise_model": case.applied_noise_model if case.noisy else None,
+        "snr_law": case.snr_law if case.applies_snr and case.noise_equivalent_contrast else None,
         "semantics": case.semantics,
         "resolution_model": case.resolution_model,
         "ranges": rows,

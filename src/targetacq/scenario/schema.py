@@ -77,7 +77,7 @@ from pydantic import (
 
 from targetacq.acquisition.criteria import CRITERIA
 from targetacq.acquisition.engagement import REDRAW_RULES
-from targetacq.acquisition.path_noise import NOISE_MODELS
+from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
 from targetacq.acquisition.probabilities import ACQUISITION_SEMANTICS, MOTION_RULES
 from targetacq.acquisition.transforms import C2NVEO_BOUNDS, TRANSFORMS
 from targetacq.base.inputs import read_input_text
@@ -471,7 +471,8 @@ class Sensor(_Strict):
     CSV file (:meth:`targetacq.physics.mrtd.MrtdCurve.from_csv`; in a scenario file relative to its
     folder, :func:`load_scenario`), read when the scenario is compiled; it makes the sensor's
     resolution MRTD-limited (:mod:`targetacq.core.mrtd_rows`: the pair's contrast as a blackbody
-    ΔT at ``netd_temperature``); with ``netd`` too, the NETD's noise adds to the SNR as well.
+    ΔT at ``netd_temperature``); the curve holds the sensor's noise, so no SNR acts on top of
+    it unless the model table names a ``noise_model`` (then the NETD's noise adds to it).
     The digitiser (§6.8): ``quantisation_step`` (e.g. "0.01 W/m^2"), or ``adc_bits`` with
     ``adc_span`` (the signal span its levels cover, step = span / (2^bits − 1),
     :func:`targetacq.physics.radiometry.quantisation_step`); a pair whose contrast at the scene, in
@@ -1084,6 +1085,7 @@ class Atmosphere(_Strict):
 _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
     "criterion": (CRITERIA, "criterion"),
     "noise_model": (NOISE_MODELS, "noise model"),
+    "snr_law": (SNR_LAWS, "SNR law"),
     "motion": (MOTION_RULES, "motion rule"),
     "semantics": (ACQUISITION_SEMANTICS, "semantics"),
     "redraw": (REDRAW_RULES, "redraw rule"),
@@ -1091,7 +1093,10 @@ _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
 
 
 class ModelChoices(_Strict):
-    """Model choices: criterion (or a user N50 triple), transform, noise model, motion rule
+    """Model choices: criterion (or a user N50 triple), transform, noise model (default
+    ``variance-sum``, except on the rows whose MRTD curve already holds the noise and the path:
+    there no SNR, unless a noise model is named), SNR law
+    (``snr_law``, :data:`targetacq.acquisition.path_noise.SNR_LAWS`), motion rule
     (how a moving target is detected), semantics (nested or conditional: what the three
     probabilities mean, hence what is reported and sampled), fusion, the search model's
     time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default), and when a
@@ -1110,7 +1115,8 @@ class ModelChoices(_Strict):
     ) = None
     transform: str = "ttpf"
     bound: str | None = None
-    noise_model: str = "variance-sum"
+    noise_model: str | None = None
+    snr_law: str = "contrast"
     motion: str = "low-clutter"
     semantics: str = "nested"
     fusion: Literal["sensor-level"] = "sensor-level"
@@ -1118,9 +1124,11 @@ class ModelChoices(_Strict):
     redraw: str = "never"
     decorrelation_time: Time | None = None
 
-    @field_validator("criterion", "noise_model", "motion", "semantics", "redraw")
+    @field_validator("criterion", "noise_model", "snr_law", "motion", "semantics", "redraw")
     @classmethod
-    def _registered(cls, value: str, info: ValidationInfo) -> str:
+    def _registered(cls, value: str | None, info: ValidationInfo) -> str | None:
+        if value is None:  # noise_model: the default (variance-sum; none on an MRTD curve)
+            return value
         registry, kind = _MODEL_REGISTRIES[info.field_name or ""]
         lookup(registry, value, kind)
         return value

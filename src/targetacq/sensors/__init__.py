@@ -77,6 +77,11 @@ class SensorType:
     noise_equivalent : callable
         ``noise_equivalent(sensor, signature) -> float`` [W/m²]: the signal difference equal
         to the sensor's own noise (0: none given), :mod:`targetacq.physics.detector_noise`.
+    path_contrast : callable
+        ``path_contrast(sensor, signature) -> float`` [W/m²]: ``σ_path`` of the ``contrast`` SNR
+        law (:func:`targetacq.physics.detector_noise.contrast_snr`), the reference target's
+        contrast (a thermal sensor: 1 K through ``∂M/∂T``; a reflective one: the background's
+        exitance).
     source : str
     kind : str
         How the core computes the type's pairs: "imaging" (the thesis's imaging model),
@@ -114,6 +119,7 @@ class SensorType:
     class_signature: Callable[[Any, Any, Sequence[Any]], tuple[Any, Any]] | None
     cycle_angle: Callable[[Any], float] = imaging.cycle_angle
     noise_equivalent: Callable[[Any, Signature], float] = imaging.no_noise
+    path_contrast: Callable[[Any, Signature], float] = imaging.unit_path_contrast
     source: str = ""
     kind: str = "imaging"
     rows: Callable[[Any], list[Any]] = imaging.one_row
@@ -136,6 +142,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             thermal.requirements,
             thermal.class_signature,
             noise_equivalent=thermal.noise_equivalent,
+            path_contrast=thermal.path_contrast,
             source="Sonesson (2004) ch. 5-6",
             band_required=True,
             noise_key="netd",
@@ -147,6 +154,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             tv.requirements,
             None,
             noise_equivalent=tv.noise_equivalent,
+            path_contrast=tv.path_contrast,
             source="Sonesson (2004) §6.2, §9.4.1",
             noise_key="nec",
             airlight=True,
@@ -158,6 +166,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             colour.requirements,
             None,
             noise_equivalent=colour.noise_equivalent,
+            path_contrast=tv.path_contrast,
             source="Sonesson (2004) §9.4.2; the merge is the project's (comonotone bands)",
             rows=colour.rows,
             noise_key="nec",
@@ -171,6 +180,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             swir.requirements,
             None,
             noise_equivalent=tv.noise_equivalent,
+            path_contrast=tv.path_contrast,
             source="Sonesson (2004) §6.1-6.2, Eqs. (6.4), (6.5), (6.12); the sum is the project's",
             default_band=swir.SWIR_BAND,
             band_within=swir.SWIR_BAND,

@@ -36,6 +36,12 @@ def no_noise(sensor: Any, seen: Any) -> float:
     return 0.0
 
 
+def unit_path_contrast(sensor: Any, seen: Any) -> float:
+    """A sensor type without a reference contrast of its own: σ_path = 1 (used only with a
+    sensor noise, :func:`targetacq.physics.detector_noise.contrast_snr`)."""
+    return 1.0
+
+
 def one_row(sensor: Any) -> list[Any]:
     """A sensor that is one row of the array core: itself."""
     return [sensor]

@@ -51,6 +51,15 @@ def noise_equivalent(sensor: Any, seen: Any) -> float:
     return float(netd_exitance(sensor.netd, sensor.limits, sensor.netd_temperature))
 
 
+def path_contrast(sensor: Any, seen: Any) -> float:
+    """``σ_path`` of the ``contrast`` SNR law [W/m²]: the reference target's 1 K as an exitance
+    difference, ``1 K · ∂M_bb,band/∂T`` at the NETD's reference temperature (the same slope as
+    the NETD's, :func:`targetacq.physics.detector_noise.netd_exitance`)."""
+    from targetacq.physics.detector_noise import netd_exitance
+
+    return float(netd_exitance(1.0, sensor.limits, sensor.netd_temperature))
+
+
 def class_signature(sensor: Any, background: Any, classes: Sequence[Any]) -> tuple[Any, Any]:
     """Mean exitance and exitance variance of each terrain class in the sensor's band (§6.7)."""
     band = sensor.limits

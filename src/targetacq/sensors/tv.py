@@ -34,6 +34,12 @@ def noise_equivalent(sensor: Any, seen: Any) -> float:
     return float(sensor.nec * seen.background)
 
 
+def path_contrast(sensor: Any, seen: Any) -> float:
+    """``σ_path`` of the ``contrast`` SNR law [W/m²]: a contrast ratio of 1 of the background's
+    reflected exitance (the reference target of a reflective sensor)."""
+    return float(seen.background)
+
+
 def requirements(scenario: Any) -> list[str]:
     """What a scenario lacks for TV sensors, each problem located (``table.key: what``)."""
     return reflective_requirements(scenario, "TV", "a TV camera")

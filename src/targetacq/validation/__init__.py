@@ -21,7 +21,9 @@ the model's curve through the printed points. The sections, in page order:
 - the TTP metric: the V50s of ``ttp-vehicles``, its TTPF at V50 and the diffraction MTF's closed
   form (the V50s are quoted values; no printed worked example of the TTP chain is reproduced);
 - named atmospheres: the LOWTRAN7 band-transmittance table against published MODTRAN spectra
-  (midlatitude summer, rural aerosol), within 20 %.
+  (midlatitude summer, rural aerosol), within 20 %;
+- noise that can hide a target: the ``contrast`` SNR law at Eq. (7.7)'s reference target, the
+  detection threshold's reference points, and MRTD-limited ranges against an independent solution.
 
 Published values are read from the bundled tables (``targetacq/data``, with their provenance)
 or quoted from the thesis's text; model values come from the public functions. A check's
@@ -46,6 +48,7 @@ from targetacq.io.files import output_path, write_atomically
 from targetacq.validation._dri import vendor_section
 from targetacq.validation._model import Check, Section, Summary, half_unit, summarise
 from targetacq.validation._named_atmospheres import named_atmospheres_section
+from targetacq.validation._noise import noise_section
 from targetacq.validation._page import render_page
 from targetacq.validation._physics import (
     extinction_section,
@@ -110,6 +113,7 @@ def validation_sections(transforms: Mapping[str, Any] | None = None) -> tuple[Se
         vendor_section(),
         ttp_section(),
         named_atmospheres_section(),
+        noise_section(),
     )
 
 

@@ -1080,7 +1080,7 @@ def _pairs(body: StepRequest, sessions: _Sessions) -> float:
 def _registries() -> dict[str, Any]:
     """Every registry's names, with descriptions and sources where it has them."""
     from targetacq.acquisition.criteria import CRITERIA
-    from targetacq.acquisition.path_noise import NOISE_MODELS
+    from targetacq.acquisition.path_noise import NOISE_MODELS, SNR_LAWS
     from targetacq.acquisition.transforms import C2NVEO_BOUNDS, TRANSFORMS
     from targetacq.physics.atmosphere import EXTINCTION_LEVELS, OBSCURANTS
     from targetacq.physics.bands import BANDS
@@ -1109,6 +1109,7 @@ def _registries() -> dict[str, Any]:
         "criteria": items(CRITERIA),
         "transforms": items(TRANSFORMS),
         "noise_models": items(NOISE_MODELS),
+        "snr_laws": items(SNR_LAWS),
         "bands": bands,
         "obscurants": obscurants,
         "bounds": items(C2NVEO_BOUNDS),

@@ -74,7 +74,9 @@ def supported(scene: SceneArrays) -> str | None:
     radars, laser radars, MRTD-limited sensors (a sensor's ``mrtd`` curve), foliage in front
     of a target, a sensor's digitiser step (``quantisation_step``), graded cues (a target's
     ``hot_spot_ratio`` or ``graded_motion``) or a background's ``sky_to_ground`` on NumPy or
-    JAX.
+    JAX. Every SNR law of the registry compiles (the contrast law's SNR and its threshold: the
+    kernels' :func:`~targetacq.core.engines.numba_kernels.contrast_snr` and
+    :func:`~targetacq.core.engines.numba_kernels.seen_probability`).
     """
     if scene.radar is not None or scene.laser is not None:
         return (
@@ -196,6 +198,22 @@ class NumbaScene:
             ).reshape(n_c, 5)
         )
         self.noise_equivalent = _float(sensors.noise_equivalent)
+        # The SNR law (:func:`targetacq.core.evaluation.factors` forms it the same way): the
+        # contrast law where some row has a noise of its own and the reference contrasts are
+        # known, each row's σ_path (−1: the sonesson law) and threshold k (−inf: none).
+        law = noise.get_snr_law(choices.snr_law)
+        self.contrast_law = bool(
+            sensors.has_noise and sensors.path_contrast is not None and law.contrast_aware
+        )
+        n_rows = self.noise_equivalent.size
+        self.path_contrast = (
+            _float(sensors.path_contrast).reshape(n_rows)
+            if self.contrast_law
+            else np.full(n_rows, -1.0)
+        )
+        self.thresholds = np.full(n_rows, -np.inf)
+        if self.contrast_law and law.threshold is not None:
+            self.thresholds[self.noise_equivalent > 0] = law.threshold
         self.contrast = _float(scene.signature.contrast)
         self.dimensions = _float(targets.dimensions).reshape(-1, 3)
         self.visible_fraction = _float(targets.visible_fraction)
@@ -293,6 +311,7 @@ class NumbaScene:
         table[:, pairs.TAN_H : pairs.TAN_V + 1] = self.half_tangents.reshape(n_s, 2)
         table[:, pairs.EXTINCTION] = self.extinction
         table[:, pairs.NOISE_EQUIVALENT] = self.noise_equivalent
+        table[:, pairs.PATH_CONTRAST] = self.path_contrast
         table[:, pairs.VIEWING] = pointed & np.isfinite(self.half_tangents.reshape(n_s, 2)[:, 0])
         table[:, pairs.BY_POINT] = by_point
         for k in range(3):
@@ -431,6 +450,7 @@ class NumbaScene:
             self.table_reference,
             self.sw,
             self.sw_constants,
+            self.thresholds,
             p,
             fused,
         )
@@ -495,6 +515,7 @@ class NumbaScene:
             self.table_reference,
             self.sw,
             self.sw_constants,
+            self.thresholds,
             np.empty((6, *self.shape)),
             in_view,
             p,
@@ -605,6 +626,8 @@ class NumbaScene:
             self.noise_equivalent,
             self.contrast,
             bool(self.scene.sensors.has_noise),
+            self.path_contrast,
+            self.contrast_law,
             np.empty((2, size)),
             out[0],
             out[1],
@@ -748,6 +771,7 @@ class NumbaScene:
             self.table_reference,
             self.sw,
             self.sw_constants,
+            self.thresholds,
             np.empty(size),
             np.empty((6, size)),
             out[0],

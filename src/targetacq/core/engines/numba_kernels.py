@@ -12,6 +12,8 @@ here                              NumPy kernel
 :func:`path_snr`                  :func:`targetacq.physics.atmosphere.snr_from_optical_depth`
 :func:`sensor_snr`                :func:`targetacq.physics.detector_noise.sensor_snr`
 :func:`combined_snr`              :func:`targetacq.physics.detector_noise.combined_snr` (two SNRs)
+:func:`contrast_snr`              :func:`targetacq.physics.detector_noise.contrast_snr`
+:func:`seen_probability`          :func:`targetacq.acquisition.path_noise.seen_probability`
 :func:`noise_factor`              the models of :mod:`targetacq.acquisition.path_noise`
 :func:`effective_scr`             :func:`targetacq.acquisition.path_noise.effective_scr`
 :func:`ttpf`                      :func:`targetacq.acquisition.transforms.ttpf` (``ln N`` given)
@@ -55,6 +57,7 @@ padded with its last point (segments of zero width, never selected). A constant,
 loop over the segments unrolls and the curve vectorises."""
 
 _LN10 = math.log(10.0)
+_SQRT2 = math.sqrt(2.0)
 _TTPF_LIMIT = 700.0
 
 
@@ -156,6 +159,31 @@ def combined_snr(a, b):
     return math.nan if (a != a or b != b) else db
 
 
+@inline
+def contrast_snr(contrast, noise_equivalent, path_contrast, tau, pixels):
+    """SNR of the contrast law [dB],
+    ``τ|C| / sqrt((NEC/g)² + ((1 − τ) σ_path)²)``."""
+    gain = math.sqrt(maximum(pixels, 1.0)) if pixels >= 1.0 else pixels
+    own = 0.0 if noise_equivalent == 0.0 else noise_equivalent / gain
+    path = (1.0 - tau) * path_contrast
+    total = math.sqrt(own * own + path * path)
+    signal = tau * abs(contrast)
+    ratio = math.inf if total == 0.0 else signal / total
+    db = 20.0 * log10(ratio)
+    unknown = contrast != contrast or noise_equivalent != noise_equivalent
+    unknown = unknown or tau != tau or pixels != pixels or path_contrast != path_contrast
+    return math.nan if unknown else db
+
+
+@inline
+def seen_probability(snr, threshold):
+    """``Φ(SNR_lin − k)``, the probability of being seen above the noise; 1 for k = −inf."""
+    lin = math.inf if snr == math.inf else exp(snr * (_LN10 / 20.0))
+    x = lin - threshold if threshold > -math.inf else math.inf
+    p = 0.5 * math.erfc(-x / _SQRT2)
+    return snr if snr != snr else p
+
+
 @compiled
 def _factors_kernel(
     sensor_positions,  # (3, n_s, B): east, north, up, component-major (unit-stride loads)
@@ -176,6 +204,8 @@ def _factors_kernel(
     noise_equivalent,  # (n_s,)
     contrast,  # (n_s, n_g)
     has_noise,  # bool
+    path_contrast,  # (n_s,): σ_path of the contrast SNR law
+    contrast_law,  # bool: the contrast law (rows with NEC = 0 keep Eq. (7.7))
     area,  # (2, B) work space
     out_range,  # (n_s, n_g, B)
     out_critical,
@@ -246,7 +276,16 @@ def _factors_kernel(
                     )
                     out_depth[s, g, b] = out_depth[s, g, b] + cloud * crossed
             # 3. Transmittance and SNR (the path's, and the sensor's own added in variance).
-            if has_noise:
+            if has_noise and contrast_law and noise_s != 0.0:
+                sigma_s = path_contrast[s]
+                for b in range(n_b):
+                    depth = out_depth[s, g, b]
+                    tau = exp(-depth)
+                    footprint = maximum(out_range[s, g, b], 1e-9) * ifov_s
+                    pixels = area[0, b] / (footprint * footprint)
+                    out_tau[s, g, b] = tau
+                    out_snr[s, g, b] = contrast_snr(signal, noise_s, sigma_s, tau, pixels)
+            elif has_noise and not contrast_law:
                 for b in range(n_b):
                     depth = out_depth[s, g, b]
                     tau = exp(-depth)
@@ -433,6 +472,7 @@ def _probabilities_kernel(
     table_reference,  # (3,)
     sw,  # (3, 4, CURVE_POINTS)
     sw_constants,  # (4,): reference N50, lowest SCR, α, low-clutter scale
+    thresholds,  # (n_s,): k of each row's detection threshold (−inf: none)
     noisy,  # (B,) work space
     work,  # (6, B) work space
     out_detection,  # (n_s, n_g, B)
@@ -530,7 +570,8 @@ def _probabilities_kernel(
                         special = go if special != special else maximum(special, go)
                     kept = special != special and cycles[s, g, b] == cycles[s, g, b]
                     out_detection[s, g, b] = out_detection[s, g, b] if kept else special
-            # 3. The semantics, the field of view, unknown geometry, and the misses.
+            # 3. The semantics, the threshold, the field of view, unknown geometry, the misses.
+            k_s = thresholds[s]
             for b in range(n_b):
                 det = out_detection[s, g, b]
                 rec, ide = out_recognition[s, g, b], out_identification[s, g, b]
@@ -540,6 +581,9 @@ def _probabilities_kernel(
                 else:
                     rec = det * rec
                     ide = rec * ide
+                if k_s > -math.inf:
+                    above = seen_probability(snr[s, g, b], k_s)
+                    det, rec, ide = det * above, rec * above, ide * above
                 seen = in_view[s, g, b]
                 unknown = rng[s, g, b] != rng[s, g, b] or cycles[s, g, b] != cycles[s, g, b]
                 det = math.nan if unknown else (det if seen else 0.0)

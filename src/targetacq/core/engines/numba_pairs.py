@@ -37,6 +37,7 @@ from targetacq.core.engines.numba_kernels import (
     chord,
     clip,
     combined_snr,
+    contrast_snr,
     curve,
     curve_rows,
     effective_scr,
@@ -45,6 +46,7 @@ from targetacq.core.engines.numba_kernels import (
     noise_factor,
     noisy_cycles,
     path_snr,
+    seen_probability,
     sensor_snr,
     sw_blend,
     sw_scaled,
@@ -57,10 +59,12 @@ __all__ = ["SENSOR_COLUMNS"]
 # Columns of the sensor table (one row per sensor).
 CYCLE, IFOV, TAN_H, TAN_V, EXTINCTION, NOISE_EQUIVALENT, VIEWING, BY_POINT = range(8)
 AIM = 8  # 8, 9, 10: the look-at point (BY_POINT) or the boresight direction
-SENSOR_COLUMNS = 11
+PATH_CONTRAST = 11  # σ_path of the contrast SNR law [W/m²]; −1: the sonesson law
+SENSOR_COLUMNS = 12
 """Columns of the sensor table :func:`_pair_factors` reads: cycle [rad], IFOV [rad], the half
 tangents, extinction [Np/m], noise-equivalent signal [W/m²], 1 where pointed with a field of
-view, 1 where pointed at a point, and the point [m] or the boresight direction."""
+view, 1 where pointed at a point, the point [m] or the boresight direction, and ``σ_path`` of
+the contrast SNR law (−1 for the sonesson law)."""
 
 # Status codes of the kernels: 0, or the input that holds an infinite value.
 OK, INFINITE_SENSOR, INFINITE_TARGET = 0, 1, 2
@@ -178,8 +182,18 @@ def _pair_factors(
             for g in range(n_g):
                 crossed = chord(sx, sy, sz, tx[g], ty[g], tz[g], cx, cy, cz, radius)
                 out[3, s, g] = out[3, s, g] + cloud * crossed
-        # 3. Transmittance and SNR (the path's, and the sensor's own added in variance).
-        if has_noise:
+        # 3. Transmittance and SNR (the contrast law's, or the path's and the sensor's own added
+        # in variance; a row without a noise of its own: the path's).
+        sigma_s = sensors[s, PATH_CONTRAST]
+        if has_noise and sigma_s >= 0.0 and noise_s != 0.0:
+            for g in range(n_g):
+                depth = out[3, s, g]
+                tau = exp(-depth)
+                footprint = maximum(out[0, s, g], 1e-9) * ifov_s
+                pixels = area[g] / (footprint * footprint)
+                out[4, s, g] = tau
+                out[5, s, g] = contrast_snr(contrast[s, g], noise_s, sigma_s, tau, pixels)
+        elif has_noise and sigma_s < 0.0:
             for g in range(n_g):
                 depth = out[3, s, g]
                 tau = exp(-depth)
@@ -223,6 +237,7 @@ def _pair_probabilities(
     table_reference,  # (3,)
     sw,  # (3, 4, CURVE_POINTS)
     sw_constants,  # (4,)
+    thresholds,  # (n_s,): k of each row's detection threshold (−inf: none)
     out,  # (3, n_s, n_g): detection, recognition, identification
     fused,  # (3, n_g)
 ):
@@ -345,6 +360,9 @@ def _pair_probabilities(
             else:
                 rec = det * rec
                 ide = rec * ide
+            if thresholds[s] > -math.inf:
+                above = seen_probability(work[_SNR, k], thresholds[s])
+                det, rec, ide = det * above, rec * above, ide * above
             unknown = rng[s, g] != rng[s, g] or work[_N, k] != work[_N, k]
             seen = in_view[s, g]
             det = math.nan if unknown else (det if seen else 0.0)
@@ -386,6 +404,7 @@ def _pair_step(
     table_reference,
     sw,
     sw_constants,
+    thresholds,
     factors,  # (6, n_s, n_g) work space: the factors of _pair_factors
     in_view,  # (n_s, n_g) bool
     out,  # (3, n_s, n_g)
@@ -427,6 +446,7 @@ def _pair_step(
         table_reference,
         sw,
         sw_constants,
+        thresholds,
         out,
         fused,
     )

@@ -26,6 +26,7 @@ from targetacq.acquisition.criteria import Criterion, get_criterion
 from targetacq.base.arrays import Array
 from targetacq.base.constants import SPEED_OF_LIGHT
 from targetacq.base.limits import BYTES_PER_EVALUATION, check_size
+from targetacq.core.cases import get_resolution_model
 from targetacq.core.records import (
     LaserArrays,
     ModelChoices,
@@ -36,10 +37,12 @@ from targetacq.core.records import (
     SensorArrays,
     SignatureArrays,
     TargetArrays,
+    TtpArrays,
 )
 from targetacq.physics import atmosphere, geometry, radiometry
 from targetacq.physics.clutter import signal_to_clutter_ratio
 from targetacq.physics.named_atmospheres import NamedBandPath
+from targetacq.physics.ttp import TtpSystem
 from targetacq.scenario.schema import ScenarioError
 from targetacq.sensors import Signature, get_sensor_type
 
@@ -565,6 +568,54 @@ def _mrtd(owned: list[tuple[str, Any]], curves: dict[str, Any]) -> MrtdArrays | 
     )
 
 
+def _ttp(scenario: Any, owned: list[tuple[str, Any]]) -> TtpArrays | None:
+    """The rows whose resolution is the TTP metric (``[model] resolution_model = "ttp"``): each
+    thermal row, with its :class:`targetacq.physics.ttp.TtpSystem` (the sensor's IFOV, aperture,
+    band centre, NETD in kelvin, jitter, smear, frame rate and scene contrast temperature, the
+    atmosphere's Cn²; the TTP defaults where they are left out, as the range commands' options
+    have them) and the slope ``∂M_bb,band/∂T`` at its ``netd_temperature`` that turns its
+    contrast into a ΔT (as :func:`_mrtd`)."""
+    if scenario.model.resolution_model != "ttp":
+        return None
+    rows = tuple(k for k, (_, s) in enumerate(owned) if s.type == "thermal")
+    if not rows:
+        return None
+    cn2 = scenario.atmosphere.cn2
+    systems = []
+    for k in rows:
+        s = owned[k][1]
+        given = {
+            name: getattr(s, name)
+            for name in ("jitter", "smear", "frame_rate", "scene_contrast")
+            if getattr(s, name) is not None
+        }
+        systems.append(
+            TtpSystem(
+                ifov=float(s.pixel_ifov),
+                aperture=float(s.aperture),
+                wavelength=0.5 * (s.limits[0] + s.limits[1]),
+                netd=0.0 if s.netd is None else float(s.netd),
+                cn2=0.0 if cn2 is None else float(cn2),
+                **given,
+            )
+        )
+    return TtpArrays(
+        exitance_slope=np.array(
+            [
+                float(
+                    radiometry.band_exitance_derivative(
+                        owned[k][1].netd_temperature, owned[k][1].limits
+                    )
+                )
+                for k in rows
+            ],
+            dtype=float,
+        ),
+        rows=rows,
+        systems=tuple(systems),
+    )
+
+
 def _size_problems(scenario: Any) -> list[str]:
     """The scenario's own time grid against the memory a chunked evaluation of it needs: all
     the times of one target at once (:meth:`targetacq.run.model_chain.ModelChain.evaluate_chunks`,
@@ -633,6 +684,11 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)
     curves = _mrtd_curves(scenario, problems)
+    if scenario.model.resolution_model is not None:
+        try:  # the registry's names (the schema's layer is below it)
+            get_resolution_model(scenario.model.resolution_model)
+        except ValueError as error:
+            problems.append(f"model.resolution_model: {error}")
     problems += _size_problems(scenario)
     if problems:
         raise ScenarioError(problems)
@@ -664,6 +720,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         sensors=dataclasses.replace(
             _sensors(scenario, sensors, tuple(owner for owner, _ in owned), signatures),
             mrtd=_mrtd(owned, curves),
+            ttp=_ttp(scenario, owned),
         ),
         targets=_targets(scenario, criteria),
         path=_path(scenario),

@@ -13,7 +13,8 @@ module wires them together:
    (:func:`targetacq.physics.geometry.view_offsets`);
 2. resolution: cycles on target ``N = d / (R · cycle)`` (§3.5; the cycle from the sensor type),
    or MRTD-limited ``N = f*(τ ΔT) · d / R`` for a thermal sensor with an MRTD curve
-   (:mod:`targetacq.core.mrtd_rows`);
+   (:mod:`targetacq.core.mrtd_rows`), or the TTP metric's ``V`` under the ``ttp`` resolution
+   model (:mod:`targetacq.core.ttp_rows`);
 3. path: optical depth with segments, local clouds
    (:func:`targetacq.physics.atmosphere.segmented_optical_depth`,
    :func:`targetacq.physics.atmosphere.sphere_chord_length`) and foliage in front of a target (§6.8,
@@ -97,7 +98,7 @@ from targetacq.acquisition.probabilities import (
 )
 from targetacq.base import arrays as _arrays
 from targetacq.base.arrays import Array
-from targetacq.core import active, mrtd_rows
+from targetacq.core import active, mrtd_rows, ttp_rows
 from targetacq.core.pair_factors import SensorNoise, imager_factors
 from targetacq.core.records import (
     ModelChoices,
@@ -914,6 +915,8 @@ def _numpy_path(
             return False
     if scene.path.named_depths is not None:  # a named atmosphere: the generic chain has it
         return False
+    if scene.sensors.ttp is not None:  # TTP rows: an integral per pair, on the whole arrays
+        return False
     if scene.sensors.sky_to_ground is not None:  # airlight on the contrast: the generic chain
         return False
     return _numpy_scene(scene)
@@ -1183,6 +1186,8 @@ def factors(
         found = mrtd_rows.mrtd_factors(scene, found)
         if not scene.choices.snr_on_mrtd:  # the curve holds the noise and τ: no SNR on top
             found = _without_snr(found, scene.sensors.mrtd.rows)
+    if scene.sensors.ttp is not None:  # TTP rows: V from the TTP metric, no SNR on top
+        found = ttp_rows.ttp_factors(scene, found, s_pos, t_pos, headings, visible)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
         return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
@@ -1764,6 +1769,7 @@ def evaluate_step(
         not active.has_active(scene)
         and not scene.targets.graded  # graded cues: the whole-array path
         and scene.sensors.mrtd is None  # MRTD-limited rows: the cycles of factors()
+        and scene.sensors.ttp is None  # TTP rows: their V and SNR of factors()
         and _numpy_path(scene, s_pos, t_pos, headings, pointing, scr)
         and (visible_fraction is None or isinstance(visible_fraction, np.ndarray))
         and (moving is None or isinstance(moving, (np.ndarray, list, tuple)))

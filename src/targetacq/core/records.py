@@ -44,6 +44,7 @@ __all__ = [
     "SensorArrays",
     "SignatureArrays",
     "TargetArrays",
+    "TtpArrays",
     "as_jax",
     "derived",
     "pytree_record",
@@ -168,6 +169,9 @@ class SensorArrays:
         ``σ_path`` of the ``contrast`` SNR law [W/m²] (:class:`ModelChoices`): each row's
         reference contrast (:attr:`targetacq.sensors.SensorType.path_contrast`); None: unknown,
         the SNR is then formed by the ``sonesson`` law.
+    ttp : TtpArrays or None
+        The rows whose resolution is the TTP metric (thermal sensors under ``[model]
+        resolution_model = "ttp"``); None where there are none.
     sky_to_ground : array (n_s,) or None
         The sky-to-ground ratio K [1] of the background each row's own noise sees its contrast
         against: a reflective (TV, colour) row's path airlight leaves ``τ / (τ + (1 − τ) K)`` of
@@ -191,6 +195,7 @@ class SensorArrays:
     mrtd: MrtdArrays | None = None
     quantisation_step: Any = None
     path_contrast: Any = None
+    ttp: TtpArrays | None = None
     sky_to_ground: Any = None
 
     @property
@@ -224,6 +229,32 @@ class MrtdArrays:
     exitance_slope: Any
     rows: tuple[int, ...] = _static()
     curves: tuple[Any, ...] = _static()
+
+
+@pytree_record
+@dataclass(frozen=True)
+class TtpArrays:
+    """The sensor rows whose resolution is the TTP metric (:mod:`targetacq.physics.ttp`), one
+    entry each (:mod:`targetacq.core.ttp_rows`).
+
+    The cycles on target of these rows are the TTP metric's ``V``
+    (:func:`targetacq.physics.ttp.ttp_cycles`) at the pair's range, ΔT and transmittance instead
+    of the geometric ``d / (R · cycle)``, with ΔT the pair's exitance contrast over the slope
+    ``∂M_bb,band/∂T`` at the reference temperature (as :class:`MrtdArrays`).
+
+    Attributes
+    ----------
+    exitance_slope : array (n_t,)
+        ``∂M_bb,band/∂T`` of each row's band at its sensor's ``netd_temperature`` [W/(m²·K)].
+    rows : tuple of int
+        The rows among the scene's sensors.
+    systems : tuple of targetacq.physics.ttp.TtpSystem
+        Each row's imager, display and observer (static: constants under ``jax.jit``).
+    """
+
+    exitance_slope: Any
+    rows: tuple[int, ...] = _static()
+    systems: tuple[Any, ...] = _static()
 
 
 @pytree_record

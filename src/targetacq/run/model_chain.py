@@ -40,7 +40,7 @@ from targetacq import core
 from targetacq.base import arrays as _arrays
 from targetacq.base.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.base.registry import lookup
-from targetacq.core import engines
+from targetacq.core import engines, ttp_rows
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluation import footprint_scr
 from targetacq.io.datasets import OUTPUT_FORMATS, Output, annotate, provenance, write_output
@@ -354,9 +354,12 @@ class ModelChain:
         dimension covers: the range curves do not follow the outline's other side). A sensor
         with an MRTD curve gives MRTD-limited cases: its curve, with the contrast and the NETD
         as temperature differences (over the band's ``∂M_bb/∂T`` at ``netd_temperature``, as
-        the core has them: :mod:`targetacq.core.mrtd_rows`). A target's graded hot spot, its
-        speed across each line of sight at ``time`` (graded motion) and the background's
-        sky-to-ground ratio (TV and colour rows with their own noise) are the cases' too. Imaging
+        the core has them: :mod:`targetacq.core.mrtd_rows`). Under the ``ttp`` resolution model
+        the thermal sensors give TTP cases: their system, the contrast as a ΔT, the outline's
+        area at ``time`` and no separate SNR (as the core has them:
+        :mod:`targetacq.core.ttp_rows`). A target's graded hot spot, its speed across each line
+        of sight at ``time`` (graded motion) and the background's sky-to-ground ratio (TV and
+        colour rows with their own noise) are the cases' too. Imaging
         sensors only. A scenario's ranges in ``targetacq dri`` and its report (command
         line and web) do not use these cases: they come from the core for every sensor type
         (:func:`targetacq.core.pair_ranges.pair_performance`), with the outline seen from each
@@ -408,6 +411,20 @@ class ModelChain:
                     }
                     for g in range(len(targets.names))
                 ]
+        if sensors.ttp is not None:  # TTP rows: the system, the contrast as a ΔT, the area
+            s_pos, t_pos, headings = core.scenario_positions(self.scenario, [t])
+            area = ttp_rows.outline_area(scene, s_pos, t_pos, headings)[..., 0]
+            for k, s in enumerate(sensors.ttp.rows):
+                slope = float(sensors.ttp.exitance_slope[k])
+                noise[s] = [
+                    {
+                        "contrast": float(scene.signature.contrast[s, g]) / slope,
+                        "ttp": sensors.ttp.systems[k],
+                        "target_area": float(area[s, g]),
+                        "noise_model": "none",  # the NETD and τ are in the metric (as the core)
+                    }
+                    for g in range(len(targets.names))
+                ]
         graded = self._graded_cases(t)
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
@@ -418,7 +435,9 @@ class ModelChain:
                 cases[f"{sensor} → {target}"] = RangeCase(
                     float(seen[s, g]),
                     float(sensors.ifov[s]),
-                    cycle=None if "mrtd" in noise[s][g] else float(sensors.cycle[s]),
+                    cycle=None
+                    if "mrtd" in noise[s][g] or "ttp" in noise[s][g]
+                    else float(sensors.cycle[s]),
                     criterion=self.compiled.criteria[g],
                     transform=choices.transform,
                     options=dict(choices.options),
@@ -436,7 +455,11 @@ class ModelChain:
                     region=choices.region,
                     hot_spot=targets.hot_spot[g],
                     moving=targets.moving[g],
-                    **({"noise_model": choices.noise_model} if "mrtd" not in noise[s][g] else {}),
+                    **(
+                        {}
+                        if "noise_model" in noise[s][g] or "mrtd" in noise[s][g]
+                        else {"noise_model": choices.noise_model}
+                    ),
                     motion=choices.motion,
                     semantics=choices.semantics,
                     # σ_path unknown: the core forms the SNR by the thesis's law too.
@@ -467,7 +490,8 @@ class ModelChain:
                     given["hot_spot_size"] = target.hot_spot_size
                 if crossing is not None and target.graded_motion:
                     given["target_speed"] = float(crossing[s, g])
-                if k is not None and scene.sensors.noise_equivalent[s] > 0:
+                airlight = get_sensor_type(scene.sensors.types[s]).airlight
+                if k is not None and airlight and scene.sensors.noise_equivalent[s] > 0:
                     given["sky_to_ground"] = float(k[s])
         return out
 

@@ -206,6 +206,8 @@ Power = Annotated[float, _quantity("power")]
 Frequency = Annotated[float, _quantity("frequency")]
 Speed = Annotated[float, _quantity("speed")]
 PowerRatio = Annotated[float, _quantity("power ratio")]
+StructureConstant = Annotated[float, _quantity("structure constant")]
+"""A refractive-index structure constant Cn² [m^(-2/3)] (``"1e-14 m^(-2/3)"``)."""
 """A ratio of powers, written in dB in files (``"30 dB"``); linear inside."""
 
 
@@ -477,7 +479,12 @@ class Sensor(_Strict):
     ``adc_span`` (the signal span its levels cover, step = span / (2^bits − 1),
     :func:`targetacq.physics.radiometry.quantisation_step`); a pair whose contrast at the scene, in
     the signal unit of the sensor's type (W/m²), is below the step has every probability 0. Imaging
-    sensors only.
+    sensors only. The TTP resolution model (``[model] resolution_model = "ttp"``,
+    :mod:`targetacq.core.ttp_rows`) of a thermal sensor takes its aperture (``aperture`` or
+    ``f_number``), ``netd`` (none: noise-free) and ``jitter`` (RMS line-of-sight jitter per
+    axis, e.g. "0.02 mrad"; default 0), ``smear`` (image motion in one frame; default 0),
+    ``frame_rate`` (default "30 Hz") and ``scene_contrast`` (the scene contrast temperature
+    that sets the display's gain; default "5 K"), as the range commands' options do.
     """
 
     name: Name
@@ -506,10 +513,15 @@ class Sensor(_Strict):
     quantisation_step: Irradiance | None = None
     adc_bits: Annotated[WholeNumber, Field(ge=1, le=64)] | None = None
     adc_span: Irradiance | None = None
+    jitter: Angle | None = None
+    smear: Angle | None = None
+    frame_rate: Frequency | None = None
+    scene_contrast: TemperatureDifference | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Sensor:
         self._check_type_tables()
+        self._check_ttp_inputs()
         self._check_digitiser()
         if self.type == "radar":
             return self._check_radar()
@@ -587,6 +599,17 @@ class Sensor(_Strict):
             raise ValueError("quantisation_step must be >= 0 W/m^2")
         if self.adc_span is not None and not self.adc_span > 0:
             raise ValueError("adc_span must be > 0 W/m^2")
+
+    def _check_ttp_inputs(self) -> None:
+        """The TTP metric's inputs (:data:`TTP_SENSOR_FIELDS`): in their domains."""
+        for name in ("jitter", "smear"):
+            value = getattr(self, name)
+            if value is not None and not value >= 0:
+                raise ValueError(f"{name} must be >= 0 rad (e.g. 0.02 mrad)")
+        for name, example in (("frame_rate", "30 Hz"), ("scene_contrast", "5 K")):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise ValueError(f"{name} must be > 0 (e.g. {example})")
 
     def _check_type_tables(self) -> None:
         """The tables that belong to one sensor type: bands (colour), radar, laser."""
@@ -1012,7 +1035,9 @@ class Atmosphere(_Strict):
     :mod:`targetacq.physics.named_atmospheres`; every line of sight is taken as a horizontal
     path at that altitude, sea level by default); ``segments`` near the sensor; local
     ``clouds``. ``rain_rate`` (e.g. "5 mm/h") attenuates radars (ITU-R P.838-3); the optical
-    extinctions above do not apply to a radar."""
+    extinctions above do not apply to a radar. ``cn2`` (e.g. "1e-14 m^(-2/3)"): the path's
+    turbulence, for the TTP resolution model's turbulence MTF (``[model] resolution_model =
+    "ttp"``; default 0)."""
 
     extinction: Extinction | None = None
     obscurant: str | None = None
@@ -1024,9 +1049,12 @@ class Atmosphere(_Strict):
     segments: list[Segment] = []
     clouds: list[Cloud] = []
     rain_rate: Speed | None = None
+    cn2: StructureConstant | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Atmosphere:
+        if self.cn2 is not None and not self.cn2 >= 0:
+            raise ValueError("cn2 must be >= 0 m^(-2/3) (e.g. 1e-14 m^(-2/3))")
         if self.model is not None or self.aerosol is not None:
             self.named_path()  # checked: names, the visibility's and altitude's ranges
         elif self.altitude is not None:
@@ -1092,6 +1120,15 @@ _MODEL_REGISTRIES: dict[str, tuple[Mapping[str, Any], str]] = {
 }
 
 
+TTP_SENSOR_FIELDS = ("jitter", "smear", "frame_rate", "scene_contrast")
+"""A sensor's fields that only the TTP resolution model reads (``[model] resolution_model =
+"ttp"``), with the atmosphere's ``cn2``."""
+
+V50_CRITERIA = ("ttp-vehicles",)
+"""The named criteria whose thresholds are V50s of the TTP metric (its cycles ``V``, not
+Johnson's ``N``): the ones the ``ttp`` resolution model takes, besides a user triple ``n50``."""
+
+
 class ModelChoices(_Strict):
     """Model choices: criterion (or a user N50 triple), transform, noise model (default
     ``variance-sum``, except on the rows whose MRTD curve already holds the noise and the path:
@@ -1102,7 +1139,12 @@ class ModelChoices(_Strict):
     time constant ``search_time`` (τ = search_time / P∞, 3.4 s by default), and when a
     sensor-target pair's random draws are drawn again (``redraw``,
     :data:`targetacq.acquisition.engagement.REDRAW_RULES`, with its ``decorrelation_time`` [s] where
-    the rule takes one)."""
+    the rule takes one), and the resolution model (``resolution_model``, a name of
+    :data:`targetacq.core.cases.RESOLUTION_MODELS`, checked when the scenario is compiled: left
+    out, ``johnson``, or ``mrtd`` for the sensors with an MRTD curve; ``ttp``: the TTP metric for
+    the thermal sensors, :mod:`targetacq.core.ttp_rows`, whose ``V`` goes with V50s: the
+    criterion and transform left out become ``ttp-vehicles`` and ``ttp``, and a named criterion
+    must be one of :data:`V50_CRITERIA`, or give your own V50s as ``n50``)."""
 
     criterion: str = "johnson"
     n50: (
@@ -1123,6 +1165,7 @@ class ModelChoices(_Strict):
     search_time: Time = 3.4
     redraw: str = "never"
     decorrelation_time: Time | None = None
+    resolution_model: str | None = None
 
     @field_validator("criterion", "noise_model", "snr_law", "motion", "semantics", "redraw")
     @classmethod
@@ -1171,6 +1214,8 @@ class ModelChoices(_Strict):
             )
         if self.decorrelation_time is not None and not (0 <= self.decorrelation_time < math.inf):
             raise ValueError(f"decorrelation_time must be >= 0 s, got {self.decorrelation_time!r}")
+        if self.resolution_model == "ttp":
+            self._ttp_defaults()
         if self.n50 is None:
             _probability_criterion(self.criterion)
         elif any(b < a for a, b in itertools.pairwise(self.n50)):
@@ -1179,6 +1224,22 @@ class ModelChoices(_Strict):
                 f"task needs at least as many cycles); got {list(self.n50)}"
             )
         return self
+
+    def _ttp_defaults(self) -> None:
+        """The TTP metric's V goes with V50s and its TTPF: the criterion and transform left out
+        become ``ttp-vehicles`` and ``ttp`` (as the range commands' ``--resolution-model ttp``
+        does); a named criterion of Johnson's cycles is refused."""
+        given = self.model_fields_set
+        if "criterion" not in given and self.n50 is None:
+            object.__setattr__(self, "criterion", V50_CRITERIA[0])
+        elif self.n50 is None and self.criterion not in V50_CRITERIA:
+            raise ValueError(
+                f"criterion {self.criterion!r} gives Johnson's N50s, and resolution_model = "
+                f'"ttp" gives the TTP metric\'s V: choose one of {", ".join(V50_CRITERIA)}, '
+                "or give your own V50s as n50 = [detection, recognition, identification]"
+            )
+        if "transform" not in given:
+            object.__setattr__(self, "transform", "ttp")
 
 
 class FalseTargets(_Strict):
@@ -1354,6 +1415,7 @@ class Scenario(_Strict):
             for k, s in enumerate(self.sensors)
             if s.mrtd is not None and s.type != "thermal"
         ]
+        problems += _resolution_problems(self)
         problems += _foliage_problems(self)
         problems += _daily_cycle_problems(self)
         if self.false_targets is not None:
@@ -1454,6 +1516,52 @@ def _daily_cycle_problems(scenario: Scenario) -> list[str]:
         "hour (the local solar hour, in [0, 24), e.g. hour = 6.5), or a plain temperature"
         for where, _ in scenario._cycled()
     ]
+
+
+def _resolution_problems(scenario: Scenario) -> list[str]:
+    """What the resolution model (``model.resolution_model``) cannot run with, each located:
+    the TTP metric is a thermal imager's with its aperture; an MRTD curve is the ``mrtd`` model;
+    the TTP inputs mean nothing to another model."""
+    name = scenario.model.resolution_model
+    problems = []
+    for k, s in enumerate(scenario.sensors):
+        if s.mrtd is not None and name not in (None, "mrtd"):
+            problems.append(
+                f'sensors[{k}].mrtd: an MRTD curve gives resolution_model = "mrtd", not {name!r}; '
+                "leave the curve out, or the resolution model"
+            )
+        if name != "ttp":
+            problems += [
+                f'sensors[{k}].{field}: is read by resolution_model = "ttp" only (model table)'
+                for field in TTP_SENSOR_FIELDS
+                if getattr(s, field) is not None
+            ]
+        elif s.type != "thermal":
+            problems.append(
+                f'sensors[{k}].type: resolution_model = "ttp" is a thermal imager\'s here (its '
+                f"NETD and ΔT in the TTP metric); a {s.type} sensor cannot use it: leave the "
+                "sensor out or choose another resolution model"
+            )
+        elif s.aperture is None:
+            problems.append(
+                f'sensors[{k}].aperture: resolution_model = "ttp" needs the optics\' aperture '
+                '(its diffraction MTF): give aperture (e.g. "50 mm") or f_number with focal_length'
+            )
+    if name != "ttp" and scenario.atmosphere.cn2 is not None:
+        problems.append('atmosphere.cn2: is read by resolution_model = "ttp" only (model table)')
+    if name == "mrtd" and all(s.mrtd is None for s in scenario.sensors):
+        problems.append(
+            'model.resolution_model: "mrtd" needs a thermal sensor\'s MRTD curve (sensors[].mrtd)'
+        )
+    if name == "ttp":
+        problems += [
+            f"targets[{k}].criterion: criterion {t.criterion!r} gives Johnson's N50s, and "
+            f'resolution_model = "ttp" the TTP metric\'s V: choose one of '
+            f"{', '.join(V50_CRITERIA)}"
+            for k, t in enumerate(scenario.targets)
+            if t.criterion is not None and t.criterion not in V50_CRITERIA
+        ]
+    return problems
 
 
 def _foliage_problems(scenario: Scenario) -> list[str]:

@@ -71,11 +71,12 @@ def supported(scene: SceneArrays) -> str | None:
     It compiles the built-in choices: the transforms ``ttpf`` and ``c2nveo``, every noise model,
     motion rule and semantics of the registries. A transform, noise model, motion rule or
     semantics given as an object of one's own runs on the NumPy engine only; a scene with
-    radars, laser radars, MRTD-limited sensors (a sensor's ``mrtd`` curve), foliage in front
-    of a target, a sensor's digitiser step (``quantisation_step``), graded cues (a target's
-    ``hot_spot_ratio`` or ``graded_motion``) or a background's ``sky_to_ground`` on NumPy or
-    JAX. Every SNR law of the registry compiles (the contrast law's SNR and its threshold: the
-    kernels' :func:`~targetacq.core.engines.numba_kernels.contrast_snr` and
+    radars, laser radars, MRTD-limited sensors (a sensor's ``mrtd`` curve), the TTP resolution
+    model, foliage in front of a target, a sensor's digitiser step (``quantisation_step``),
+    graded cues (a target's ``hot_spot_ratio`` or ``graded_motion``) or a background's
+    ``sky_to_ground`` on NumPy or JAX. Every SNR law of the registry compiles (the contrast
+    law's SNR and its threshold: the kernels'
+    :func:`~targetacq.core.engines.numba_kernels.contrast_snr` and
     :func:`~targetacq.core.engines.numba_kernels.seen_probability`).
     """
     if scene.radar is not None or scene.laser is not None:
@@ -87,6 +88,11 @@ def supported(scene: SceneArrays) -> str | None:
         return (
             "the numba engine compiles the geometric resolution; MRTD-limited sensors (a "
             "sensor's mrtd curve) run on engine='numpy' (or 'jax')"
+        )
+    if scene.sensors.ttp is not None:
+        return (
+            "the numba engine compiles the geometric resolution; the TTP resolution model "
+            "(model.resolution_model = 'ttp') runs on engine='numpy' (or 'jax')"
         )
     if scene.targets.foliage is not None:
         return (

@@ -10,11 +10,13 @@ from targetacq.core.compile import (
     CompiledScenario,
     compile_scenario,
     scenario_positions,
+    scenario_velocities,
     sensor_rows,
 )
 from targetacq.core.evaluation import (
     Factors,
     Probabilities,
+    crossing_speeds,
     evaluate,
     evaluate_step,
     factors,
@@ -46,6 +48,7 @@ __all__ = [
     "SignatureArrays",
     "TargetArrays",
     "compile_scenario",
+    "crossing_speeds",
     "evaluate",
     "evaluate_step",
     "factors",
@@ -53,6 +56,7 @@ __all__ = [
     "probabilities",
     "register_pytrees",
     "scenario_positions",
+    "scenario_velocities",
     "sensor_rows",
     "take_targets",
 ]

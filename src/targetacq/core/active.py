@@ -202,6 +202,7 @@ def active_probabilities(
     found: Any,
     task_probabilities: Callable[..., tuple[Any, Any, Any]],
     moving: Any = None,
+    cues: Any = None,
 ) -> tuple[Any, Any, Any]:
     """Every row's ordered probabilities by its kind, before the field of view.
 
@@ -211,9 +212,11 @@ def active_probabilities(
     and noise (an SNR, or none where neither the path nor the sensor adds noise); the radar rows
     through :func:`_radar_tasks`.
 
-    ``task_probabilities(cycles, snr, scr, scene, moving=moving, rows=rows)``: the imagers'
-    ordered probabilities of the sensor rows ``rows``. ``moving``: the targets' moving flags
-    for this call (default their own), for the imaging and laser-radar rows.
+    ``task_probabilities(cycles, snr, scr, scene, moving=moving, rows=rows, cues=cues)``: the
+    imagers' ordered probabilities of the sensor rows ``rows``. ``moving``: the targets' moving
+    flags for this call (default their own), for the imaging and laser-radar rows. ``cues``:
+    the pairs' graded cues (:class:`targetacq.core.evaluation.GradedCues`, with
+    ``rows(rows, xp)``), or None.
 
     Returns
     -------
@@ -239,6 +242,7 @@ def active_probabilities(
             scene,
             moving=moving,
             rows=rows,
+            cues=None if cues is None else cues.rows(rows, xp),
         )
         for k, row in enumerate(rows):
             parts[row] = (tasks[0][k], tasks[1][k], tasks[2][k])

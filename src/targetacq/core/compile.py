@@ -52,6 +52,7 @@ __all__ = [
     "check_runnable",
     "compile_scenario",
     "scenario_positions",
+    "scenario_velocities",
     "sensor_rows",
 ]
 
@@ -209,6 +210,7 @@ def _sensors(
         ).reshape(len(sensors)),
         groups=groups if len(sensors) > len(scenario.sensors) else (),
         quantisation_step=_quantisation_steps(sensors),
+        sky_to_ground=_sky_to_ground(scenario, sensors),
     )
 
 
@@ -241,6 +243,36 @@ def _targets(scenario: Any, criteria: tuple[Criterion, ...]) -> TargetArrays:
         hot_spot=tuple(bool(t.hot_spot) for t in targets),
         moving=tuple(bool(t.moving) for t in targets),
         foliage=_foliage(scenario),
+        **_graded_cues(targets),
+    )
+
+
+def _graded_cues(targets: Any) -> dict[str, Any]:
+    """The targets' graded cues as :class:`TargetArrays` fields: the hot spots' ratios (0 where
+    none) and sizes (NaN where none), None where no target gives one; the graded-motion flags,
+    empty where no target has one (a scene without graded cues is compiled as before)."""
+    out: dict[str, Any] = {}
+    if any(t.hot_spot_ratio is not None for t in targets):
+        out["hot_spot_ratio"] = np.array(
+            [0.0 if t.hot_spot_ratio is None else t.hot_spot_ratio for t in targets], dtype=float
+        )
+    if any(t.hot_spot_size is not None for t in targets):
+        out["hot_spot_size"] = np.array(
+            [np.nan if t.hot_spot_size is None else t.hot_spot_size for t in targets], dtype=float
+        )
+    if any(t.graded_motion for t in targets):
+        out["graded_motion"] = tuple(bool(t.graded_motion) for t in targets)
+    return out
+
+
+def _sky_to_ground(scenario: Any, sensors: list[Any]) -> np.ndarray | None:
+    """Each row's sky-to-ground ratio K: the background's for the rows whose type's contrast is
+    reduced by the path's airlight (TV, colour), 1 for the others; None where none is given."""
+    ratio = scenario.background.sky_to_ground
+    if ratio is None:
+        return None
+    return np.array(
+        [float(ratio) if get_sensor_type(s.type).airlight else 1.0 for s in sensors], dtype=float
     )
 
 
@@ -710,6 +742,39 @@ def _path_positions(items: Any, times: np.ndarray) -> np.ndarray:
                 times, [w.time for w in item.waypoints], [w.position for w in item.waypoints]
             )
     return out
+
+
+def _path_velocities(items: Any, times: np.ndarray) -> np.ndarray:
+    out = np.zeros((len(items), times.size, 3))
+    for k, item in enumerate(items):
+        if item.waypoints is not None:
+            out[k] = geometry.velocities_at(
+                times, [w.time for w in item.waypoints], [w.position for w in item.waypoints]
+            )
+    return out
+
+
+def scenario_velocities(scenario: Any, times: Array, targets: slice | None = None) -> np.ndarray:
+    """Velocities of a scenario's targets along their scripted paths at times: the derivatives
+    of :func:`scenario_positions` (:func:`targetacq.physics.geometry.velocities_at`; 0 for a
+    target standing at its ``position``, and before its first and from its last waypoint).
+
+    Parameters
+    ----------
+    scenario : targetacq.scenario.schema.Scenario
+    times : array_like
+        (n_t,) [s].
+    targets : slice, optional
+        The targets wanted (default all).
+
+    Returns
+    -------
+    numpy.ndarray (n_g, n_t, 3)
+        [m/s].
+    """
+    t = np.atleast_1d(np.asarray(times, dtype=float))
+    chosen = scenario.targets[slice(None) if targets is None else targets]
+    return _path_velocities(chosen, t)
 
 
 def scenario_positions(

@@ -113,14 +113,17 @@ from targetacq.physics.clutter import signal_to_clutter_ratio
 
 __all__ = [
     "Factors",
+    "GradedCues",
     "Probabilities",
     "boresight",
     "check_moving",
     "check_visible_fraction",
+    "crossing_speeds",
     "evaluate",
     "evaluate_step",
     "factors",
     "footprint_scr",
+    "graded_cues",
     "probabilities",
     "task_probabilities",
 ]
@@ -152,6 +155,11 @@ class Factors:
         sensor's (:func:`targetacq.physics.detector_noise.sensor_snr`), added in variance.
     scr : array or None
         Signal-to-clutter ratio, where a clutter measure is given.
+    crossing_speed : array or None
+        The target's speed over the ground across the line of sight [m/s]
+        (:func:`crossing_speeds`), for the targets with a graded motion cue
+        (:attr:`targetacq.core.records.TargetArrays.graded_motion`); None: they stand still
+        (:func:`factors` knows positions only; the callers that know velocities set it).
     """
 
     range: Any
@@ -162,6 +170,7 @@ class Factors:
     transmittance: Any
     snr: Any
     scr: Any
+    crossing_speed: Any = None
 
     def __getstate__(self) -> dict[str, Any]:
         # The fields only: what factors() keeps beside them for probabilities() (the noise
@@ -908,6 +917,8 @@ def _numpy_path(
         return False
     if scene.sensors.ttp is not None:  # TTP rows: an integral per pair, on the whole arrays
         return False
+    if scene.sensors.sky_to_ground is not None:  # airlight on the contrast: the generic chain
+        return False
     return _numpy_scene(scene)
 
 
@@ -920,6 +931,8 @@ def _numpy_factors(scene: SceneArrays, found: Factors) -> bool:
     for value in (found.in_view, found.snr, found.scr, found.optical_depth):
         if value is not None and not isinstance(value, (np.ndarray, bool)):
             return False
+    if scene.targets.graded:  # graded cues per pair: the whole-array path has them
+        return False
     return _numpy_scene(scene)
 
 
@@ -1295,6 +1308,9 @@ def _factors_generic(
             if sensors.path_contrast is None
             else _per_sensor(sensors.path_contrast, batch, xp),
             law=scene.choices.snr_law if _contrast_law(scene) else "sonesson",
+            sky_to_ground=None
+            if sensors.sky_to_ground is None
+            else _per_sensor(_arrays.as_float(sensors.sky_to_ground, xp), batch, xp),
         )
     cycles, tau, snr = imager_factors(
         rng, critical, _per_sensor(sensors.cycle, batch, xp), depth, noise
@@ -1311,6 +1327,135 @@ def _factors_generic(
     )
 
 
+def crossing_speeds(
+    sensor_positions: Array, target_positions: Array, target_velocities: Array
+) -> Any:
+    """Each pair's speed of the target across its line of sight [m/s], ``(n_s, n_g, *batch)``.
+
+    :func:`targetacq.physics.geometry.transverse_speed` of the line of sight (sensor to target)
+    and the target's own velocity over the ground: over the range it is the target's angular
+    speed against its background, the input of the graded motion cue. The sensor's own motion
+    does not enter: it moves the background in the image as much as the target (a platform
+    flying past a parked truck sees no motion cue), and what separates a moving target from its
+    background is its motion against that background (§1.3, §7.5).
+
+    Parameters
+    ----------
+    sensor_positions : array ``(n_s, *batch, 3)``
+        [m].
+    target_positions : array ``(n_g, *batch, 3)``
+        [m].
+    target_velocities : array ``(n_g, *batch, 3)``
+        Over the ground [m/s].
+
+    Returns
+    -------
+    array
+        v_⊥ >= 0 [m/s].
+
+    Examples
+    --------
+    A sensor at the origin; a target 1 km north driving east at 10 m/s, one 1 km east driving
+    at the sensor:
+
+    >>> import numpy as np
+    >>> from targetacq.core import crossing_speeds
+    >>> s = np.zeros((1, 3))
+    >>> g = np.array([[0.0, 1000.0, 0.0], [1000.0, 0.0, 0.0]])
+    >>> v = np.array([[10.0, 0.0, 0.0], [-10.0, 0.0, 0.0]])
+    >>> crossing_speeds(s, g, v).tolist()
+    [[10.0, 0.0]]
+    """
+    _, (s_pos, t_pos, t_vel) = _arrays.arrays(
+        sensor_positions,
+        target_positions,
+        target_velocities,
+        names=(*_POSITIONS, "target_velocities"),
+        broadcast=False,
+    )
+    if tuple(t_vel.shape) != tuple(t_pos.shape):
+        raise ValueError(
+            f"target_velocities must have the shape of the target positions, "
+            f"{tuple(t_pos.shape)}; got {tuple(t_vel.shape)}"
+        )
+    line = [t_pos[None, ..., k] - s_pos[:, None, ..., k] for k in range(3)]
+    return geometry.transverse_speed(*line, *(t_vel[None, ..., k] for k in range(3)))
+
+
+@dataclass(frozen=True)
+class GradedCues:
+    """The graded cues of every pair, as :class:`targetacq.acquisition.probabilities.Clutter`
+    takes them, each ``(n_s, n_g, *batch)`` or None (that cue is absent).
+
+    Attributes
+    ----------
+    hot_spot_ratio : array or None
+        The hot spot's own SCR [1] (0 where a target has none).
+    hot_spot_size : array or None
+        Its size over the critical dimension seen [1] (huge where a target gives none: no
+        dilution).
+    speed : array or None
+        The speed across the line of sight over the critical dimension seen [1/s] (0 for the
+        targets without a graded motion cue); at N cycles ``2 N · speed`` pixels per second.
+    """
+
+    hot_spot_ratio: Any = None
+    hot_spot_size: Any = None
+    speed: Any = None
+
+    def rows(self, rows: tuple[int, ...], xp: Any) -> GradedCues:
+        """The cues of some sensor rows (axis 0)."""
+        return GradedCues(
+            *(
+                None if value is None else xp.take(value, xp.asarray(rows), axis=0)
+                for value in (self.hot_spot_ratio, self.hot_spot_size, self.speed)
+            )
+        )
+
+
+# A size over the critical dimension that no hot spot reaches: 2 N times it is above 1 (the
+# hot spot fills its resolution element) at any N > 1e-90 and finite up to N ~ 1e150.
+_UNDILUTED = 1e100
+
+
+def graded_cues(scene: SceneArrays, found: Factors) -> GradedCues | None:
+    """The graded hot-spot and motion cues of every pair (None where no target has one).
+
+    The sizes and speeds are per critical dimension seen, as the cycles count them
+    (:class:`targetacq.acquisition.probabilities.Clutter`): a hot spot of size ``s`` covers
+    ``2 N s / d`` resolution elements across, and a target crossing the line of sight at
+    ``v_⊥`` moves ``2 N v_⊥ / d = v_⊥ / (R · cycle / 2)`` pixels per second (half a
+    resolvable cycle, Fig. 3.3) with the geometric N. The targets without a graded cue get
+    weight 0, so their detection is exactly as without.
+    """
+    targets = scene.targets
+    if not targets.graded:
+        return None
+    xp, (cycles, critical) = _arrays.arrays(found.cycles, found.critical_dimension)
+    shape = tuple(np.broadcast_shapes(tuple(cycles.shape), tuple(critical.shape)))
+    batch = len(shape) - 2
+
+    def full(value: Any) -> Any:
+        return xp.broadcast_to(value, shape)
+
+    ratio = size = speed = None
+    if targets.hot_spot_ratio is not None:
+        ratio = full(_per_target(_arrays.as_float(targets.hot_spot_ratio, xp), batch, xp))
+        if targets.hot_spot_size is not None:
+            given = _per_target(_arrays.as_float(targets.hot_spot_size, xp), batch, xp)
+            has = ~xp.isnan(given)
+            size = full(xp.where(has, xp.where(has, given, 1.0) / critical, _UNDILUTED))
+    if any(targets.graded_motion):
+        graded = _per_target(xp.asarray(np.asarray(targets.graded_motion, dtype=bool)), batch, xp)
+        crossing = found.crossing_speed
+        if crossing is None:
+            speed = full(xp.zeros_like(critical))
+        else:
+            moving = xp.where(graded, _arrays.as_float(crossing, xp), 0.0)
+            speed = full(moving / critical)
+    return GradedCues(ratio, size, speed)
+
+
 def task_probabilities(
     cycles: Array,
     snr: Array,
@@ -1318,6 +1463,7 @@ def task_probabilities(
     scene: SceneArrays,
     moving: Array = None,
     rows: tuple[int, ...] | None = None,
+    cues: GradedCues | None = None,
 ) -> tuple[Any, Any, Any]:
     """Ordered probabilities of detection, recognition and identification of every pair.
 
@@ -1338,6 +1484,8 @@ def task_probabilities(
         The targets' moving flags for this call (:func:`check_moving`); default their own.
     rows : tuple of int, optional
         The scene's sensor rows that the first axis holds (default all, in order).
+    cues : GradedCues, optional
+        The graded hot-spot and motion cues of the pairs (:func:`graded_cues`); None: none.
 
     Returns
     -------
@@ -1345,7 +1493,7 @@ def task_probabilities(
         Under a contrast SNR law with a threshold, times the probability that the target is
         seen above the noise (:func:`targetacq.acquisition.path_noise.seen_probability`).
     """
-    found = _transform_probabilities(cycles, snr, scr, scene, moving)
+    found = _transform_probabilities(cycles, snr, scr, scene, moving, cues)
     xp, (n,) = _arrays.arrays(cycles)
     k = None if snr is None else _thresholds(scene, xp)
     if k is None:
@@ -1357,7 +1505,12 @@ def task_probabilities(
 
 
 def _transform_probabilities(
-    cycles: Array, snr: Array, scr: Array, scene: SceneArrays, moving: Array = None
+    cycles: Array,
+    snr: Array,
+    scr: Array,
+    scene: SceneArrays,
+    moving: Array = None,
+    cues: GradedCues | None = None,
 ) -> tuple[Any, Any, Any]:
     """:func:`task_probabilities` before the threshold."""
     xp, (n,) = _arrays.arrays(cycles)
@@ -1399,6 +1552,9 @@ def _transform_probabilities(
                 region=choices.region,
                 hot_spot=flag("hot"),
                 moving=flag("moving"),
+                hot_spot_ratio=None if cues is None else pick(cues.hot_spot_ratio),
+                hot_spot_size=None if cues is None else pick(cues.hot_spot_size),
+                speed=None if cues is None else pick(cues.speed),
             ),
             snr=pick(snr),
             noise=noise,
@@ -1450,8 +1606,11 @@ def probabilities(scene: SceneArrays, found: Factors, moving: Array = None) -> P
     if moving is not None:
         moving = check_moving(moving, scene.shape[1])
     if active.has_active(scene):
+        cues = graded_cues(scene, found)
         found_p = _probabilities_generic(
-            scene, found, active.active_probabilities(scene, found, task_probabilities, moving)
+            scene,
+            found,
+            active.active_probabilities(scene, found, task_probabilities, moving, cues),
         )
     elif _numpy_factors(scene, found):
         found_p = _probabilities_numpy(scene, found, _host_flags(moving))
@@ -1505,7 +1664,8 @@ def _probabilities_generic(
     xp, (rng, cycles) = _arrays.arrays(found.range, found.cycles)
     if tasks is None:
         snr = found.snr if scene.path.attenuates or scene.sensors.has_noise else None
-        tasks = task_probabilities(found.cycles, snr, found.scr, scene, moving=moving)
+        cues = graded_cues(scene, found)
+        tasks = task_probabilities(found.cycles, snr, found.scr, scene, moving=moving, cues=cues)
     unknown = xp.isnan(rng) | xp.isnan(cycles)
     out = [
         xp.where(unknown, xp.nan, xp.where(found.in_view, _arrays.as_float(p, xp), 0.0))
@@ -1524,15 +1684,23 @@ def evaluate(
     scr: Any = None,
     visible_fraction: Any = None,
     moving: Any = None,
+    target_velocities: Any = None,
 ) -> tuple[Factors, Probabilities]:
     """Factors and probabilities of every pair (:func:`factors`, then :func:`probabilities`).
 
     ``visible_fraction`` goes to :func:`factors`, ``moving`` to :func:`probabilities`: both
-    replace the targets' own for this call.
+    replace the targets' own for this call. ``target_velocities`` ``(n_g, *batch, 3)`` [m/s]
+    give the targets with a graded motion cue their speed across each line of sight
+    (:func:`crossing_speeds`); without them those targets stand still.
     """
     found = factors(
         scene, sensor_positions, target_positions, headings, pointing, scr, visible_fraction
     )
+    if any(scene.targets.graded_motion) and target_velocities is not None:
+        found = dataclasses.replace(
+            found,
+            crossing_speed=crossing_speeds(sensor_positions, target_positions, target_velocities),
+        )
     return found, probabilities(scene, found, moving)
 
 
@@ -1599,6 +1767,7 @@ def evaluate_step(
             )
     if (
         not active.has_active(scene)
+        and not scene.targets.graded  # graded cues: the whole-array path
         and scene.sensors.mrtd is None  # MRTD-limited rows: the cycles of factors()
         and scene.sensors.ttp is None  # TTP rows: their V and SNR of factors()
         and _numpy_path(scene, s_pos, t_pos, headings, pointing, scr)

@@ -172,6 +172,11 @@ class SensorArrays:
     ttp : TtpArrays or None
         The rows whose resolution is the TTP metric (thermal sensors under ``[model]
         resolution_model = "ttp"``); None where there are none.
+    sky_to_ground : array (n_s,) or None
+        The sky-to-ground ratio K [1] of the background each row's own noise sees its contrast
+        against: a reflective (TV, colour) row's path airlight leaves ``τ / (τ + (1 − τ) K)`` of
+        the contrast (:func:`targetacq.physics.atmosphere.contrast_transmittance`); 1 for the
+        other rows (``τ``); None where the scene gives none.
     """
 
     cycle: Any
@@ -191,6 +196,7 @@ class SensorArrays:
     quantisation_step: Any = None
     path_contrast: Any = None
     ttp: TtpArrays | None = None
+    sky_to_ground: Any = None
 
     @property
     def group_names(self) -> tuple[str, ...]:
@@ -274,6 +280,17 @@ class TargetArrays:
         imaging sensor's path; τ_f = 0 hides the target: P = 0). 1 where a target has none;
         None where no target has any. Where it is given the path adds noise
         (:attr:`PathArrays.attenuates` must then be True, as the compiled scenario has it).
+    hot_spot_ratio : array (n_g,) or None
+        A graded hot spot's own signal-to-clutter ratio [1], >= 0
+        (:func:`targetacq.acquisition.cues.hot_spot_weight`); 0 where a target has none (weight
+        0: detection exactly as without); None where no target has one.
+    hot_spot_size : array (n_g,) or None
+        The hot spot's linear size [m], > 0: smaller than a resolution element it is diluted;
+        NaN where a target gives none (no dilution); None where no target gives one.
+    graded_motion : tuple of bool
+        Which targets have a motion cue graded by their angular speed across the line of sight
+        (:func:`targetacq.acquisition.cues.motion_weight`, from the pairs'
+        :attr:`targetacq.core.Factors.crossing_speed`); empty: none.
     """
 
     dimensions: Any
@@ -284,6 +301,14 @@ class TargetArrays:
     hot_spot: tuple[bool, ...] = _static()
     moving: tuple[bool, ...] = _static()
     foliage: Any = None
+    hot_spot_ratio: Any = None
+    hot_spot_size: Any = None
+    graded_motion: tuple[bool, ...] = _static(())
+
+    @property
+    def graded(self) -> bool:
+        """Whether a graded hot spot or a graded motion cue acts on any target."""
+        return self.hot_spot_ratio is not None or any(self.graded_motion)
 
 
 @pytree_record
@@ -516,9 +541,10 @@ def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
     """The scene whose targets are ``scene.targets[index]``, in that order.
 
     Every per-target array is taken along its target axis: the targets' fields (dimensions,
-    visible fraction, heading, N50s, names, hot-spot and moving flags, foliage) and the signature's
-    ``contrast``, ``target`` and ``scr`` (axis 1 of their ``(n_s, n_g)``). The sensors, the path,
-    the model choices and the radar and laser-radar rows are per sensor and are kept. Evaluating
+    visible fraction, heading, N50s, names, hot-spot and moving flags, foliage, graded cues)
+    and the signature's ``contrast``, ``target`` and ``scr`` (axis 1 of their ``(n_s, n_g)``).
+    The sensors, the path, the model choices and the radar and laser-radar rows are per sensor
+    and are kept. Evaluating
     the subset at ``target_positions[index]`` gives the whole scene's numbers at
     ``[:, index]``: nothing in the core depends on the other targets.
 
@@ -579,6 +605,9 @@ def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
         hot_spot=tuple(t.hot_spot[k] for k in picked),
         moving=tuple(t.moving[k] for k in picked),
         foliage=_take(t.foliage, chosen, 0),
+        hot_spot_ratio=_take(t.hot_spot_ratio, chosen, 0),
+        hot_spot_size=_take(t.hot_spot_size, chosen, 0),
+        graded_motion=tuple(t.graded_motion[k] for k in picked) if t.graded_motion else (),
     )
     signature = dataclasses.replace(
         sig,

@@ -28,6 +28,8 @@ __all__ = [
     "projected_extents",
     "slant_range",
     "solid_angle",
+    "transverse_speed",
+    "velocities_at",
     "view_offsets",
     "within_field_of_view",
 ]
@@ -259,6 +261,89 @@ def positions_at(times: Array, waypoint_times: Array, waypoint_positions: Array)
     wt = np.asarray(waypoint_times, dtype=float)
     wp = np.asarray(waypoint_positions, dtype=float)
     return np.stack([np.interp(t, wt, wp[:, k]) for k in range(3)], axis=-1)
+
+
+def velocities_at(times: Array, waypoint_times: Array, waypoint_positions: Array) -> Any:
+    """Velocities along a path at times: the derivative of :func:`positions_at` [m/s].
+
+    Constant along each leg (the leg that starts at or before the time, as
+    :func:`heading_along` takes it), zero before the first waypoint and from the last one on
+    (the path is held there).
+
+    Parameters
+    ----------
+    times : array_like
+        (n_t,) [s].
+    waypoint_times : array_like
+        (n_w,) increasing [s], n_w >= 2.
+    waypoint_positions : array_like
+        (n_w, 3) [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        (n_t, 3) [m/s].
+
+    Examples
+    --------
+    100 m east in 10 s, then held:
+
+    >>> from targetacq.physics.geometry import velocities_at
+    >>> v = velocities_at([-1.0, 5.0, 10.0], [0.0, 10.0], [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]])
+    >>> print(v.tolist())
+    [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    """
+    t = np.asarray(times, dtype=float)
+    wt = np.asarray(waypoint_times, dtype=float)
+    wp = np.asarray(waypoint_positions, dtype=float)
+    leg = np.clip(np.searchsorted(wt, t, side="right") - 1, 0, len(wt) - 2)
+    velocity = (wp[leg + 1] - wp[leg]) / (wt[leg + 1] - wt[leg])[:, None]
+    held = (t < wt[0]) | (t >= wt[-1])
+    out = np.where(held[:, None], 0.0, velocity)
+    return np.where(np.isnan(t)[:, None], np.nan, out)
+
+
+def transverse_speed(x: Array, y: Array, z: Array, vx: Array, vy: Array, vz: Array) -> Any:
+    """Speed across the line of sight [m/s]: ``|r × v| / |r|``.
+
+    The component of the relative velocity ``v`` (target's minus sensor's) perpendicular to
+    the line of sight ``r`` (sensor to target); over the range it is the angular speed of the
+    target as the sensor sees it, ``ω = |r × v| / |r|²`` [rad/s]. A target moving straight
+    at the sensor (or away) has none. Where ``r = 0`` (no line of sight) it is 0.
+
+    Parameters
+    ----------
+    x, y, z : array_like
+        Components of the line of sight [m] (x east, y north, z up).
+    vx, vy, vz : array_like
+        Components of the relative velocity [m/s], broadcasting with them.
+
+    Returns
+    -------
+    array_like
+        v_⊥ >= 0 [m/s]; NaN where an input is NaN.
+
+    Examples
+    --------
+    A target 1 km north crossing east at 10 m/s, and one driving straight at the sensor:
+
+    >>> from targetacq.physics.geometry import transverse_speed
+    >>> print(float(transverse_speed(0.0, 1000.0, 0.0, 10.0, 0.0, 0.0)))
+    10.0
+    >>> print(float(transverse_speed(0.0, 1000.0, 0.0, 0.0, -10.0, 0.0)))
+    0.0
+    """
+    xp, (x_, y_, z_, u, v, w) = _arrays.arrays(x, y, z, vx, vy, vz, broadcast=False)
+    cx = y_ * w - z_ * v
+    cy = z_ * u - x_ * w
+    cz = x_ * v - y_ * u
+    r2 = x_ * x_ + y_ * y_ + z_ * z_
+    c2 = cx * cx + cy * cy + cz * cz
+    # The double where: no division by zero where r = 0, and no square root at 0 (nor their
+    # NaN gradients) where the target moves along the line of sight or not at all.
+    moving = (r2 > 0) & (c2 > 0)
+    out = xp.where(moving, xp.sqrt(xp.where(moving, c2, 1.0) / xp.where(moving, r2, 1.0)), 0.0)
+    return _arrays.result(xp.where(xp.isnan(r2) | xp.isnan(c2), xp.nan, out))
 
 
 def heading_along(times: Any, waypoint_times: Any, waypoint_positions: Any, default: float) -> Any:

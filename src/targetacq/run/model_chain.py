@@ -172,6 +172,9 @@ def _subset(scene: core.SceneArrays, targets: slice) -> core.SceneArrays:
             hot_spot=t.hot_spot[targets],
             moving=t.moving[targets],
             foliage=None if t.foliage is None else t.foliage[targets],
+            hot_spot_ratio=None if t.hot_spot_ratio is None else t.hot_spot_ratio[targets],
+            hot_spot_size=None if t.hot_spot_size is None else t.hot_spot_size[targets],
+            graded_motion=t.graded_motion[targets],
         ),
         signature=dataclasses.replace(
             sig,
@@ -273,6 +276,13 @@ class ModelChain:
             scene = _subset(scene, targets)
         positions = self.steps["positions"](self, t, chosen)
         found = self.steps["factors"](self, scene, positions)
+        if any(scene.targets.graded_motion):  # graded motion: the scripted paths' velocities
+            found = dataclasses.replace(
+                found,
+                crossing_speed=core.crossing_speeds(
+                    positions[0], positions[1], core.scenario_velocities(self.scenario, t, chosen)
+                ),
+            )
         found = self.steps["clutter"](self, scene, found, positions[1], chosen)
         p = self.steps["probabilities"](self, scene, found)
         out = {
@@ -347,7 +357,9 @@ class ModelChain:
         the core has them: :mod:`targetacq.core.mrtd_rows`). Under the ``ttp`` resolution model
         the thermal sensors give TTP cases: their system, the contrast as a ΔT, the outline's
         area at ``time`` and no separate SNR (as the core has them:
-        :mod:`targetacq.core.ttp_rows`). Imaging
+        :mod:`targetacq.core.ttp_rows`). A target's graded hot spot, its speed across each line
+        of sight at ``time`` (graded motion) and the background's sky-to-ground ratio (TV and
+        colour rows with their own noise) are the cases' too. Imaging
         sensors only. A scenario's ranges in ``targetacq dri`` and its report (command
         line and web) do not use these cases: they come from the core for every sensor type
         (:func:`targetacq.core.pair_ranges.pair_performance`), with the outline seen from each
@@ -413,6 +425,7 @@ class ModelChain:
                     }
                     for g in range(len(targets.names))
                 ]
+        graded = self._graded_cases(t)
         cases: dict[str, RangeCase] = {}
         for s, sensor in enumerate(sensors.names):
             if get_sensor_type(sensors.types[s]).kind != "imaging":
@@ -452,8 +465,35 @@ class ModelChain:
                     # σ_path unknown: the core forms the SNR by the thesis's law too.
                     snr_law=choices.snr_law if sensors.path_contrast is not None else "sonesson",
                     **noise[s][g],
+                    **graded[s][g],
                 )
         return cases
+
+    def _graded_cases(self, time: float) -> list[list[dict[str, Any]]]:
+        """Each pair's graded cues as :class:`RangeCase` fields: a target's hot spot, its speed
+        across the sensor's line of sight at ``time`` (graded motion) and the background's
+        sky-to-ground ratio for a TV or colour row with its own noise."""
+        scene = self.compiled.scene
+        n_s, n_g = scene.shape
+        out: list[list[dict[str, Any]]] = [[{} for _ in range(n_g)] for _ in range(n_s)]
+        crossing = None
+        if any(scene.targets.graded_motion):
+            s_pos, t_pos, _ = core.scenario_positions(self.scenario, [time])
+            velocities = core.scenario_velocities(self.scenario, [time])
+            crossing = np.asarray(core.crossing_speeds(s_pos, t_pos, velocities))[..., 0]
+        k = scene.sensors.sky_to_ground
+        for g, target in enumerate(self.scenario.targets):
+            for s in range(n_s):
+                given = out[s][g]
+                if target.hot_spot_ratio is not None:
+                    given["hot_spot_ratio"] = target.hot_spot_ratio
+                    given["hot_spot_size"] = target.hot_spot_size
+                if crossing is not None and target.graded_motion:
+                    given["target_speed"] = float(crossing[s, g])
+                airlight = get_sensor_type(scene.sensors.types[s]).airlight
+                if k is not None and airlight and scene.sensors.noise_equivalent[s] > 0:
+                    given["sky_to_ground"] = float(k[s])
+        return out
 
     def evaluate(self, times: Any = None) -> Results:
         """Evaluate every sensor × target × time (default: the scenario's time grid), held in

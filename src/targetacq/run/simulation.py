@@ -560,6 +560,11 @@ class Simulation:
                 signal = self._signal if subset is None else self._signal[:, subset[2]]
                 scr = footprint_scr(self._terrain, found.range, t_pos, signal, self._ifov)
                 found = dataclasses.replace(found, scr=scr)
+            velocities = per_step.get("target_velocities")
+            if velocities is not None:  # graded motion: each pair's speed across its sight
+                found = dataclasses.replace(
+                    found, crossing_speed=core.crossing_speeds(s_pos, t_pos, velocities)
+                )
             if "moving" in per_step:
                 return found, bound.probabilities(found, moving=per_step["moving"])
             return found, bound.probabilities(found)
@@ -592,7 +597,10 @@ class Simulation:
         Only the array core runs on the inputs (:func:`targetacq.core.evaluate`), so NumPy
         arrays give NumPy and JAX arrays give JAX, under ``jax.jit`` too: with JAX positions
         the core gets the scene in JAX arrays (:func:`targetacq.core.records.as_jax`, made
-        once). A scenario with a terrain map needs NumPy arrays.
+        once). A scenario with a terrain map needs NumPy arrays. Positions alone carry no
+        velocity: targets with a graded motion cue are taken as standing still here (their
+        motion is graded in :meth:`targetacq.Simulation.step`, or by
+        :func:`targetacq.core.evaluate` with ``target_velocities``).
 
         Parameters
         ----------
@@ -753,6 +761,7 @@ class Simulation:
         per_step = per_step or {}
         if (
             self._terrain is None
+            and "target_velocities" not in per_step  # graded motion: the factors' path
             and isinstance(s_pos, np.ndarray)
             and isinstance(t_pos, np.ndarray)
         ):
@@ -777,6 +786,7 @@ class Simulation:
         *,
         moving: Array = None,
         visible_fraction: Array = None,
+        target_velocities: Array = None,
     ) -> StepResult:
         """Advance over ``(time − dt, time]`` with the positions at ``time``.
 
@@ -799,6 +809,13 @@ class Simulation:
         visible_fraction : array (n_targets,) or (n_sensors, n_targets), optional
             Fraction of each target's height in view at ``time``, in (0, 1] (occlusion from
             the caller's own world; NaN: unknown, NaN probabilities); default the targets' own.
+        target_velocities : array (n_targets, 3), optional
+            Each target's velocity over the ground at ``time`` [m/s] (east, north, up), for the
+            targets with a graded motion cue (``graded_motion``): their angular speed across
+            each sensor's line of sight weights the motion rule
+            (:func:`targetacq.core.crossing_speeds`). Default: the change of their positions
+            over the step, ``(p(time) − p(time − dt)) / dt`` (0 on the first step after a
+            reset). Ignored where no target has a graded motion cue.
 
         Returns
         -------
@@ -856,6 +873,9 @@ class Simulation:
             if moving is not None or (visible_fraction is not None)
             else None
         )
+        if any(self._scene.targets.graded_motion):
+            velocities = self._target_velocities(target_velocities, inputs[1], t, dt)
+            per_step = {**(per_step or {}), "target_velocities": velocities}
         in_view, p3, fused = self._step_arrays(inputs, per_step)
         started = state.p is not None and t > state.time
         current = (
@@ -907,6 +927,25 @@ class Simulation:
             events=self._events(interval),
             false_detections=false,
         )
+
+    def _target_velocities(self, given: Any, positions: Any, time: float, dt: float) -> Any:
+        """The targets' velocities of a step [m/s] (n_g, 3): ``given`` (checked), else the
+        change of their positions since the previous step over ``dt`` (0 on a first step)."""
+        n_g = self._shape[1]
+        if given is not None:
+            xp, (value,) = _arrays.arrays(given, names=("target_velocities",))
+            if tuple(value.shape) != (n_g, 3):
+                raise ValueError(
+                    f"target_velocities must have shape ({n_g}, 3) = (n_targets, 3): east, "
+                    f"north, up [m/s]; got {tuple(value.shape)}"
+                )
+            _arrays.require_finite("target_velocities", value, xp, "m/s")
+            return value
+        now = np.asarray(positions, dtype=float)
+        state = self._state
+        if self._previous is None or state.p is None or not time > state.time or not dt > 0:
+            return np.zeros((n_g, 3))
+        return (now - self._previous[1]) / dt
 
     def _events(self, interval: Any) -> Events:
         if interval is None:

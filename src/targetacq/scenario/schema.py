@@ -782,7 +782,16 @@ class Target(_Strict):
     the transmittance of foliage in front of the target, in [0, 1] (§6.8; 0 hides it), which
     multiplies the path's transmittance for every imaging sensor (left out: none); radars and
     laser radars take none. ``temperature``: a temperature, or its daily cycle
-    (:class:`DailyCycle`, with ``[time] hour``)."""
+    (:class:`DailyCycle`, with ``[time] hour``).
+
+    Cues (:mod:`targetacq.acquisition.cues`): ``hot_spot = true`` and ``moving = true`` are the
+    thesis's switches (the full cue). Graded instead: ``hot_spot_ratio``, the hot spot's own
+    signal-to-clutter ratio [1] (0.05 of the cue at 1, 0.95 at 10), with its linear size
+    ``hot_spot_size`` (e.g. "0.4 m"; a hot spot smaller than a resolution element is diluted, so
+    the cue fades with range); ``graded_motion = true``, a motion cue weighted by the target's
+    angular speed across each sensor's line of sight in pixels per second, from its own velocity
+    over the ground (its waypoints; a target standing still, or driving straight at the sensor,
+    gets none; the sensor's own motion moves the background as much and gives none)."""
 
     name: Name
     dimensions: tuple[Length, Length, Length]
@@ -800,6 +809,9 @@ class Target(_Strict):
     hot_spot: Flag = False
     foliage: Fraction | None = None
     image_box: tuple[PixelIndex, PixelIndex, PixelIndex, PixelIndex] | None = None
+    hot_spot_ratio: Annotated[Number, Field(ge=0.0)] | None = None
+    hot_spot_size: Length | None = None
+    graded_motion: Flag = False
 
     @field_validator("criterion")
     @classmethod
@@ -824,7 +836,25 @@ class Target(_Strict):
             raise ValueError(f"material must be one of {', '.join(MATERIALS)}")
         if self.emissivity is not None and self.material is not None:
             raise ValueError("give emissivity or material, not both")
+        self._check_cues()
         return self
+
+    def _check_cues(self) -> None:
+        """A cue is a switch or graded, not both; a hot spot's size goes with its ratio."""
+        if self.hot_spot and self.hot_spot_ratio is not None:
+            raise ValueError(
+                "give hot_spot = true (the full cue) or hot_spot_ratio (a graded one), not both"
+            )
+        if self.moving and self.graded_motion:
+            raise ValueError(
+                "give moving = true (the full cue) or graded_motion = true (graded by the "
+                "target's angular speed), not both"
+            )
+        if self.hot_spot_size is not None:
+            if self.hot_spot_ratio is None:
+                raise ValueError("hot_spot_size grades a hot spot: give its hot_spot_ratio too")
+            if not self.hot_spot_size > 0:
+                raise ValueError("hot_spot_size must be > 0 m")
 
 
 class TerrainClassSpec(_Strict):
@@ -867,7 +897,12 @@ class Background(_Strict):
     ``temperature``: a temperature, or its daily cycle (:class:`DailyCycle`, with ``[time]
     hour``). ``sky_temperature``: the effective sky temperature; thermal sensors then see
     surfaces of emissivity ε < 1 (targets and background) reflect ``1 − ε`` of the sky's band
-    exitance (§6.3, :func:`targetacq.physics.radiometry.sky_reflected_exitance`)."""
+    exitance (§6.3, :func:`targetacq.physics.radiometry.sky_reflected_exitance`).
+    ``sky_to_ground``: the ratio K of the horizon sky's luminance to the background's [1], >= 0
+    (Duntley 1948; about 0.2 for fresh snow, 1.4 to 5 for forest, Middleton 1952): the path's
+    airlight then leaves a TV or colour camera's own noise the contrast ``C τ / (τ + (1 − τ) K)``
+    instead of ``C τ`` (:func:`targetacq.physics.atmosphere.contrast_transmittance`); thermal
+    sensors are not affected (the path's emission adds equally to target and background)."""
 
     temperature: TemperatureOrCycle | None = None
     emissivity: Fraction | None = None
@@ -883,6 +918,7 @@ class Background(_Strict):
     terrain: Terrain | None = None
     sigma0: PowerRatio | None = None
     relief_std: Length | None = None
+    sky_to_ground: Annotated[Number, Field(ge=0.0)] | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Background:

@@ -106,6 +106,10 @@ class SensorType:
     table : str or None
         The scenario key of the table that belongs to this type only (``bands`` of a colour
         camera, ``radar``, ``laser``): required for it, refused for every other type.
+    airlight : bool
+        Whether the path's airlight reduces the contrast the type's own noise sees, by the
+        background's sky-to-ground ratio (the visible band's reflected light,
+        :func:`targetacq.physics.atmosphere.contrast_transmittance`); False: ``τ`` of it.
     """
 
     name: str
@@ -126,6 +130,7 @@ class SensorType:
     noise_key: str | None = None
     noise_elsewhere: str = ""
     table: str | None = None
+    airlight: bool = False
 
 
 SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
@@ -152,6 +157,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             path_contrast=tv.path_contrast,
             source="Sonesson (2004) §6.2, §9.4.1",
             noise_key="nec",
+            airlight=True,
         ),
         "colour": SensorType(
             "colour",
@@ -165,6 +171,7 @@ SENSOR_TYPES: Mapping[str, SensorType] = MappingProxyType(
             rows=colour.rows,
             noise_key="nec",
             table="bands",
+            airlight=True,
         ),
         "swir": SensorType(
             "swir",

@@ -20,7 +20,8 @@ that evaluate (``--engine``):
     'targetacq[jax]'``.
 ``auto``
     ``numba`` where it is installed and compiles the scene (its choices; no radars, laser
-    radars, MRTD-limited sensors, the TTP resolution model, foliage or a digitiser's step:
+    radars, MRTD-limited sensors, the TTP resolution model, foliage, a digitiser's step, graded
+    cues or airlight:
     :func:`targetacq.core.engines.numba_engine.supported`),
     else ``numpy``; the step API (:class:`targetacq.Simulation`) too (:func:`for_steps`): a
     time's pairs go through the numba engine's pair kernels in one call each

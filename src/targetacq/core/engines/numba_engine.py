@@ -72,9 +72,11 @@ def supported(scene: SceneArrays) -> str | None:
     motion rule and semantics of the registries. A transform, noise model, motion rule or
     semantics given as an object of one's own runs on the NumPy engine only; a scene with
     radars, laser radars, MRTD-limited sensors (a sensor's ``mrtd`` curve), the TTP resolution
-    model, foliage in front of a target or a sensor's digitiser step (``quantisation_step``) on
-    NumPy or JAX. Every SNR law of the registry compiles (the contrast law's SNR and its
-    threshold: the kernels' :func:`~targetacq.core.engines.numba_kernels.contrast_snr` and
+    model, foliage in front of a target, a sensor's digitiser step (``quantisation_step``),
+    graded cues (a target's ``hot_spot_ratio`` or ``graded_motion``) or a background's
+    ``sky_to_ground`` on NumPy or JAX. Every SNR law of the registry compiles (the contrast
+    law's SNR and its threshold: the kernels'
+    :func:`~targetacq.core.engines.numba_kernels.contrast_snr` and
     :func:`~targetacq.core.engines.numba_kernels.seen_probability`).
     """
     if scene.radar is not None or scene.laser is not None:
@@ -101,6 +103,17 @@ def supported(scene: SceneArrays) -> str | None:
         return (
             "the numba engine compiles Beer-Lambert paths; a named atmosphere (atmosphere.model, "
             "aerosol) runs on engine='numpy' (or 'jax')"
+        )
+    if scene.targets.graded:
+        return (
+            "the numba engine compiles the hot-spot and motion switches; graded cues (a "
+            "target's hot_spot_ratio or graded_motion, weighted per pair by its SCR, size and "
+            "angular speed) run on engine='numpy' (or 'jax')"
+        )
+    if scene.sensors.sky_to_ground is not None:
+        return (
+            "the numba engine compiles the contrast's transmittance τ; the airlight of a "
+            "background's sky_to_ground ratio runs on engine='numpy' (or 'jax')"
         )
     if scene.sensors.quantisation_step is not None:
         return (

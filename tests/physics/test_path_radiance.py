@@ -63,8 +63,15 @@ def test_thermal_path_radiance_by_quadrature_and_contrast_kept():
 
 
 def test_tv_case_snr_follows_the_apparent_contrast():
+    # The thesis's law: the sensor's SNR of the contrast Duntley's law leaves, added in variance
+    # to Eq. (7.7).
     gamma, r, c, nec = 0.5e-3, 2000.0, 0.3, 0.01
-    common = {"extinction": gamma, "contrast": c, "noise_equivalent_contrast": nec}
+    common = {
+        "extinction": gamma,
+        "contrast": c,
+        "noise_equivalent_contrast": nec,
+        "snr_law": "sonesson",
+    }
     plain = RangeCase(2.3, 2e-4, **common)
     for k in (1.0, 3.0):
         _, _, snr = case_factors(RangeCase(2.3, 2e-4, sky_to_ground=k, **common), r)
@@ -76,6 +83,19 @@ def test_tv_case_snr_follows_the_apparent_contrast():
         assert float(snr) == pytest.approx(expected, rel=1e-9)
         if k == 1.0:
             assert float(snr) == float(case_factors(plain, r)[2])
+
+
+def test_tv_case_contrast_law_takes_the_apparent_contrast():
+    # The contrast law with airlight: the contrast's transmittance t of Duntley's law replaces τ,
+    # SNR = t C / sqrt((NEC / g)² + ((1 − t) σ_path)²), σ_path = 1 (a contrast ratio of 1).
+    gamma, r, c, nec = 0.5e-3, 2000.0, 0.3, 0.01
+    common = {"extinction": gamma, "contrast": c, "noise_equivalent_contrast": nec}
+    for k in (1.0, 3.0):
+        _, _, snr = case_factors(RangeCase(2.3, 2e-4, sky_to_ground=k, **common), r)
+        gain = 2.3 / (r * 2e-4)  # sqrt of the pixels on target
+        t = 1.0 / (1.0 + k * math.expm1(gamma * r))
+        expected = 20.0 * math.log10(t * c / math.hypot(nec / gain, 1.0 - t))
+        assert float(snr) == pytest.approx(expected, rel=1e-9)
 
 
 def test_sky_to_ground_needs_the_tv_noise():

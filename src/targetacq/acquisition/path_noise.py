@@ -422,7 +422,8 @@ def seen_probability(snr: Array, threshold: Array = THRESHOLD_SNR) -> Any:
     """Probability that a target is seen above the noise: ``P = Φ(SNR_lin − k)``.
 
     The threshold-detection form (Holst) with the Rose threshold ``k`` (module docstring, the
-    ``contrast`` law). Smooth and increasing in SNR; 0 without signal, 1 without noise.
+    ``contrast`` law). Smooth and increasing in SNR; ``Φ(−k)`` without signal (0.0013 at the
+    default k = 3), 1 without noise.
 
     Parameters
     ----------

@@ -1188,6 +1188,8 @@ def factors(
             found = _without_snr(found, scene.sensors.mrtd.rows)
     if scene.sensors.ttp is not None:  # TTP rows: V from the TTP metric, no SNR on top
         found = ttp_rows.ttp_factors(scene, found, s_pos, t_pos, headings, visible)
+        if ttp_rows.HOLDS_NOISE:  # the TTP threshold holds the NETD and τ: no SNR on top
+            found = _without_snr(found, scene.sensors.ttp.rows)
     if active.has_active(scene):  # radars and laser radars: their rows' own factors
         return active.active_factors(scene, found, s_pos, t_pos, visible)
     return found
@@ -1195,7 +1197,8 @@ def factors(
 
 def _without_snr(found: Factors, rows: tuple[int, ...]) -> Factors:
     """``found`` with no noise at the sensor rows ``rows`` (SNR +inf): the MRTD-limited rows
-    under the default noise handling (:attr:`targetacq.core.records.ModelChoices.snr_on_mrtd`)."""
+    under the default noise handling (:attr:`targetacq.core.records.ModelChoices.snr_on_mrtd`)
+    and the TTP rows."""
     xp, (snr,) = _arrays.arrays(found.snr)
     n_s = snr.shape[0]
     mask = np.zeros((n_s,) + (1,) * (snr.ndim - 1), dtype=bool)

@@ -39,7 +39,7 @@ from targetacq.core.records import SceneArrays
 from targetacq.physics import geometry
 from targetacq.physics.ttp import ttp_cycles
 
-__all__ = ["outline_area", "ttp_factors"]
+__all__ = ["HOLDS_NOISE", "outline_area", "ttp_factors"]
 
 
 def ttp_factors(
@@ -50,7 +50,7 @@ def ttp_factors(
     headings: Array = None,
     visible: Array = None,
 ) -> Any:
-    """The factors with the cycles of the TTP rows from the TTP metric (and no SNR there).
+    """The factors with the cycles of the TTP rows from the TTP metric.
 
     Parameters
     ----------
@@ -70,8 +70,8 @@ def ttp_factors(
     Returns
     -------
     targetacq.core.Factors
-        A copy of ``found`` with new cycles and, where the TTP metric holds the noise, an SNR of
-        +inf at the TTP rows.
+        A copy of ``found`` with new cycles at the TTP rows (their SNR is cleared by the core
+        where :data:`HOLDS_NOISE`).
 
     Examples
     --------
@@ -95,9 +95,7 @@ def ttp_factors(
     limited = scene.sensors.ttp
     if limited is None:
         return found
-    xp, (rng, tau, cycles, snr) = _arrays.arrays(
-        found.range, found.transmittance, found.cycles, found.snr
-    )
+    xp, (rng, tau, cycles) = _arrays.arrays(found.range, found.transmittance, found.cycles)
     _, (s_pos, t_pos) = _arrays.arrays(sensor_positions, target_positions)
     shape = tuple(rng.shape)
     area = xp.broadcast_to(outline_area(scene, s_pos, t_pos, headings, visible), shape)
@@ -116,12 +114,12 @@ def ttp_factors(
         [_arrays.as_float(parts[r], xp) if r in parts else whole[r] for r in range(shape[0])],
         axis=0,
     )
-    changes: dict[str, Any] = {"cycles": new_cycles}
-    if RESOLUTION_MODELS["ttp"].includes_noise:  # its threshold holds the NETD and τ already
-        mask = np.zeros((shape[0],) + (1,) * (len(shape) - 1), dtype=bool)
-        mask[list(limited.rows)] = True
-        changes["snr"] = xp.where(xp.asarray(mask), xp.inf, snr)
-    return dataclasses.replace(found, **changes)
+    return dataclasses.replace(found, cycles=new_cycles)
+
+
+HOLDS_NOISE = RESOLUTION_MODELS["ttp"].includes_noise
+"""Whether the TTP rows' SNR is +inf (their threshold holds the NETD and τ already): the core
+then clears it with the same step as the MRTD rows'."""
 
 
 def outline_area(

@@ -16,10 +16,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 	touch $@
 
 # Tests cover the optional backends too: numba and JAX (the engines; the core under jit/grad),
-# Gymnasium, Dask, the docs extension that renders the registries (Sphinx), and the web explorer
-# (FastAPI, driven in tests by Playwright with the system's Chromium).
+# Gymnasium, Dask, the docs extension that renders the registries (Sphinx), the web explorer
+# (FastAPI, driven in tests by Playwright with the system's Chromium) and Stone Soup (tracking).
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web]'
+	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web,tracking]'
 	touch $@
 
 # The docs import every module they document (the API pages of targetacq.envs and targetacq.web

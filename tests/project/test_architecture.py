@@ -71,7 +71,13 @@ import pytest
 SRC = Path(__file__).resolve().parents[2] / "src"
 PACKAGE = "targetacq"
 CLI = "targetacq.cli"
-FRONT_ENDS = ("targetacq.cli", "targetacq.web", "targetacq.envs", "targetacq.validation")
+FRONT_ENDS = (
+    "targetacq.cli",
+    "targetacq.web",
+    "targetacq.envs",
+    "targetacq.tracking",
+    "targetacq.validation",
+)
 CLI_ENTRY_POINTS = ("targetacq.__main__",)
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # the package itself: re-exports (on first use) and __version__ only
@@ -91,6 +97,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "targetacq.cli",
             "targetacq.envs",
             "targetacq.examples",  # scripts shipped with the examples, run by users
+            "targetacq.tracking",
             "targetacq.validation",
             "targetacq.web",
         ),

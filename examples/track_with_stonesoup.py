@@ -188,7 +188,7 @@ def score(found: dict[str, Any]) -> dict[str, float]:
         "false tracks": float(false),
         "true detections": float(len(true)),
         "false detections": float(len(found["detections"]) - len(true)),
-        "expected false detections": float(found["expected"].sum()),
+        "expected false detections": float(found["expected"][1:].sum()),  # none in scan 1
         "clutter density [1/km^2 per scan]": float(found["densities"].max() * 1e6),
         "mean purity": float(np.mean(purity)) if purity else float("nan"),
         "mean position error [m]": float(np.mean(errors)) if errors else float("nan"),

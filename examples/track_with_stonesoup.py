@@ -1,15 +1,15 @@
-"""Track the UAV scene's vehicles with Stone Soup's JPDA, P_d and clutter from targetacq.
+"""Track two vehicles with Stone Soup's JPDA, P_d and clutter density from targetacq.
 
-The bundled scene ``uav_haze.toml`` (a UAV's thermal camera over three vehicles in haze) gets a
-``[false_targets]`` table (target-like clutter on the ground); :class:`targetacq.Simulation`
-steps it at 1 s scans along the scenario's paths and
+A drone's thermal camera hovers 300 m up over two roads (``SCENE``: a truck 1.8 km away, a jeep
+2.1 km away) among target-like clutter (a ``[false_targets]`` table). :class:`targetacq.Simulation`
+steps the scene at 1 s scans along the scripted paths and
 :class:`targetacq.tracking.TargetacqDetectionSimulator` gives the true detections of the
 acquired vehicles in view (10 m measurement noise) and the false detections as clutter. A JPDA
 tracker with a constant-velocity Kalman filter takes ``P_d`` of each track's predicted state and
 the clutter density of each scan from :class:`targetacq.tracking.TargetacqPDAHypothesiser`.
-Prints the tracks, their purity (the share of each track's detections that come from its main
-vehicle) and the mean position error. Run: ``python examples/track_with_stonesoup.py [plot.png]``
-(needs the ``tracking`` extra: ``pip install 'targetacq[tracking]'``).
+Prints the tracks on vehicles and on clutter, their purity and the mean position error. Run:
+``python examples/track_with_stonesoup.py [plot.png]`` (needs the ``tracking`` extra:
+``pip install 'targetacq[tracking]'``).
 """
 
 from __future__ import annotations

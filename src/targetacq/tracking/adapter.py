@@ -314,6 +314,45 @@ class TargetacqPDAHypothesiser(PDAHypothesiser):
     ------
     ValueError
         ``detection_model`` not a :class:`TargetacqDetectionModel`.
+
+    Examples
+    --------
+    A track 2 km outside the view of a camera looking straight down has ``P_d = 0``: the
+    missed-detection hypothesis takes all the weight.
+
+    >>> import math
+    >>> import numpy as np
+    >>> from stonesoup.models.measurement.linear import LinearGaussian
+    >>> from stonesoup.models.transition.linear import (
+    ...     CombinedLinearGaussianTransitionModel, ConstantVelocity)
+    >>> from stonesoup.predictor.kalman import KalmanPredictor
+    >>> from stonesoup.types.detection import Detection
+    >>> from stonesoup.types.state import GaussianState
+    >>> from stonesoup.types.track import Track
+    >>> from stonesoup.updater.kalman import KalmanUpdater
+    >>> from targetacq import Simulation
+    >>> from targetacq.tracking import EPOCH, TargetacqDetectionModel, TargetacqPDAHypothesiser
+    >>> sim = Simulation(
+    ...     [{"name": "cam", "band": "lwir", "ifov": 0.5e-3, "pixels": (640, 512),
+    ...       "azimuth": 0.0, "depression": math.pi / 2, "position": (0.0, 0.0, 500.0)}],
+    ...     [{"name": "truck", "dimensions": (7.0, 2.5, 3.0), "temperature": 305.0}],
+    ...     background={"temperature": 295.0},
+    ...     false_targets={"density": 1e-4, "probability": 0.05, "max_range": 1000.0},
+    ... )
+    >>> measurement = LinearGaussian(4, (0, 2), np.eye(2))
+    >>> hypothesiser = TargetacqPDAHypothesiser(
+    ...     predictor=KalmanPredictor(
+    ...         CombinedLinearGaussianTransitionModel([ConstantVelocity(0.1)] * 2)),
+    ...     updater=KalmanUpdater(measurement),
+    ...     detection_model=TargetacqDetectionModel(simulation=sim, scan_interval=1.0),
+    ... )
+    >>> for x in (0.0, 2000.0):
+    ...     track = Track([GaussianState([[x], [0.0], [0.0], [0.0]], np.eye(4), EPOCH)])
+    ...     seen = Detection([[x], [0.0]], timestamp=EPOCH, measurement_model=measurement)
+    ...     missed = next(h for h in hypothesiser.hypothesise(track, {seen}, EPOCH) if not h)
+    ...     print(round(float(missed.probability), 3))
+    0.0
+    1.0
     """
 
     detection_model: TargetacqDetectionModel = Property(

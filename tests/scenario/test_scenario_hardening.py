@@ -557,8 +557,10 @@ def test_problems_across_tables_are_all_listed():
 
     assert _problems(change) == [
         "background.temperature: missing: background.temperature is needed for thermal sensors",
-        "targets[0].temperature: thermal sensors need a temperature for every target",
-        "targets[1].temperature: thermal sensors need a temperature for every target",
+        "targets[0].temperature: thermal sensors need a temperature (or a signature_table) "
+        "for every target",
+        "targets[1].temperature: thermal sensors need a temperature (or a signature_table) "
+        "for every target",
     ]
 
 

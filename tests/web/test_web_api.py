@@ -4,6 +4,7 @@ import csv
 import io
 import itertools
 import json
+import math
 import subprocess
 import sys
 import warnings
@@ -205,6 +206,42 @@ def test_a_scenario_naming_an_mrtd_curve_is_refused(client, path):
     (item,) = _problem(client.post(path, json=body))
     assert item["loc"] == ["scenario", "sensors[1].mrtd"]
     assert "files are not read over HTTP" in item["msg"]
+
+
+@pytest.mark.parametrize("path", ["/evaluate", "/step"])
+def test_a_scenario_naming_a_signature_table_file_is_refused(client, path):
+    text = FUSED.read_text().replace(
+        'temperature = "306 K"', 'temperature = "306 K"\nsignature_table = "/etc/passwd"'
+    )
+    body = _step_body(scenario=text) if path == "/step" else {"scenario": text}
+    (item,) = _problem(client.post(path, json=body))
+    assert item["loc"] == ["scenario", "targets[0].signature_table"]
+    assert "files are not read over HTTP" in item["msg"]
+
+
+def test_a_signature_table_written_in_the_scenario_is_evaluated(client):
+    # The truck 2 km east of the mast, seen head-on (heading west, 270 deg: 293.2 K in the
+    # table, 0.2 K over the background) or from the rear (heading east, 90 deg: 316 K) by a
+    # camera of 50 mK: the thermal camera's detection differs, the TV camera's (reflectance,
+    # which the table does not change) does not.
+    table = (
+        'signature_table = { azimuth = ["0 deg", "180 deg"], elevation = ["0 deg"], '
+        'temperature = [["293.2 K"], ["316 K"]] }'
+    )
+    text = (
+        FUSED.read_text()
+        .replace('temperature = "306 K"', table)
+        .replace('aperture = "100 mm"', 'aperture = "100 mm"\nnetd = "50 mK"')
+    )
+    answers = []
+    for heading in (1.5 * math.pi, 0.5 * math.pi):
+        body = _step_body(scenario=text, target_headings=[heading, 0.0])
+        response = client.post("/step", json=body)
+        assert response.status_code == 200, response.text
+        answers.append(np.array(response.json()["detection"]))
+    front, rear = answers
+    assert rear[1, 0] > front[1, 0]  # thermal: warmer from the rear
+    assert rear[0, 0] == pytest.approx(front[0, 0], rel=1e-12)  # TV: the same
 
 
 def test_an_unknown_session_is_404(client):

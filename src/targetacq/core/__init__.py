@@ -23,6 +23,7 @@ from targetacq.core.evaluation import (
     probabilities,
 )
 from targetacq.core.records import (
+    AspectArrays,
     LaserArrays,
     ModelChoices,
     PathArrays,
@@ -36,6 +37,7 @@ from targetacq.core.records import (
 )
 
 __all__ = [
+    "AspectArrays",
     "CompiledScenario",
     "Factors",
     "LaserArrays",

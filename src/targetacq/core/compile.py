@@ -28,6 +28,7 @@ from targetacq.base.constants import SPEED_OF_LIGHT
 from targetacq.base.limits import BYTES_PER_EVALUATION, check_size
 from targetacq.core.cases import get_resolution_model
 from targetacq.core.records import (
+    AspectArrays,
     LaserArrays,
     ModelChoices,
     MrtdArrays,
@@ -40,6 +41,7 @@ from targetacq.core.records import (
     TtpArrays,
 )
 from targetacq.physics import atmosphere, geometry, radiometry
+from targetacq.physics.aspect import AspectTable
 from targetacq.physics.clutter import signal_to_clutter_ratio
 from targetacq.physics.named_atmospheres import NamedBandPath
 from targetacq.physics.ttp import TtpSystem
@@ -546,6 +548,112 @@ def _mrtd_curves(scenario: Any, problems: list[str]) -> dict[str, Any]:
     return curves
 
 
+def _aspect_tables(scenario: Any, problems: list[str]) -> dict[int, AspectTable]:
+    """The targets' signature tables by target index: files read, tables written in the
+    scenario converted; a file that cannot be read, or is not a table, and a table on a
+    feature that reads one contrast per pair, are problems located at
+    ``targets[j].signature_table``."""
+    tables: dict[int, AspectTable] = {}
+    for j, target in enumerate(scenario.targets):
+        try:
+            table = target.aspect_table()
+        except ValueError as error:
+            problems.append(f"targets[{j}].signature_table: {error}")
+            continue
+        if table is not None:
+            tables[j] = table
+    if not tables:
+        return tables
+    refused = [
+        (f"sensors[{k}].{name}", why)
+        for k, s in enumerate(scenario.sensors)
+        for name, why in (
+            ("quantisation_step", "its digitiser's test reads one contrast per pair"),
+            ("mrtd", "the MRTD rows read one contrast per pair"),
+        )
+        if getattr(s, name, None) is not None
+    ]
+    if scenario.model.resolution_model == "ttp":
+        refused.append(("model.resolution_model", "the TTP rows read one contrast per pair"))
+    first = min(tables)
+    problems += [
+        f"targets[{first}].signature_table: not with {where} ({why}); leave one out"
+        for where, why in refused
+    ]
+    return tables
+
+
+def _table_temperatures(scenario: Any, tables: dict[int, AspectTable]) -> Any:
+    """The scenario with each target that has a signature table and no temperature given the
+    table's mean (its temperature where one number stands for the target: a hot spot's, a
+    report's)."""
+    missing = [j for j in tables if scenario.targets[j].temperature is None]
+    if not missing:
+        return scenario
+    targets = list(scenario.targets)
+    background = scenario.background.temperature
+    for j in missing:
+        mean = float(np.mean(tables[j].grid))
+        if tables[j].quantity == "contrast":
+            mean += float(background)
+        targets[j] = targets[j].model_copy(update={"temperature": mean})
+    return scenario.model_copy(update={"targets": targets})
+
+
+def _aspect(
+    scenario: Any,
+    sensors: list[Any],
+    signatures: list[Signature],
+    tables: dict[int, AspectTable],
+    pixels: Any,
+) -> AspectArrays | None:
+    """Each pair's contrast over the aspect (:class:`AspectArrays`) for the targets with
+    signature tables: every table resampled on the union of the tables' nodes (exact: the
+    bilinear interpolant of a table is bilinear within each cell of a finer grid), each node's
+    temperature turned into a signal by the sensor type's own signature, as a target's one
+    temperature is. None without tables."""
+    if not tables:
+        return None
+    from targetacq.physics.aspect import interpolate_aspect
+
+    azimuth = np.unique(np.concatenate([t.azimuth for t in tables.values()]))
+    elevation = np.unique(np.concatenate([t.elevation for t in tables.values()]))
+    mesh_az, mesh_el = np.meshgrid(azimuth, elevation, indexing="ij")
+    n_s, n_g = len(sensors), len(scenario.targets)
+    static = _signature(scenario, sensors, signatures, pixels)
+    contrast = np.broadcast_to(
+        static.contrast[:, :, None, None], (n_s, n_g, azimuth.size, elevation.size)
+    ).copy()
+    background = scenario.background.temperature
+    nodes = {
+        j: np.asarray(
+            interpolate_aspect(
+                np.asarray(t.azimuth), np.asarray(t.elevation), t.grid, mesh_az, mesh_el
+            )
+        )
+        + (float(background) if t.quantity == "contrast" else 0.0)
+        for j, t in tables.items()
+    }
+    virtual = [
+        scenario.targets[j].model_copy(update={"temperature": float(value)})
+        for j in tables
+        for value in nodes[j].ravel()
+    ]
+    size = azimuth.size * elevation.size
+    for k, s in enumerate(sensors):
+        seen = get_sensor_type(s.type).signature(s, scenario.background, virtual)
+        signal = np.abs(np.asarray(seen.target, dtype=float) - seen.background)
+        for m, j in enumerate(tables):
+            contrast[k, j] = signal[m * size : (m + 1) * size].reshape(azimuth.size, -1)
+    clutter = None
+    bg = scenario.background
+    if bg.scr is None and pixels is None and bg.clutter_std is not None:
+        clutter = np.array(
+            [[np.nan if seen.clutter is None else seen.clutter] * n_g for seen in signatures]
+        )
+    return AspectArrays(azimuth=azimuth, elevation=elevation, contrast=contrast, clutter=clutter)
+
+
 def _mrtd(owned: list[tuple[str, Any]], curves: dict[str, Any]) -> MrtdArrays | None:
     """The MRTD-limited rows: each thermal row whose sensor has a curve, with the slope
     ``∂M_bb,band/∂T`` at its ``netd_temperature`` that turns its contrast into a ΔT (as the
@@ -684,6 +792,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)
     curves = _mrtd_curves(scenario, problems)
+    tables = _aspect_tables(scenario, problems)
     if scenario.model.resolution_model is not None:
         try:  # the registry's names (the schema's layer is below it)
             get_resolution_model(scenario.model.resolution_model)
@@ -692,6 +801,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     problems += _size_problems(scenario)
     if problems:
         raise ScenarioError(problems)
+    scenario = _table_temperatures(scenario, tables)
     criteria = _criteria(scenario)
     owned = _owned_rows(scenario)
     sensors = [row for _, row in owned]
@@ -724,7 +834,10 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         ),
         targets=_targets(scenario, criteria),
         path=_path(scenario),
-        signature=_signature(scenario, sensors, signatures, pixels),
+        signature=dataclasses.replace(
+            _signature(scenario, sensors, signatures, pixels),
+            aspect=_aspect(scenario, sensors, signatures, tables, pixels),
+        ),
         choices=choices,
         radar=_radar(scenario, sensors),
         laser=_laser(scenario, sensors),

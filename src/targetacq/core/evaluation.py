@@ -101,6 +101,7 @@ from targetacq.base.arrays import Array
 from targetacq.core import active, mrtd_rows, ttp_rows
 from targetacq.core.pair_factors import SensorNoise, imager_factors
 from targetacq.core.records import (
+    AspectArrays,
     ModelChoices,
     SceneArrays,
     SensorArrays,
@@ -108,7 +109,7 @@ from targetacq.core.records import (
     derived,
     pytree_record,
 )
-from targetacq.physics import atmosphere, detector_noise, geometry, named_atmospheres
+from targetacq.physics import aspect, atmosphere, detector_noise, geometry, named_atmospheres
 from targetacq.physics.clutter import signal_to_clutter_ratio
 
 __all__ = [
@@ -919,6 +920,8 @@ def _numpy_path(
         return False
     if scene.sensors.sky_to_ground is not None:  # airlight on the contrast: the generic chain
         return False
+    if scene.signature.aspect is not None:  # signature tables: a contrast per pair and batch
+        return False
     return _numpy_scene(scene)
 
 
@@ -1295,14 +1298,19 @@ def _factors_generic(
         )
     if targets.foliage is not None:  # foliage in front of the targets: τ_f more (§6.8)
         depth = depth + _per_target(_foliage_depth(targets.foliage, xp), batch, xp)
+    contrast = xp.reshape(
+        _arrays.as_float(scene.signature.contrast, xp), (*scene.shape,) + (1,) * batch
+    )
+    if scene.signature.aspect is not None:  # signature tables: each pair's at its aspect
+        contrast, aspect_scr = _aspect_contrast(scene.signature.aspect, x, y, z, heading, xp)
+        if scr is None:
+            scr = aspect_scr
     if scr is None and scene.signature.scr is not None:
         scr = xp.reshape(_arrays.as_float(scene.signature.scr, xp), (*scene.shape,) + (1,) * batch)
     noise = None
     if sensors.has_noise:
         noise = SensorNoise(
-            contrast=xp.reshape(
-                _arrays.as_float(scene.signature.contrast, xp), (*scene.shape,) + (1,) * batch
-            ),
+            contrast=contrast,
             noise_equivalent=_per_sensor(sensors.noise_equivalent, batch, xp),
             ifov=_per_sensor(sensors.ifov, batch, xp),
             # The area seen: the outline's horizontal side times the visible part of its height.
@@ -1328,6 +1336,27 @@ def _factors_generic(
         snr=snr,
         scr=scr,
     )
+
+
+def _aspect_contrast(
+    table: AspectArrays, x: Any, y: Any, z: Any, heading: Any, xp: Any
+) -> tuple[Any, Any]:
+    """Each pair's contrast at the aspect the sensor sees the target from ``(n_s, n_g, *batch)``
+    [W/m²] (:func:`targetacq.physics.aspect.interpolate_aspect` of the scene's tables), and
+    the SCR that follows it where the clutter is a spread (None otherwise: the scene's)."""
+    azimuth, elevation = aspect.observer_aspect(x, y, z, heading)
+    contrast = aspect.interpolate_aspect(
+        _arrays.as_float(table.azimuth, xp),
+        _arrays.as_float(table.elevation, xp),
+        _arrays.as_float(table.contrast, xp),
+        azimuth,
+        elevation,
+    )
+    if table.clutter is None:
+        return contrast, None
+    clutter = _arrays.as_float(table.clutter, xp)
+    spread = xp.reshape(clutter, tuple(clutter.shape) + (1,) * (contrast.ndim - 2))
+    return contrast, signal_to_clutter_ratio(contrast, 0.0, spread)
 
 
 def crossing_speeds(

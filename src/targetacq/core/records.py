@@ -349,6 +349,36 @@ class PathArrays:
 
 @pytree_record
 @dataclass(frozen=True)
+class AspectArrays:
+    """Signatures that depend on the aspect (:mod:`targetacq.physics.aspect`): each pair's
+    contrast tabulated over where the sensor sees the target from.
+
+    Every target's table is on one grid of the scene (the union of the tables' nodes, on which
+    each table's bilinear interpolant is exact); a target without a table has its one contrast
+    at every node.
+
+    Attributes
+    ----------
+    azimuth : array (n_az,)
+        The grid's azimuths [rad], ascending in [0, 2π), from the target's heading clockwise.
+    elevation : array (n_el,)
+        The grid's elevations [rad], ascending.
+    contrast : array (n_s, n_g, n_az, n_el)
+        ``|target − background|`` signal at the scene [W/m²] at each node.
+    clutter : array (n_s, n_g) or None
+        The clutter spread [W/m²] whose ratio to the contrast is the SCR (a background's
+        ``clutter_std``); None where the SCR does not follow the contrast (a given SCR, an
+        image's, none).
+    """
+
+    azimuth: Any
+    elevation: Any
+    contrast: Any
+    clutter: Any = None
+
+
+@pytree_record
+@dataclass(frozen=True)
 class SignatureArrays:
     """What each sensor sees of each target, independent of where they are.
 
@@ -362,16 +392,21 @@ class SignatureArrays:
     scr : array (n_s, n_g) or None
         Signal-to-clutter ratio where the clutter does not depend on the positions; None where
         the scenario gives no clutter measure (or a terrain map, evaluated per position).
+        With :attr:`aspect`, ``contrast`` and ``scr`` are those the pair's aspect replaces.
     clutter_rows : tuple of bool
         Which sensor rows have a clutter measure (the SCR, a terrain map), where that differs
         from row to row (a scene with radars or laser radars); empty: every row has one exactly
         when ``scr`` is given (or an SCR is passed per position).
+    aspect : AspectArrays or None
+        Contrasts (and SCRs) over the aspect, for scenes whose targets have signature tables;
+        the core reads each pair's at its aspect.
     """
 
     contrast: Any
     target: Any
     scr: Any = None
     clutter_rows: tuple[bool, ...] = _static(())
+    aspect: AspectArrays | None = None
 
     def rows_with_clutter(self, n_rows: int, given: bool) -> tuple[bool, ...]:
         """Whether each of ``n_rows`` rows has a clutter measure: :attr:`clutter_rows`, or
@@ -614,6 +649,13 @@ def take_targets(scene: SceneArrays, index: Array) -> SceneArrays:
         contrast=_take(sig.contrast, chosen, 1),
         target=_take(sig.target, chosen, 1),
         scr=_take(sig.scr, chosen, 1),
+        aspect=None
+        if sig.aspect is None
+        else dataclasses.replace(
+            sig.aspect,
+            contrast=_take(sig.aspect.contrast, chosen, 1),
+            clutter=_take(sig.aspect.clutter, chosen, 1),
+        ),
     )
     return dataclasses.replace(scene, targets=targets, signature=signature)
 

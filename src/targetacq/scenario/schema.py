@@ -94,6 +94,7 @@ from targetacq.base.limits import (
 from targetacq.base.registry import lookup, unknown_name
 from targetacq.base.units import is_quantity, to_si
 from targetacq.physics import atmosphere as _atmosphere
+from targetacq.physics.aspect import AspectTable
 from targetacq.physics.named_atmospheres import AEROSOLS, ATMOSPHERES, NamedPath
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.physics.radiometry import MATERIALS, diurnal_temperature
@@ -775,6 +776,56 @@ def held_temperature(value: float | DailyCycle | None, hour: float | None) -> fl
     return value.at(hour)
 
 
+_MAX_TABLE_NODES = 3601
+"""Most azimuths (or elevations) of a signature table written in a scenario (0.1 deg steps)."""
+
+
+class SignatureTableSpec(_Strict):
+    """A signature table written in the scenario (:mod:`targetacq.physics.aspect`): the
+    observer's ``azimuth`` (from the target's heading, clockwise; 0 head-on) and ``elevation``
+    (above the target's horizontal plane), each a list of angles ("0 deg", "45 deg", ...,
+    strictly ascending), and ``temperature`` [K] or ``contrast`` (the target's temperature
+    minus the background's [K]): one list per azimuth, of one value per elevation."""
+
+    azimuth: Annotated[list[Angle], Field(min_length=1, max_length=_MAX_TABLE_NODES)]
+    elevation: Annotated[list[Angle], Field(min_length=1, max_length=_MAX_TABLE_NODES)]
+    temperature: list[list[Temperature]] | None = None
+    contrast: list[list[TemperatureDifference]] | None = None
+
+    @model_validator(mode="after")
+    def _check(self) -> SignatureTableSpec:
+        self.table()  # the grid's shape, order and range, said once (AspectTable's checks)
+        return self
+
+    def table(self, source: str = "inline") -> AspectTable:
+        """The table as a :class:`targetacq.physics.aspect.AspectTable` [rad, K]."""
+        given = [
+            (q, v) for q, v in (("temperature", self.temperature), ("contrast", self.contrast))
+        ]
+        present = [(q, v) for q, v in given if v is not None]
+        if len(present) != 1:
+            raise ValueError("give temperature or contrast (one list per azimuth), not both")
+        quantity, values = present[0]
+        return AspectTable(
+            tuple(self.azimuth),
+            tuple(self.elevation),
+            tuple(tuple(row) for row in values),
+            quantity,
+            source,
+        )
+
+
+def _table_kind(value: Any) -> str:
+    return "table" if isinstance(value, (Mapping, SignatureTableSpec)) else "file"
+
+
+TableOrFile = Annotated[
+    Annotated[str, Tag("file")] | Annotated[SignatureTableSpec, Tag("table")],
+    Discriminator(_table_kind),
+]
+"""A signature table: its CSV file's path, or the table itself (:class:`SignatureTableSpec`)."""
+
+
 class Target(_Strict):
     """A target: a box ``dimensions`` = [length, width, height] with its long axis along
     ``heading`` (from north, clockwise; the direction of motion when it moves along waypoints).
@@ -791,7 +842,16 @@ class Target(_Strict):
     the cue fades with range); ``graded_motion = true``, a motion cue weighted by the target's
     angular speed across each sensor's line of sight in pixels per second, from its own velocity
     over the ground (its waypoints; a target standing still, or driving straight at the sensor,
-    gets none; the sensor's own motion moves the background as much and gives none)."""
+    gets none; the sensor's own motion moves the background as much and gives none).
+
+    Signature over the aspect (:mod:`targetacq.physics.aspect`): ``signature_table``, the path
+    of a CSV file (columns ``azimuth``, ``elevation`` in degrees and ``temperature`` or
+    ``contrast`` in K, optionally ``state``, picked by ``signature_state`` such as
+    ``"engine-on"``; in a scenario file relative to its folder) or a table written in the
+    scenario (:class:`SignatureTableSpec`): each sensor sees the target's temperature from the
+    side it looks at (the azimuth from the target's heading, the elevation above its plane),
+    interpolated bilinearly. ``temperature`` may then be left out (the table's mean stands for
+    it where one number is needed)."""
 
     name: Name
     dimensions: tuple[Length, Length, Length]
@@ -812,6 +872,8 @@ class Target(_Strict):
     hot_spot_ratio: Annotated[Number, Field(ge=0.0)] | None = None
     hot_spot_size: Length | None = None
     graded_motion: Flag = False
+    signature_table: TableOrFile | None = None
+    signature_state: Name | None = None
 
     @field_validator("criterion")
     @classmethod
@@ -837,7 +899,27 @@ class Target(_Strict):
         if self.emissivity is not None and self.material is not None:
             raise ValueError("give emissivity or material, not both")
         self._check_cues()
+        if self.signature_state is not None and not isinstance(self.signature_table, str):
+            raise ValueError(
+                "signature_state picks a state of a signature table file (its state column): "
+                'give signature_table = "FILE.csv" too'
+            )
         return self
+
+    def aspect_table(self) -> AspectTable | None:
+        """The target's signature table, read (a file) or converted (written in the
+        scenario); None without one.
+
+        Raises
+        ------
+        ValueError
+            A file that cannot be read or is not a table (:meth:`AspectTable.from_csv`).
+        """
+        if self.signature_table is None:
+            return None
+        if isinstance(self.signature_table, str):
+            return AspectTable.from_csv(self.signature_table, self.signature_state)
+        return self.signature_table.table()
 
     def _check_cues(self) -> None:
         """A cue is a switch or graded, not both; a hot spot's size goes with its ratio."""
@@ -1736,8 +1818,8 @@ def load_scenario(path: str | Path) -> Scenario:
 
     The file is a regular file of at most :data:`targetacq.base.limits.MAX_INPUT_BYTES`, in UTF-8
     (a byte-order mark is allowed; :func:`targetacq.base.inputs.read_input_text`). Relative
-    ``image`` and terrain ``map`` paths, and sensors' ``mrtd`` curves, are taken from the file's
-    folder.
+    ``image`` and terrain ``map`` paths, sensors' ``mrtd`` curves and targets'
+    ``signature_table`` files are taken from the file's folder.
 
     Raises
     ------
@@ -1776,4 +1858,17 @@ def load_scenario(path: str | Path) -> Scenario:
             for s in scenario.sensors
         ]
         scenario = scenario.model_copy(update={"sensors": sensors})
+    if any(_relative_file(t.signature_table) for t in scenario.targets):
+        targets = [
+            t.model_copy(update={"signature_table": str(source.parent / t.signature_table)})
+            if isinstance(t.signature_table, str) and _relative_file(t.signature_table)
+            else t
+            for t in scenario.targets
+        ]
+        scenario = scenario.model_copy(update={"targets": targets})
     return scenario
+
+
+def _relative_file(value: Any) -> bool:
+    """Whether ``value`` names a file by a relative path."""
+    return isinstance(value, str) and not Path(value).is_absolute()

@@ -79,9 +79,10 @@ def requirements(scenario: Any) -> list[str]:
             "background.temperature: missing: background.temperature is needed for thermal sensors"
         )
     problems += [
-        f"targets[{k}].temperature: thermal sensors need a temperature for every target"
+        f"targets[{k}].temperature: thermal sensors need a temperature (or a signature_table) "
+        "for every target"
         for k, t in enumerate(scenario.targets)
-        if t.temperature is None
+        if t.temperature is None and t.signature_table is None
     ]
     if scenario.atmosphere.visibility is not None and scenario.atmosphere.named_path() is None:
         problems.append(

@@ -708,6 +708,20 @@ def _scenario(text: str) -> tuple[Scenario, list[str]]:
                     )
                 ],
             )
+    targets = data.get("targets")
+    for k, target in enumerate(targets if isinstance(targets, list) else []):
+        if isinstance(target, dict) and isinstance(target.get("signature_table"), str):
+            raise ApiError(
+                422,
+                [
+                    (
+                        ["scenario", f"targets[{k}].signature_table"],
+                        f"{_FILES_REFUSED}: write the table in the scenario (signature_table = "
+                        "{azimuth = [...], elevation = [...], temperature = [[...]]}) or run it "
+                        "with targetacq evaluate FILE",
+                    )
+                ],
+            )
     with _library_errors(), collected() as found:
         scenario = parse_scenario(data, source="scenario")
     return scenario, [message.removeprefix("scenario: ") for message in found]

@@ -94,6 +94,11 @@ def supported(scene: SceneArrays) -> str | None:
             "the numba engine compiles the geometric resolution; the TTP resolution model "
             "(model.resolution_model = 'ttp') runs on engine='numpy' (or 'jax')"
         )
+    if scene.signature.aspect is not None:
+        return (
+            "the numba engine compiles one contrast per pair; signature tables over the aspect "
+            "(a target's signature_table) run on engine='numpy' (or 'jax')"
+        )
     if scene.targets.foliage is not None:
         return (
             "the numba engine compiles the path of the atmosphere; foliage in front of a target "

@@ -15,9 +15,11 @@ that evaluate (``--engine``):
     noise model, motion rule and semantics of the registries. Compiled on first use and cached
     on disk: about a minute once per installation, then none.
 ``jax``
-    The core under ``jax.jit`` in float64, on JAX's default device (a GPU where JAX has one);
-    NumPy arrays in and out; equal to the NumPy engine to about 1e-12. ``pip install
-    'targetacq[jax]'``.
+    The core under ``jax.jit`` in float64, on JAX's default device (a GPU where JAX has one):
+    one jitted call from positions to probabilities, in chunks of a fixed shape so that a run
+    compiles once (:mod:`targetacq.core.engines.jax_engine`); NumPy arrays in and out; equal to
+    the NumPy engine to about 1e-12. ``pip install 'targetacq[jax]'`` (CPU) or
+    ``'targetacq[jax-cuda]'`` (NVIDIA GPU, CUDA 12).
 ``auto``
     ``numba`` where it is installed and compiles the scene (its choices; no radars, laser
     radars, MRTD-limited sensors, the TTP resolution model, foliage, a digitiser's step, graded

@@ -65,6 +65,7 @@ __all__ = [
     "TABLE_N50_SPREAD",
     "Uncertainty",
     "lognormal_factors",
+    "observer_factor",
     "parse_spread",
     "read_uncertainty",
     "uncertainty_curves",
@@ -199,6 +200,25 @@ class Uncertainty:
         for name in ("n50_spread", "observer_spread", "netd_spread", "extinction_spread"):
             object.__setattr__(self, name, _check_spread(name, getattr(self, name)))
 
+    def applicable_to(self, case: RangeCase) -> Uncertainty:
+        """This run with the spreads of inputs that ``case`` lacks set to 0: the NETD's
+        without a sensor noise-equivalent contrast (or with the TTP model), the extinction's
+        without a Beer–Lambert extinction. For cases side by side (a report over a clear and a
+        hazy path), where a spread applies to those that have the input.
+
+        Examples
+        --------
+        >>> Uncertainty(100, extinction_spread=0.2).applicable_to(RangeCase(2.3, 2e-4))
+        ... # doctest: +ELLIPSIS
+        Uncertainty(samples=100, seed=0, n50_spread=0.25, ..., extinction_spread=0.0)
+        """
+        changes: dict[str, Any] = {}
+        if case.noise_equivalent_contrast is None or case.ttp is not None:
+            changes["netd_spread"] = 0.0
+        if case.extinction is None:
+            changes["extinction_spread"] = 0.0
+        return dataclasses.replace(self, **changes)
+
     def description(self) -> dict[str, Any]:
         """The run as a JSON-ready record: samples, seed, band and each input's distribution."""
         return {
@@ -247,6 +267,38 @@ def lognormal_factors(spread: float, seed: int, purpose: int, samples: int) -> n
     sigma = math.sqrt(math.log1p(spread * spread))
     u = uniforms(stream_key(seed, "uncertainty"), 0, np.arange(samples), purpose)
     return np.exp(sigma * ndtri(u))
+
+
+def observer_factor(spread: float, seed: int, run: int) -> float:
+    """The N50 factor of run ``run``'s observer: sample ``run`` of the observer's stream of
+    :func:`lognormal_factors` (so run ``r`` of a simulation has the observer of sample ``r`` of
+    a DRI Monte Carlo with the same seed and spread).
+
+    Parameters
+    ----------
+    spread : float
+        Relative standard deviation [1], in [0, 1].
+    seed : int
+    run : int
+        In [0, 2**32).
+
+    Returns
+    -------
+    float
+        > 0; 1.0 for a spread of 0.
+
+    Examples
+    --------
+    >>> f = lognormal_factors(0.2, 5, 2, 4)
+    >>> observer_factor(0.2, 5, 3) == float(f[3])
+    True
+    """
+    spread = _check_spread("observer_spread", spread)
+    if not spread:
+        return 1.0
+    sigma = math.sqrt(math.log1p(spread * spread))
+    u = uniforms(stream_key(seed, "uncertainty"), 0, np.asarray([run]), _OBSERVER)
+    return float(np.exp(sigma * ndtri(u))[0])
 
 
 def _sampled_case(case: RangeCase, uncertainty: Uncertainty) -> RangeCase:

@@ -51,26 +51,34 @@ def test_closed_form_band_is_the_lognormal_quantiles():
     assert found["p50"][0] == pytest.approx(5750.0, rel=0.01)
 
 
-@settings(max_examples=8)
+@settings(max_examples=12)
 @given(
     spread=st.floats(0.02, 0.5),
     wider=st.floats(1.2, 2.0),
     seed=st.integers(0, 2**32),
     p=st.sampled_from([0.5, 0.8]),
+    drawn=st.sampled_from(
+        [
+            (CLEAR, "n50_spread"),
+            (CLEAR, "observer_spread"),
+            (HAZE, "netd_spread"),
+            (HAZE, "extinction_spread"),
+        ]
+    ),
 )
-def test_band_contains_the_nominal_range_and_grows_with_the_spread(spread, wider, seed, p):
-    for case, knob in ((CLEAR, "n50_spread"), (HAZE, "extinction_spread")):
-        # one input drawn: the range is monotone in it, so the same draws spread wider
-        others = {"n50_spread": 0.0}
-        narrow_u = Uncertainty(100, seed=seed, **{**others, knob: spread})
-        wide_u = Uncertainty(100, seed=seed, **{**others, knob: min(1.0, spread * wider)})
-        narrow = uncertainty_ranges(case, [p], narrow_u)
-        wide = uncertainty_ranges(case, [p], wide_u)
-        for task in ("detection", "recognition", "identification"):
-            a, b = narrow[task], wide[task]
-            assert a["p05"][0] <= a["nominal"][0] <= a["p95"][0]
-            assert b["p05"][0] <= b["nominal"][0] <= b["p95"][0]
-            assert b["p95"][0] - b["p05"][0] > a["p95"][0] - a["p05"][0]
+def test_band_contains_the_nominal_range_and_grows_with_the_spread(spread, wider, seed, p, drawn):
+    case, knob = drawn
+    # one input drawn: the range is monotone in it, so the same draws spread wider
+    others = {"n50_spread": 0.0}
+    narrow_u = Uncertainty(100, seed=seed, **{**others, knob: spread})
+    wide_u = Uncertainty(100, seed=seed, **{**others, knob: min(1.0, spread * wider)})
+    narrow = uncertainty_ranges(case, [p], narrow_u)
+    wide = uncertainty_ranges(case, [p], wide_u)
+    for task in ("detection", "recognition", "identification"):
+        a, b = narrow[task], wide[task]
+        assert a["p05"][0] <= a["nominal"][0] <= a["p95"][0]
+        assert b["p05"][0] <= b["nominal"][0] <= b["p95"][0]
+        assert b["p95"][0] - b["p05"][0] > a["p95"][0] - a["p05"][0]
 
 
 def test_every_input_spread_widens_the_band():
@@ -188,3 +196,27 @@ def test_spreads_of_inputs_the_case_lacks_raise():
 def test_module_draws_have_one_stream_per_input():
     purposes = {unc._N50, unc._OBSERVER, unc._NETD, unc._EXTINCTION}
     assert len(purposes) == 4
+
+
+def test_mrtd_samples_are_cases_with_the_n50s_scaled():
+    # The MRTD's cycles are f*(τ ΔT) · d / R: an N50 × f is the critical dimension ÷ f.
+    from targetacq.physics.mrtd import MrtdCurve
+
+    curve = MrtdCurve(frequency=(500.0, 1000.0, 1500.0), mrtd=(0.05, 0.1, 0.4))
+    case = RangeCase(2.3, 2e-4, mrtd=curve, contrast=1.0, extinction=0.3e-3)
+    found = uncertainty_ranges(case, [0.5], Uncertainty(30, seed=2))["identification"]
+    f = lognormal_factors(0.25, 2, 1, 30)
+    for i in (0, 29):
+        n50 = {"detection": f[i], "recognition": 4.0 * f[i], "identification": 6.4 * f[i]}
+        alone = RangeCase(2.3, 2e-4, mrtd=curve, contrast=1.0, extinction=0.3e-3, criterion=n50)
+        expected = float(ranges.case_ranges(alone, 0.5)["identification"])
+        assert found["samples"][i, 0] == pytest.approx(expected, rel=1e-6)
+    assert found["p05"][0] < found["nominal"][0] < found["p95"][0]
+
+
+def test_band_contains_the_nominal_range_with_every_input_drawn():
+    # four inputs, each median at its nominal value: at least 2^-4 of the samples on each side
+    u = Uncertainty(300, seed=21, observer_spread=0.3, netd_spread=0.3, extinction_spread=0.3)
+    for task, band in uncertainty_ranges(HAZE, [0.5, 0.9], u).items():
+        assert np.all(band["p05"] < band["nominal"]), task
+        assert np.all(band["nominal"] < band["p95"]), task

@@ -38,8 +38,8 @@ from targetacq.run.uncertainty import read_uncertainty, uncertainty_report
 
 
 @app.command()
-@range_case_options
 @uncertainty_options
+@range_case_options
 def dri(
     scenario: Annotated[
         str | None,

@@ -240,8 +240,8 @@ def plot(
 
 
 @app.command()
-@range_case_options
 @uncertainty_options
+@range_case_options
 def report(
     scenario: Annotated[
         str | None,

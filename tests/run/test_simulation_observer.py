@@ -44,6 +44,10 @@ def test_a_runs_observer_is_a_criterion_with_its_n50s_scaled():
         np.testing.assert_allclose(
             sim.probabilities(0.0, *AT).detection, scaled.probabilities(0.0, *AT).detection
         )
+        # the step's own path (the bound engine's one-call step) too
+        np.testing.assert_allclose(
+            sim.step(0.0, 0.1, *AT).recognition, scaled.step(0.0, 0.1, *AT).recognition
+        )
     factors = {observer_factor(0.3, 4, run) for run in range(20)}
     assert len(factors) == 20 and min(factors) < 1.0 < max(factors)
 

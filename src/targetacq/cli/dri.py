@@ -19,7 +19,7 @@ from targetacq.cli import (
     _model_line,
     app,
 )
-from targetacq.cli.options import range_case_options
+from targetacq.cli.options import range_case_options, uncertainty_options
 from targetacq.cli.params import complete_names
 from targetacq.io.files import json_text
 from targetacq.physics import atmosphere, named_atmospheres
@@ -34,9 +34,11 @@ from targetacq.run.range_options import (
     option_quantity,
     range_setup,
 )
+from targetacq.run.uncertainty import read_uncertainty, uncertainty_report
 
 
 @app.command()
+@uncertainty_options
 @range_case_options
 def dri(
     scenario: Annotated[
@@ -45,6 +47,7 @@ def dri(
     ] = None,
     *,
     case_options: dict[str, Any],
+    uncertainty_options: dict[str, Any],
     output_format: FormatOption = "table",
 ) -> None:
     """Ranges at which each task (detection, recognition, identification) reaches a probability.
@@ -53,9 +56,25 @@ def dri(
     combination, as `targetacq sweep` does (same keys in JSON and CSV). Given a scenario file,
     the ranges of each of its sensor-target pairs, any sensor type (takes --probability only).
 
+    With --uncertainty N, each range comes with its 5–95 % band over N samples of the N50s
+    (±25 %, Sonesson Table 3.2) and the spreads given: --observer-spread, --netd-spread,
+    --extinction-spread.
+
     Example: targetacq dri --pitch 17um --focal-length 50mm,75mm --critical-dimension 2.3m
+
+    Example: targetacq dri --example --visibility 10km --uncertainty 500 --extinction-spread 20%
     """
     option_choice(output_format, FORMATS, "--format")
+    uncertainty = read_uncertainty(uncertainty_options)
+    if uncertainty is not None and (scenario is not None or option_lists(case_options)):
+        raise ValueError(
+            "--uncertainty takes one range case (the sensor, target and path options, one "
+            "value each), not a scenario file or lists"
+        )
+    if uncertainty is not None:
+        setup = range_setup(typed_options(case_options, "dri"), "0.5")
+        typer.echo(_render(uncertainty_report(setup, uncertainty), output_format), nl=False)
+        return
     if scenario is not None:
         typer.echo(_scenario_dri(scenario, case_options, output_format), nl=False)
         return
@@ -299,20 +318,39 @@ def _render(report: dict[str, Any], output_format: str) -> str:
             f"path: extinction {path['extinction_np_per_km']:.4g} Np/km ({path['description']}; "
             f"{path['source']}), noise model {report['noise_model']}"
         )
+    band = report.get("uncertainty")
+    if band is not None:
+        spreads = ", ".join(
+            f"{name} {value:.0%}" for name, value in band["spreads"].items() if value
+        )
+        lines.append(
+            f"uncertainty: {band['samples']} samples (seed {band['seed']}), lognormal spreads "
+            f"{spreads or 'none'}; 5–95 % band of each range"
+        )
     lines.append("")
     unit = rows[0]["threshold_unit"]
     header = f"{'task':<16}{'P':>6}  {'N50 [' + unit + ']':>18}  {'range [m]':>12}"
+    if band is not None:
+        header += f"  {'5 % [m]':>12}  {'95 % [m]':>12}"
     lines += [header, "-" * len(header)]
     for row in rows:
         p = "-" if row["probability"] is None else f"{row['probability']:.2f}"
-        if not row["reached"]:
-            r = "not reached"
-        elif math.isinf(row["range_m"]):
-            r = "any"
-        else:
-            r = f"{row['range_m']:,.0f}"
-        lines.append(f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {r:>12}")
+        line = (
+            f"{row['task']:<16}{p:>6}  {row['threshold']:>18.4g}  {_range_text(row['range_m']):>12}"
+        )
+        if band is not None:
+            line += (
+                f"  {_range_text(row['range_p05_m']):>12}  {_range_text(row['range_p95_m']):>12}"
+            )
+        lines.append(line)
     return "\n".join(lines) + "\n"
+
+
+def _range_text(value: float | None) -> str:
+    """A range [m] in the table: "not reached" (None), "any" (+inf) or metres."""
+    if value is None:
+        return "not reached"
+    return "any" if math.isinf(value) else f"{value:,.0f}"
 
 
 def _fov_line(sensor: dict[str, Any]) -> str:

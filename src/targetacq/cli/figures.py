@@ -16,7 +16,7 @@ from targetacq.acquisition.transforms import TRANSFORMS
 from targetacq.cli import (
     app,
 )
-from targetacq.cli.options import range_case_options
+from targetacq.cli.options import range_case_options, uncertainty_options
 from targetacq.io.files import output_path
 from targetacq.physics.atmosphere import (
     EXTINCTION_LEVELS,
@@ -31,6 +31,9 @@ from targetacq.reports.content import (
     sensor_text,
     sources_line,
     titled,
+    uncertainty_note,
+    uncertainty_section,
+    with_uncertainty,
 )
 from targetacq.run.option_table import option_product, typed_options
 from targetacq.run.range_options import (
@@ -42,6 +45,7 @@ from targetacq.run.range_options import (
     option_quantity,
     range_setup,
 )
+from targetacq.run.uncertainty import Uncertainty, read_uncertainty
 
 # targetacq.reports.plots and targetacq.io.html_report (matplotlib, about 0.3 s) are imported by the
 # commands that draw, not when the CLI starts.
@@ -236,6 +240,7 @@ def plot(
 
 
 @app.command()
+@uncertainty_options
 @range_case_options
 def report(
     scenario: Annotated[
@@ -260,6 +265,7 @@ def report(
         ),
     ] = None,
     case_options: dict[str, Any],
+    uncertainty_options: dict[str, Any],
 ) -> None:
     """Write a self-contained report (HTML, or PDF printed by headless Chromium): inputs, model
     choices with sources, the DRI table (at --probability, default 50 / 80 / 95 %) and the
@@ -268,6 +274,9 @@ def report(
     `targetacq dri`, where any option may take a list (`--critical-dimension 0.75m,2.3m
     --obscurant haze,fog:low`): one case per combination, all in one table and on shared
     figures.
+
+    With --uncertainty N (range cases only), the DRI table and the range chart carry 5–95 %
+    bands over N samples, as `targetacq dri --uncertainty` has them.
 
     Example: targetacq report --example --critical-dimension 0.75m,2.3m --out r.html
     """
@@ -282,14 +291,17 @@ def report(
     wanted = option_requirement(requirement)
     if kind == "pdf":
         require_browser()
+    uncertainty = read_uncertainty(uncertainty_options)
     if scenario is not None:
+        if uncertainty is not None:
+            raise ValueError("--uncertainty takes range cases (the sensor options), not a scenario")
         _check_scenario_options(
             case_options, "a scenario report", "--probability, --max-range and --title"
         )
         probability = case_options.get("probability") or REPORT_PROBABILITIES
         parts = scenario_report(scenario, max_range, title, option_probabilities(probability))
     else:
-        parts = _range_case_report(case_options, max_range, title, wanted)
+        parts = _range_case_report(case_options, max_range, title, wanted, uncertainty)
     heading, performance, sections, figures, captions = parts
     page = render_report(
         performance, sections, figures, title=heading, version=__version__, captions=captions
@@ -302,9 +314,11 @@ def _range_case_report(
     max_range: str | None,
     title: str | None,
     requirement: tuple[float, float | None] | None = None,
+    uncertainty: Uncertainty | None = None,
 ) -> tuple[Any, ...]:
     """Heading, range performance, sections, figures and captions of a report of range cases:
-    one case per combination of the options given as lists."""
+    one case per combination of the options given as lists; with ``uncertainty``, the bands of
+    :func:`targetacq.reports.content.with_uncertainty` on the table and the range charts."""
     from targetacq.reports.plots import plot_range_performance, plot_transforms
 
     setups: dict[str, RangeSetup] = {}
@@ -324,6 +338,9 @@ def _range_case_report(
     probabilities = first.probabilities
     cases = {label: s.case for label, s in setups.items()}
     performance, note = performance_and_note(cases, max_range, probabilities, requirement)
+    if uncertainty is not None:
+        performance = with_uncertainty(performance, uncertainty)
+        note += uncertainty_note(uncertainty)
     conditions = _shared_conditions([_conditions(s) for s in setups.values()])
     if title:
         heading = title
@@ -345,6 +362,9 @@ def _range_case_report(
         near, near_note = performance_and_note(
             cases, 2.0 * requirement[0], probabilities, requirement
         )
+        if uncertainty is not None:
+            near = with_uncertainty(near, uncertainty)
+            near_note += uncertainty_note(uncertainty)
         figures["Range performance near the requirement"] = plot_range_performance(
             near, title=titled(heading, conditions), requirement=requirement
         )
@@ -367,6 +387,8 @@ def _range_case_report(
     # What differs from case to case gets a column per case in each section (one table, no
     # cell that strings several cases' values together).
     sections = _merged_sections({label: _report_sections(s) for label, s in setups.items()})
+    if uncertainty is not None:
+        sections["Uncertainty (Monte Carlo)"] = uncertainty_section(uncertainty)
     return heading, performance, sections, figures, captions
 
 

@@ -23,9 +23,15 @@ from typing import Annotated, Any, TypeVar
 import typer
 
 from targetacq.cli.params import Quantity, complete_names
-from targetacq.run.option_table import LIST_SEPARATORS, RANGE_CASE_OPTIONS, SENSOR, OptionSpec
+from targetacq.run.option_table import (
+    LIST_SEPARATORS,
+    RANGE_CASE_OPTIONS,
+    SENSOR,
+    UNCERTAINTY_OPTIONS,
+    OptionSpec,
+)
 
-__all__ = ["range_case_options"]
+__all__ = ["range_case_options", "uncertainty_options"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -91,6 +97,27 @@ def range_case_options(function: F) -> F:
     def command(**kwargs: Any) -> Any:
         case_options = {name: kwargs.pop(name) for name in names}  # numbers still text
         return function(**kwargs, case_options=case_options)
+
+    command.__signature__ = signature.replace(  # type: ignore[attr-defined]
+        parameters=[*own, *added]
+    )
+    return command  # type: ignore[return-value]
+
+
+def uncertainty_options(function: F) -> F:
+    """Decorate a typer command so that it takes the Monte Carlo's options
+    (:data:`targetacq.run.option_table.UNCERTAINTY_OPTIONS`): they reach ``function`` as one
+    keyword argument, ``uncertainty_options``, name → the text given or None, for
+    :func:`targetacq.run.uncertainty.read_uncertainty`."""
+    signature = inspect.signature(function, eval_str=True)
+    own = [p for p in signature.parameters.values() if p.name != "uncertainty_options"]
+    added = [_parameter(spec) for spec in UNCERTAINTY_OPTIONS]
+    names = [p.name for p in added]
+
+    @functools.wraps(function)
+    def command(**kwargs: Any) -> Any:
+        options = {name: kwargs.pop(name) for name in names}
+        return function(**kwargs, uncertainty_options=options)
 
     command.__signature__ = signature.replace(  # type: ignore[attr-defined]
         parameters=[*own, *added]

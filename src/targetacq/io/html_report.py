@@ -112,6 +112,11 @@ def _dri_rows(performance: Any) -> list[dict[str, str]]:
                 text = "any range"
             else:
                 text = f"{value:,.0f}"
+            if "range_p05_m" in r and r["reached"]:  # a band: "5,750 (3,830–8,620)"
+                low, high = r["range_p05_m"], r["range_p95_m"]
+                low_text = "not reached" if math.isnan(low) else f"{low:,.0f}"
+                high_text = "any range" if math.isinf(high) else f"{high:,.0f}"
+                text += f" ({low_text}–{high_text})"
             row[_probability_column(r["probability"])] = text
         rows.append(row)
     return rows

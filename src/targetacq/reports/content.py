@@ -20,6 +20,7 @@ from targetacq.core import ranges
 from targetacq.core.cases import RangeCase
 from targetacq.run.model_chain import ModelChain
 from targetacq.run.range_options import RangeSetup, option_quantity
+from targetacq.run.uncertainty import BAND, Uncertainty, uncertainty_curves, uncertainty_ranges
 from targetacq.scenario.schema import load_scenario
 from targetacq.sensors import get_sensor_type
 
@@ -41,6 +42,9 @@ __all__ = [
     "sensor_text",
     "sources_line",
     "titled",
+    "uncertainty_note",
+    "uncertainty_section",
+    "with_uncertainty",
 ]
 
 
@@ -149,6 +153,113 @@ def performance_and_note(
         p_text = "" if requirement[1] is None else f"P ≥ {requirement[1]:g} "
         note += f" Star and dashed line: the requirement, {p_text}at {requirement[0]:,.0f} m."
     return performance, note + " Dots: the DRI ranges of the table."
+
+
+def with_uncertainty(performance: Any, uncertainty: Uncertainty) -> Any:
+    """Range performance with the 5–95 % bands of its cases
+    (:mod:`targetacq.run.uncertainty`).
+
+    Adds ``<task>_p05`` and ``<task>_p95`` to the curves (dims ``case``, ``range``) and
+    ``range_p05_m``, ``range_p50_m``, ``range_p95_m`` to the DRI table (NaN: never reached at
+    that point). Each case's samples are one array pass of the core; the loop is over the
+    cases. A spread applies to the cases that have its input
+    (:meth:`targetacq.run.uncertainty.Uncertainty.applicable_to`).
+
+    Parameters
+    ----------
+    performance : targetacq.core.cases.RangePerformance
+        Of range cases (:func:`performance_and_note`), each with its :class:`RangeCase`.
+    uncertainty : targetacq.run.uncertainty.Uncertainty
+
+    Returns
+    -------
+    targetacq.core.cases.RangePerformance
+
+    Examples
+    --------
+    >>> perf = ranges.range_performance([1e3, 6e3], {"clear": RangeCase(2.3, 2e-4)}, [0.5])
+    >>> banded = with_uncertainty(perf, Uncertainty(100))
+    >>> row = banded.dri.iloc[0]
+    >>> bool(row["range_p05_m"] < row["range_m"] < row["range_p95_m"])
+    True
+    >>> sorted(v for v in banded.curves.data_vars if v.startswith("detection"))
+    ['detection', 'detection_p05', 'detection_p95']
+    """
+    import dataclasses
+
+    import numpy as np
+
+    curves, dri = performance.curves.copy(), performance.dri.copy()
+    grid = curves["range"].values
+    labels = [str(c) for c in curves["case"].values]
+    bands: dict[str, list[Any]] = {}
+    for column in ("range_p05_m", "range_p50_m", "range_p95_m"):
+        dri[column] = np.nan
+    for label in labels:
+        case = performance.cases[label]
+        applied = uncertainty.applicable_to(case)
+        for name, values in uncertainty_curves(case, grid, applied).items():
+            if not name.endswith("_p50"):
+                bands.setdefault(name, []).append(values)
+        rows = dri["case"] == label
+        probs = sorted(set(dri.loc[rows, "probability"]))
+        found = uncertainty_ranges(case, probs, applied)
+        for index in dri.index[rows]:
+            task, p = dri.at[index, "task"], dri.at[index, "probability"]
+            k = probs.index(p)
+            for point in ("p05", "p50", "p95"):
+                dri.at[index, f"range_{point}_m"] = float(found[task][point][k])
+    for name, stacked in bands.items():
+        curves[name] = (("case", "range"), np.stack(stacked))
+    return dataclasses.replace(performance, curves=curves, dri=dri)
+
+
+def uncertainty_note(uncertainty: Uncertainty) -> str:
+    """A figure's caption for its band: the quantiles, samples, seed and spreads.
+
+    Examples
+    --------
+    >>> print(uncertainty_note(Uncertainty(500, extinction_spread=0.2)))  # doctest: +ELLIPSIS
+     Shaded: the 5–95 % band over 500 samples (seed 0) of lognormal inputs: N50 25 %, ...
+    """
+    spreads = _spread_text(uncertainty)
+    return (
+        f" Shaded: the {_band_text()} band over {uncertainty.samples} samples "
+        f"(seed {uncertainty.seed}) of lognormal inputs: {spreads}; bars on the dots: the DRI "
+        "ranges' bands."
+    )
+
+
+def _band_text() -> str:
+    return f"{BAND[0] * 100:g}–{BAND[1] * 100:g} %"
+
+
+def _spread_text(uncertainty: Uncertainty) -> str:
+    names = {
+        "n50_spread": "N50",
+        "observer_spread": "observer",
+        "netd_spread": "NETD",
+        "extinction_spread": "extinction",
+    }
+    given = [
+        f"{label} {getattr(uncertainty, name) * 100:.3g} %"
+        for name, label in names.items()
+        if getattr(uncertainty, name)
+    ]
+    return ", ".join(given) or "no spread"
+
+
+def uncertainty_section(uncertainty: Uncertainty) -> dict[str, str]:
+    """The report's section on its Monte Carlo: how many samples, the seed and each input's
+    distribution, in words."""
+    return {
+        "samples": f"{uncertainty.samples} (seed {uncertainty.seed})",
+        "band": f"{_band_text()} of the samples",
+        "distributions": "lognormal, median at the nominal value, relative standard deviation "
+        f"as stated: {_spread_text(uncertainty)}",
+        "N50 spread": "Sonesson (2004) Table 3.2, ±25 % (default); one factor per sample for "
+        "every task",
+    }
 
 
 def stop_note(performance: Any, r_max: float, limit: str) -> str:

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from targetacq.acquisition import transforms
 from targetacq.acquisition.criteria import get_criterion
@@ -87,7 +88,10 @@ def plot_range_performance(
 ) -> Figure:
     """P(detection), P(recognition), P(identification) against range, with DRI ranges marked.
 
-    Colour tells the task, line style the case; the legend is below the axes.
+    Colour tells the task, line style the case; the legend is below the axes. Where the curves
+    carry bands (``<task>_p05`` and ``<task>_p95``, and the DRI table ``range_p05_m`` and
+    ``range_p95_m``: :func:`targetacq.reports.content.with_uncertainty`), each curve's 5–95 %
+    band is shaded and each DRI dot has a bar from its 5 % to its 95 % range.
 
     Parameters
     ----------
@@ -125,10 +129,20 @@ def plot_range_performance(
     fig = Figure(figsize=(8.0, 5.2 + 0.2 * rows), dpi=100, layout="constrained")
     ax = fig.add_subplot()
     marks = sorted(set(dri["probability"])) if probabilities is None else list(probabilities)
+    banded = any(f"{task}_p05" in curves for task in TASK_COLOURS)
     for k, case in enumerate(cases):
         for task, colour in TASK_COLOURS.items():
             if task not in curves:
                 continue
+            if f"{task}_p05" in curves:  # the 5–95 % band (targetacq.reports.content)
+                ax.fill_between(
+                    km,
+                    curves[f"{task}_p05"].sel(case=case).values,
+                    curves[f"{task}_p95"].sel(case=case).values,
+                    color=colour,
+                    alpha=0.18,
+                    lw=0,
+                )
             ax.plot(
                 km,
                 curves[task].sel(case=case).values,
@@ -139,6 +153,17 @@ def plot_range_performance(
             )
             rows = dri[(dri["case"] == case) & (dri["task"] == task) & dri["reached"]]
             for _, row in rows[rows["probability"].isin(marks)].iterrows():
+                if "range_p05_m" in row and np.isfinite(row["range_m"]):
+                    low = row["range_p05_m"] if np.isfinite(row["range_p05_m"]) else 0.0
+                    high = min(row["range_p95_m"], km[-1] * 1e3)
+                    ax.plot(
+                        [low / 1e3, high / 1e3],
+                        [row["probability"]] * 2,
+                        color=colour,
+                        lw=1.2,
+                        marker="|",
+                        ms=8,
+                    )
                 if np.isfinite(row["range_m"]):
                     ax.plot(
                         row["range_m"] / 1e3,
@@ -170,6 +195,8 @@ def plot_range_performance(
     handles.append(
         Line2D([], [], ls="none", marker="o", color="0.5", mec="black", label="DRI range")
     )
+    if banded:
+        handles.append(Patch(color="0.5", alpha=0.35, lw=0, label="5–95 % band"))
     if requirement is not None:
         at, needed = requirement
         ax.axvline(at / 1e3, color="black", lw=1.2, ls="--")

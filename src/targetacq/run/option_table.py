@@ -30,10 +30,12 @@ from targetacq.physics.named_atmospheres import AEROSOLS, ATMOSPHERES
 from targetacq.physics.optics import FIELD_OF_VIEW_PROJECTIONS
 from targetacq.physics.targets import TARGETS
 from targetacq.run.range_options import PIXEL_DENSITY_DEFINITIONS, RangeOptions
+from targetacq.run.uncertainty import MAX_SAMPLES, MIN_SAMPLES, TABLE_N50_SPREAD
 
 __all__ = [
     "LIST_SEPARATORS",
     "RANGE_CASE_OPTIONS",
+    "UNCERTAINTY_OPTIONS",
     "OptionSpec",
     "option_coverage",
     "option_lists",
@@ -382,6 +384,50 @@ RANGE_CASE_OPTIONS: tuple[OptionSpec, ...] = (
 )
 """Every field of :class:`~targetacq.run.range_options.RangeOptions` but ``example`` (a flag,
 added by :func:`targetacq.cli.options.range_case_options`)."""
+
+UNCERTAINTY = "Uncertainty (Monte Carlo)"
+"""The ``--help`` panel of :data:`UNCERTAINTY_OPTIONS`."""
+
+UNCERTAINTY_OPTIONS: tuple[OptionSpec, ...] = (
+    OptionSpec(
+        "uncertainty",
+        str,
+        f"Monte Carlo samples for 5–95 % bands on the ranges and curves, e.g. 500 "
+        f"({MIN_SAMPLES} to {MAX_SAMPLES}; default: no bands).",
+        UNCERTAINTY,
+    ),
+    OptionSpec(
+        "seed", str, "Seed of the Monte Carlo's draws, an integer (default 0).", UNCERTAINTY
+    ),
+    OptionSpec(
+        "n50_spread",
+        str,
+        f"Relative spread of the N50s, e.g. 25% (default {TABLE_N50_SPREAD:.0%}: Sonesson "
+        "Table 3.2's ±25 %).",
+        UNCERTAINTY,
+    ),
+    OptionSpec(
+        "observer_spread",
+        str,
+        "An observer's own relative spread of the N50s, e.g. 15% (default 0%).",
+        UNCERTAINTY,
+    ),
+    OptionSpec(
+        "netd_spread",
+        str,
+        "Relative spread of the NETD (--netd) or NEC (--nec), e.g. 10% (default 0%).",
+        UNCERTAINTY,
+    ),
+    OptionSpec(
+        "extinction_spread",
+        str,
+        "Relative spread of the path's extinction, e.g. 20% (default 0%).",
+        UNCERTAINTY,
+    ),
+)
+"""The Monte Carlo's options (:func:`targetacq.run.uncertainty.read_uncertainty`): every
+spread a relative standard deviation, as a percentage, of a lognormal with its median at the
+nominal value."""
 
 _NOT_OPTIONS = {"example"}
 

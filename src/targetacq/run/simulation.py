@@ -81,6 +81,7 @@ from targetacq.run.search import (
     pair_crossings,
     short_visit_message,
 )
+from targetacq.run.uncertainty import Uncertainty, observer_factor
 from targetacq.scenario.schema import Scenario, ScenarioError, Sensor, load_scenario
 from targetacq.sensors import get_sensor_type
 
@@ -244,6 +245,13 @@ class Simulation:
         [1/m²], ``probability``, ``max_range`` [m] and optionally ``sensors``.
     seed : int
         Seed of the random outcomes, >= 0.
+    observer_spread : float
+        Relative spread [1], in [0, 1], of the observer's N50s from run to run (default 0: the
+        criterion's N50s in every run). Each run (:meth:`reset`) draws one lognormal factor of
+        median 1 (:func:`targetacq.run.uncertainty.observer_factor`, from the seed and the run
+        by the counter-based streams, so a run is reproducible) that multiplies every target's
+        and task's N50: an observer harder or easier to satisfy, for every sensor of the run.
+        With a spread, run ``r`` is no longer :func:`targetacq.run.search.simulate`'s run ``r``.
     engine : str
         The compute engine for NumPy positions (:data:`targetacq.core.engines.ENGINES`: ``numpy``,
         the default and reference, ``numba``, ``jax`` or ``auto``, which is ``numba`` where it
@@ -295,6 +303,8 @@ class Simulation:
         seed: int = 0,
         engine: str = "numpy",
         false_targets: Any = None,
+        *,
+        observer_spread: float = 0.0,
     ) -> None:
         chosen = engines.for_steps(engine)
         for name, items in (("sensors", sensors), ("targets", targets)):
@@ -329,11 +339,16 @@ class Simulation:
             scenario = Scenario.model_validate(data)
         except ValidationError as error:
             raise ScenarioError(f"Simulation: {_located(error)}") from None
-        self._setup(scenario, seed, chosen)
+        self._setup(scenario, seed, chosen, observer_spread)
 
     @classmethod
     def from_scenario(
-        cls, scenario: Scenario | str | Path, seed: int = 0, engine: str = "numpy"
+        cls,
+        scenario: Scenario | str | Path,
+        seed: int = 0,
+        engine: str = "numpy",
+        *,
+        observer_spread: float = 0.0,
     ) -> Simulation:
         """A simulation of a scenario's sensors, targets, background, atmosphere and model.
 
@@ -346,7 +361,7 @@ class Simulation:
             (:func:`targetacq.core.scenario_positions` turns its scripted paths into them).
         seed : int
             >= 0.
-        engine : str
+        engine, observer_spread
             As for :class:`Simulation`.
 
         Returns
@@ -357,10 +372,14 @@ class Simulation:
         if not isinstance(scenario, Scenario):
             scenario = load_scenario(scenario)
         sim = cls.__new__(cls)
-        sim._setup(scenario, seed, chosen)
+        sim._setup(scenario, seed, chosen, observer_spread)
         return sim
 
-    def _setup(self, scenario: Scenario, seed: int, engine: engines.Engine) -> None:
+    def _setup(
+        self, scenario: Scenario, seed: int, engine: engines.Engine, observer_spread: float = 0.0
+    ) -> None:
+        self.observer_spread = Uncertainty(observer_spread=observer_spread).observer_spread
+        self._engine, self._observer = engine, 1.0
         self.scenario = scenario
         self.compiled = core.compile_scenario(scenario)
         scene = self.compiled.scene
@@ -430,6 +449,24 @@ class Simulation:
         )
         self._previous: tuple[np.ndarray, np.ndarray, np.ndarray | None] | None = None
         self._warned = False
+        self._observe(observer_factor(self.observer_spread, self.seed, int(run)))
+
+    @property
+    def observer(self) -> float:
+        """This run's observer: the factor on every N50 (1.0 without ``observer_spread``)."""
+        return self._observer
+
+    def _observe(self, factor: float) -> None:
+        """Evaluate with the compiled scene's N50s times ``factor`` (the engine bound again)."""
+        if factor == self._observer:
+            return
+        nominal = self.compiled.scene
+        targets = dataclasses.replace(nominal.targets, n50=np.asarray(nominal.targets.n50) * factor)
+        self._scene = dataclasses.replace(nominal, targets=targets)
+        self._bound = self._engine.bind(self._scene)
+        self._jax_scene = None
+        self._subsets.clear()
+        self._observer = factor
 
     # -- the pure part -------------------------------------------------------------------------
 

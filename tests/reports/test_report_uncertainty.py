@@ -65,3 +65,13 @@ def test_report_of_a_scenario_refuses_uncertainty(cli, tmp_path):
     code, _, err = cli("report", "examples/two_sensors_fused.toml", "--uncertainty", "100",
                        "--out", str(tmp_path / "r.html"))  # fmt: skip
     assert code == 2 and len(err.strip().splitlines()) == 1 and "not a scenario" in err
+
+
+def test_the_reports_range_axis_reaches_the_bands_95_percent_points():
+    from targetacq.cli.figures import _range_case_report
+
+    options = {"ifov": "0.2 mrad", "critical_dimension": "2.3 m", "extinction": "0.4/km"}
+    spread = Uncertainty(100, n50_spread=0.4)
+    _, perf, *_ = _range_case_report(options, None, None, uncertainty=spread)
+    farthest = np.nanmax(perf.dri["range_p95_m"].to_numpy())
+    assert perf.curves["range"].values[-1] >= farthest

@@ -45,7 +45,7 @@ from targetacq.run.range_options import (
     option_quantity,
     range_setup,
 )
-from targetacq.run.uncertainty import Uncertainty, read_uncertainty
+from targetacq.run.uncertainty import Uncertainty, read_uncertainty, uncertainty_ranges
 
 # targetacq.reports.plots and targetacq.io.html_report (matplotlib, about 0.3 s) are imported by the
 # commands that draw, not when the CLI starts.
@@ -337,7 +337,14 @@ def _range_case_report(
     first = next(iter(setups.values()))
     probabilities = first.probabilities
     cases = {label: s.case for label, s in setups.items()}
-    performance, note = performance_and_note(cases, max_range, probabilities, requirement)
+    reach = []
+    if uncertainty is not None:  # the axis reaches the bands' 95 % points too
+        for case in cases.values():
+            found = uncertainty_ranges(case, probabilities, uncertainty.applicable_to(case))
+            reach += [float(r) for task in found.values() for r in task["p95"]]
+    performance, note = performance_and_note(
+        cases, max_range, probabilities, requirement, reach=reach
+    )
     if uncertainty is not None:
         performance = with_uncertainty(performance, uncertainty)
         note += uncertainty_note(uncertainty)

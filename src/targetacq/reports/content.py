@@ -109,13 +109,15 @@ def performance_and_note(
     max_range: str | float | None,
     probabilities: Sequence[float],
     requirement: tuple[float, float | None] | None = None,
+    reach: Sequence[float] = (),
 ) -> tuple[Any, str]:
     """Range performance of the cases on 600 ranges, and a caption saying where they stop.
 
     The range axis goes out to --max-range (text, or a number of metres); by default to a
-    quarter beyond the farthest DRI range of the table (and the requirement's range), so that
-    every answer is on the chart and none is squeezed into its first few per cent; where no
-    DRI range is finite, to where every task of every case is below :data:`FLOOR` (bounded by
+    quarter beyond the farthest DRI range of the table (and the requirement's range, and the
+    ranges of ``reach`` [m]: the 95 % points of uncertainty bands), so that every answer is on
+    the chart and none is squeezed into its first few per cent; where no DRI range is finite,
+    to where every task of every case is below :data:`FLOOR` (bounded by
     :data:`MAX_AUTO_RANGE` either way).
     """
     answers = [
@@ -123,7 +125,7 @@ def performance_and_note(
         for case in cases.values()
         for p in probabilities
         for r in ranges.case_ranges(case, p).values()
-    ]
+    ] + [float(r) for r in reach]
     answers = [r for r in answers if math.isfinite(r) and r > 0]
     if requirement is not None:
         answers.append(requirement[0])

@@ -241,3 +241,32 @@ def test_looking_away_and_back_does_not_raise_the_identifications():
     assert staying > 0.05  # the scene identifies targets: the comparison can fail
     assert dithering <= staying + 3 * spread
     assert dithering_expected <= staying_expected + 1e-9
+
+
+def test_a_scene_with_a_cloud_keeps_the_law_and_the_equivalence():
+    # A cloud sits at a place: the environments then evaluate each episode at its own place
+    # (chunks of episodes) instead of moving the targets to one camera position.
+    cloud = {"clouds": [{"center": (-600.0, 0.0, 200.0), "radius": 300.0, "extinction": 0.01}]}
+    scene = {**NEAR, "scenario_overrides": {"atmosphere": cloud}}
+    env = AcquisitionEnv(targets=4, duration=10.0, scene=scene)
+    obs, _ = env.reset(seed=8)
+    legacy = SensorPointingEnv(targets=4, duration=10.0, **scene)
+    legacy.reset(seed=8)
+    platform = np.array([[-NEAR["half_width"], 0.0, NEAR["altitude"]]])
+    for j in range(4):
+        offset = legacy._targets[j] - platform[0]
+        pointing = np.array(
+            [[math.atan2(offset[0], offset[1]), math.atan2(-offset[2], math.hypot(*offset[:2]))]]
+        )
+        p = legacy._sim.probabilities(0.0, platform, legacy._targets, sensor_pointing=pointing)
+        block = _target_block(obs, 1, j)
+        np.testing.assert_allclose(block[7], p.detection[0, j], rtol=1e-5, atol=1e-7)
+    vec = AcquisitionVectorEnv(3, chunk=2, targets=4, duration=10.0, scene=scene)
+    trace = _run_vector(vec, 12, 8, lambda k: np.full(3, k % 4))
+    single = AcquisitionEnv(targets=4, duration=10.0, scene=scene)
+    obs, _ = single.reset(seed=10)
+    np.testing.assert_array_equal(trace[0][0][2], obs)
+    for k in range(9):
+        obs, r, *_ = single.step(k % 4)
+        np.testing.assert_array_equal(trace[k + 1][0][2], obs)
+        assert trace[k + 1][1][2] == r

@@ -45,7 +45,9 @@ Observation (float32, flat)
     ``half_width``, its detected, recognised and identified flags, its *prospects* (the
     probabilities of detection, recognition and identification were a camera to look at it now,
     best over cameras and zoom levels: a target of prospect 0 is hopeless from here), its
-    ``Q_j`` above and whether a camera sees it now (12 numbers).
+    ``V_j`` above, its search progress ``1 − exp(−Λ_j)`` (Λ of the camera that looked
+    longest: how much of the search law's clock is spent on it) and whether a camera sees it
+    now (13 numbers).
 Episode
     ``duration`` seconds in steps of ``dt``; terminated when every target is identified.
 """
@@ -85,7 +87,7 @@ PLATFORM_FEATURES = 6
 """Numbers of the platform at the head of an observation (see the module docstring)."""
 CAMERA_FEATURES = 4
 """Numbers per camera, after the platform's."""
-TARGET_FEATURES = 12
+TARGET_FEATURES = 13
 """Numbers per target, after the cameras'."""
 
 
@@ -271,6 +273,7 @@ def _observe(e: Engagements) -> np.ndarray:
             e.flags.transpose(1, 2, 0),
             e.prospect.transpose(1, 2, 0),
             e.potential[..., None],
+            e.progress[..., None],
             e.in_view[..., None],
         ],
         axis=-1,
@@ -349,7 +352,7 @@ class AcquisitionEnv(gymnasium.Env[np.ndarray, Any]):
     >>> env = AcquisitionEnv(targets=3, duration=10.0)
     >>> obs, info = env.reset(seed=1)
     >>> obs.shape, env.action_space
-    ((46,), Discrete(3))
+    ((49,), Discrete(3))
     >>> obs, reward, terminated, truncated, info = env.step(env.greedy_action())
     >>> 0.0 <= reward <= 3.0
     True
@@ -452,7 +455,7 @@ class AcquisitionVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
     >>> envs = AcquisitionVectorEnv(4, targets=3, duration=10.0)
     >>> obs, info = envs.reset(seed=7)
     >>> obs.shape, envs.action_space
-    ((4, 46), MultiDiscrete([3 3 3 3]))
+    ((4, 49), MultiDiscrete([3 3 3 3]))
     """
 
     metadata: dict[str, Any] = {  # noqa: RUF012 - Gymnasium's convention

@@ -14,15 +14,19 @@ Scene
     (:func:`targetacq.core.compile_scenario`) and their targets' records put into a pool of
     all N × T targets.
 Probabilities
-    one call of the array core (:func:`targetacq.core.evaluate`) per chunk of K episodes:
-    the chunk's K × T targets against its cameras, with the episodes along the core's batch
-    axis (positions ``(n_s, K, 3)`` and ``(K·T, K, 3)``); the K × T pairs of each episode's own
-    targets are kept (the diagonal blocks; the others are the price of one array pass, so
-    ``chunk`` trades the core's fixed cost per call against K² pairs). The cameras are
-    evaluated unpointed (every pair as if looked at), which is what a pointed camera sees of a
-    target inside its field of view; the field of view is then applied per pair with the
-    geometry's own test (:func:`targetacq.physics.geometry.within_numpy`): zero outside, as
-    the core has it. The unpointed probabilities are the observation's *prospects*.
+    one call of the array core (:func:`targetacq.core.evaluate`) over the N × T targets of
+    the pool against the cameras' rows: each episode's targets are moved by its platform's
+    horizontal offset so that every camera stands at one place (the platforms fly level at one
+    altitude), which leaves every pair's line of sight, and its heights, its own: N × rows × T
+    pairs, no others. A scene with clouds (whose places count) is evaluated a chunk of K
+    episodes per call instead, the episodes along the core's batch axis (positions
+    ``(n_s, K, 3)`` and ``(K·T, K, 3)``), keeping each episode's own K × T pairs (the diagonal
+    blocks). The cameras are evaluated unpointed (every pair as if looked at), which is what a
+    pointed camera sees of a target inside its field of view; the field of view is then
+    applied per pair with the geometry's own test
+    (:func:`targetacq.physics.geometry.within_numpy`): zero outside, as the core has it. The
+    unpointed probabilities are the observation's *prospects*. The tests hold both paths to
+    :meth:`targetacq.Simulation.probabilities` of a camera pointed at the target.
 Acquisition
     one :class:`targetacq.run.search.SearchState` holds every episode's camera-target pairs
     (N × rows × T, flat); its draws are keyed by the episode's model seed and the camera's and
@@ -195,6 +199,7 @@ class Engagements:
         self.potential = np.zeros((n, self.t))
         self.prospect = np.zeros((3, n, self.t))
         self.in_view = np.zeros((n, self.t), dtype=bool)
+        self.progress = np.zeros((n, self.t))
         self.started = False
 
     # -- scenes --------------------------------------------------------------------------------
@@ -269,7 +274,7 @@ class Engagements:
         self.zoom_index[envs] = (self.z - 1) // 2
         for name in ("flags", "prospect"):
             getattr(self, name)[:, envs] = 0
-        for name in ("hazard", "expected_rows", "potential", "in_view"):
+        for name in ("hazard", "expected_rows", "potential", "in_view", "progress"):
             getattr(self, name)[envs] = 0
         per = self.r * self.t
         pairs = (envs[:, None] * per + np.arange(per)).reshape(-1)
@@ -298,6 +303,31 @@ class Engagements:
 
     def probabilities(self) -> np.ndarray:
         """The unpointed probabilities (3, N, rows, T) at the current positions."""
+        assert self.pool is not None
+        if self.pool.path.cloud_center.shape[0] == 0:
+            return self._shifted()
+        return self._chunked()
+
+    def _shifted(self) -> np.ndarray:
+        """:meth:`probabilities` in one call of the core over the N × T targets, each episode's
+        targets moved by its platform's horizontal offset so that every camera stands at one
+        place, (0, 0, altitude): the lines of sight, and the heights, are each pair's own (the
+        platforms fly level at one altitude), and nothing else in a scene without clouds (or a
+        terrain map, refused) depends on where a pair is."""
+        assert self.pool is not None
+        offset = self.platform * np.array([1.0, 1.0, 0.0])
+        t_pos = (self.targets - offset[:, None]).reshape(self.n * self.t, 3)
+        s_pos = np.tile([0.0, 0.0, self.alt], (self.r, 1))
+        _, p = core.evaluate(self.pool, s_pos, t_pos)
+        tasks = ("detection", "recognition", "identification")
+        return np.stack(
+            [np.asarray(getattr(p, name)).reshape(self.r, self.n, self.t) for name in tasks]
+        ).transpose(0, 2, 1, 3)
+
+    def _chunked(self) -> np.ndarray:
+        """:meth:`probabilities` a chunk of K episodes per core call: the chunk's K × T targets
+        against its cameras, the episodes along the core's batch axis, the K × T pairs of each
+        episode's own targets kept (a scene with clouds, whose places count)."""
         out = np.empty((3, self.n, self.r, self.t))
         for k in range((self.n + self.chunk - 1) // self.chunk):
             lo, hi = k * self.chunk, min((k + 1) * self.chunk, self.n)
@@ -365,6 +395,7 @@ class Engagements:
         self.potential = potential
         self.prospect = np.nan_to_num(p.max(axis=2))
         self.in_view = np.asarray(inside.any(axis=1))
+        self.progress = -np.expm1(-self.hazard.max(axis=1))
         return {"sparse": new.astype(float), "dense": gain}
 
     # -- the actions ---------------------------------------------------------------------------

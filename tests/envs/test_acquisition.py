@@ -270,3 +270,16 @@ def test_a_scene_with_a_cloud_keeps_the_law_and_the_equivalence():
         obs, r, *_ = single.step(k % 4)
         np.testing.assert_array_equal(trace[k + 1][0][2], obs)
         assert trace[k + 1][1][2] == r
+
+
+def test_the_example_prospect_policy_skips_identified_and_hopeless_targets():
+    import runpy
+    from pathlib import Path
+
+    example = Path(__file__).parents[2] / "examples" / "pointing_policies.py"
+    policy = runpy.run_path(str(example), run_name="not_main")["prospect_policy"]
+    obs = np.zeros((1, PLATFORM_FEATURES + CAMERA_FEATURES + 3 * TARGET_FEATURES), np.float32)
+    blocks = obs[:, PLATFORM_FEATURES + CAMERA_FEATURES :].reshape(1, 3, TARGET_FEATURES)
+    blocks[0, :, 9] = [0.9, 0.0, 0.5]  # prospects of identification
+    blocks[0, 0, 6] = 1.0  # the first is identified; the second is hopeless
+    assert policy(obs, 3).tolist() == [2]

@@ -290,7 +290,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         first reset: :meth:`targetacq.Simulation.from_scenario` of it is the episode's model."""
         return None if self._sim is None else self._sim.scenario
 
-    def _tables(self, rng: np.random.Generator, cameras: int, targets: int) -> dict[str, Any]:
+    def scene_tables(self, rng: np.random.Generator, cameras: int, targets: int) -> dict[str, Any]:
         """The scene as a scenario's tables: the environment's defaults, the overrides over
         them, ``cameras`` cameras and ``targets`` targets drawn from ``rng``."""
         start = (-self.half_width, 0.0, self.altitude)
@@ -351,7 +351,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         scene of one camera and one target, its problems located at the option."""
         from targetacq.core.compile import check_runnable
 
-        data = self._tables(np.random.default_rng(0), 1, 1)
+        data = self.scene_tables(np.random.default_rng(0), 1, 1)
         with collected() as found:
             try:
                 scenario = parse_scenario(data, _SOURCE, strict_units=False)
@@ -363,7 +363,7 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         emit([_located(message) for message in found], stacklevel=4)
 
     def _scenario(self) -> Scenario:
-        data = self._tables(self.np_random, self.n_cameras, self.n_targets)
+        data = self.scene_tables(self.np_random, self.n_cameras, self.n_targets)
         with collected():  # warned when the environment was made
             return parse_scenario(data, _SOURCE, strict_units=False)
 

@@ -232,10 +232,9 @@ def line_of_sight(
     A 10 m wall half way between an observer 2 m up and a 4 m target on flat ground:
 
     >>> ground = np.zeros((3, 101)); ground[:, 50] = 10.0
-    >>> line_of_sight(ground, 10.0, (0.0, 0.0), [0.0, 10.0, 2.0], [1000.0, 10.0, 0.0], 4.0)
-    0.0
-    >>> line_of_sight(ground, 10.0, (0.0, 0.0), [0.0, 10.0, 2.0], [400.0, 10.0, 0.0], 4.0)
-    1.0
+    >>> observer, targets = [0.0, 10.0, 2.0], [[1000.0, 10.0, 0.0], [400.0, 10.0, 0.0]]
+    >>> line_of_sight(ground, 10.0, (0.0, 0.0), observer, targets, 4.0).tolist()
+    [0.0, 1.0]
     """
     if isinstance(elevation, ElevationModel):
         model = elevation

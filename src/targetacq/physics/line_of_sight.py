@@ -278,8 +278,11 @@ def line_of_sight(
     if use_numba:
         kernel = importlib.import_module("targetacq.physics.line_of_sight_numba")
         out = np.empty(h.size)
+        blocks = model.__dict__.get("_blocks")
+        if blocks is None:  # made once per model (the model is frozen: kept beside its fields)
+            blocks = model.__dict__["_blocks"] = kernel.block_maxima(model.elevation)
         kernel.visible_fractions(
-            model.elevation, model.spacing, model.origin[0], model.origin[1], o, t, h,
+            model.elevation, blocks, model.spacing, model.origin[0], model.origin[1], o, t, h,
             curvature, out,
         )  # fmt: skip
     else:

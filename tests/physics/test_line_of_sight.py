@@ -212,6 +212,12 @@ def test_numba_and_numpy_give_the_same_numbers():
         b = line_of_sight(grid, 10.0, (0.0, 0.0), observers, targets, heights, k=k, method="numba")
         assert np.array_equal(a, b, equal_nan=True)
         assert 0.1 < np.mean(a == 0) < 0.9 and np.mean((a > 0) & (a < 1)) > 0.01
+    # High ground (3 km up, the same relief): the numba loops' skipped chunks stay skipped.
+    up = np.array([0.0, 0.0, 3000.0])
+    lifted = (observers + up, targets + up)
+    a = line_of_sight(grid + 3000.0, 10.0, (0.0, 0.0), *lifted, heights, method="numpy")
+    b = line_of_sight(grid + 3000.0, 10.0, (0.0, 0.0), *lifted, heights, method="numba")
+    assert np.array_equal(a, b, equal_nan=True)
     grid[40:44, 40:44] = np.nan  # voids: no early stop, NaN where a track crosses one
     a = line_of_sight(grid, 10.0, (0.0, 0.0), observers, targets, heights, method="numpy")
     b = line_of_sight(grid, 10.0, (0.0, 0.0), observers, targets, heights, method="numba")

@@ -2,7 +2,8 @@
 
 The scalar twin of :func:`targetacq.physics.line_of_sight._visible_numpy`: the same samples, the
 same bilinear interpolation and the same arithmetic in the same order, so the two give the same
-numbers. One pair at a time, its profile in one pass with no temporary arrays. Importing this
+numbers. One pair at a time, its profile in one pass (from the target back, chunk by chunk)
+with no temporary arrays. Importing this
 module imports numba (the ``fast`` extra).
 """
 
@@ -20,7 +21,10 @@ BLOCK = 8
 """Posts per side of a block of :func:`block_maxima`; also the samples of a chunk, so that a
 chunk (at most one post apart along the track's major axis) touches at most 2 × 2 blocks."""
 
-_MARGIN = 1e-9  # relative: a chunk is skipped only where its bound is this far below the best
+_MARGIN = 1e-9
+"""A chunk is skipped only where its bound lies this far below the best slope, relative, plus
+1e-12 of the altitudes over the distance: far beyond the few units in the last place by which
+the rounding of a sample's slope can exceed the exact bound."""
 
 
 def block_maxima(grid: np.ndarray) -> np.ndarray:
@@ -53,14 +57,17 @@ def visible_fractions(
     ``out[k]``; ``curvature`` is ``1 / (2 k R_e)`` [1/m] (0: a flat Earth); ``blocks`` is
     :func:`block_maxima` of ``grid``.
 
-    Two shortcuts leave the numbers those of the NumPy path, to the bit. A chunk of ``BLOCK``
-    samples is skipped where no sample in it can raise the highest slope so far: its terrain is
-    at most ``M``, the highest post of the blocks it touches, so its slopes are at most
-    ``(M − z_o)/d − c d_a`` (``d`` the chunk's first distance ``d_a`` where ``M >= z_o``, else
-    its last; ``c`` the curvature), skipped where that bound lies a relative 1e-9 below the
+    The chunks run from the target back to the observer (the maximum does not depend on the
+    order; the terrain near a target is the likelier to hide it, and the slopes of far samples
+    are the higher, so the best slope is found early, against which the near chunks are then
+    skipped). Two shortcuts leave the numbers those of the NumPy path, to the bit. A chunk of
+    ``BLOCK`` samples is skipped where no sample in it can raise the highest slope so far: its
+    terrain is at most ``M``, the highest post of the blocks it touches, so its slopes are at
+    most ``(M − z_o)/d − c d_a`` (``d`` the chunk's first distance ``d_a`` where ``M >= z_o``,
+    else its last; ``c`` the curvature), skipped where that bound lies :data:`_MARGIN` below the
     best (rounding cannot bridge that). A void makes ``M`` NaN: never skipped. And on a grid
     without voids a pair stops as soon as the highest sight line hides the whole target: its
-    fraction is 0 whatever the rest of the profile (the fraction only falls as the highest
+    fraction is 0 whatever the rest of the profile (the fraction only falls as the maximum
     slope grows, and the check is the final formula itself)."""
     rows, cols = grid.shape
     voids = bool(np.isnan(grid).any())
@@ -87,7 +94,9 @@ def visible_fractions(
         best = -math.inf
         void = False
         fraction = 1.0
-        for first in range(1, steps, BLOCK):
+        chunks = (steps - 1 + BLOCK - 1) // BLOCK
+        for chunk in range(chunks - 1, -1, -1):  # from the target back to the observer
+            first = 1 + chunk * BLOCK
             last = min(np.int64(first + BLOCK), steps) - 1
             if best > -math.inf:
                 # The blocks the chunk's samples fall in: its end samples' cells (2 x 2 at most).
@@ -108,7 +117,8 @@ def visible_fractions(
                 d_b = distance * fb
                 rise = top - zo
                 bound = rise / (d_a if rise >= 0 else d_b) - curvature * d_a
-                if bound + _MARGIN * (abs(bound) + abs(best)) < best:
+                slack = _MARGIN * (abs(bound) + abs(best)) + 1e-12 * (abs(top) + abs(zo)) / d_a
+                if bound + slack < best:
                     continue
             for i in range(first, last + 1):
                 frac = i / steps

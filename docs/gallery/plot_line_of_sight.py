@@ -20,7 +20,7 @@ spacing, side = 20.0, 256
 x = np.arange(side) * spacing
 east, north = np.meshgrid(x, x)
 elevation = (
-    22.0 * np.exp(-(((east - north) / np.sqrt(2) - 600.0) / 300.0) ** 2)
+    22.0 * np.exp(-((((east - north) / np.sqrt(2) - 600.0) / 300.0) ** 2))
     + 30.0 * np.exp(-((east - 1200.0) ** 2 + (north - 3600.0) ** 2) / 500.0**2)
     + 45.0 * np.exp(-((east - 4000.0) ** 2 + (north - 1500.0) ** 2) / 700.0**2)
     + 3.0 * np.sin(east / 170.0) * np.cos(north / 230.0)

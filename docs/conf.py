@@ -89,6 +89,7 @@ api_modules = [  # by layer, lowest first (the contributor page "Architecture")
     "targetacq.physics.atmosphere",
     "targetacq.physics.clutter",
     "targetacq.physics.terrain",
+    "targetacq.physics.line_of_sight",
     "targetacq.physics.features",
     "targetacq.physics.detector_noise",
     "targetacq.physics.mtf",

@@ -71,6 +71,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "effective_scr",
         "noise_n50_factor",
     ),
+    "physics.line_of_sight": ("line_of_sight",),
     "physics.optics": (
         "cycles_on_target",
         "diffraction_angle",
@@ -150,6 +151,7 @@ __all__ = [
     "ifov_from_field_of_view",
     "image_clutter",
     "inverse_transform",
+    "line_of_sight",
     "noise_n50_factor",
     "obscurant_extinction",
     "path_transmittance",
@@ -240,6 +242,9 @@ if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps th
         projected_extents,
         slant_range,
         solid_angle,
+    )
+    from targetacq.physics.line_of_sight import (
+        line_of_sight,
     )
     from targetacq.physics.optics import (
         cycles_on_target,

@@ -199,6 +199,16 @@ def test_a_scenario_naming_a_file_is_refused(client, table, key, path):
 
 
 @pytest.mark.parametrize("path", ["/evaluate", "/report", "/step"])
+def test_a_scenario_naming_an_elevation_model_is_refused(client, path):
+    table = '\n[terrain]\nelevation = "/etc/passwd.npy"\nspacing = "1 m"\norigin = ["0 m", "0 m"]\n'
+    text = FUSED.read_text() + table
+    body = _step_body(scenario=text) if path == "/step" else {"scenario": text}
+    (item,) = _problem(client.post(path, json=body))
+    assert item["loc"] == ["scenario", "terrain.elevation"]
+    assert "files are not read over HTTP" in item["msg"]
+
+
+@pytest.mark.parametrize("path", ["/evaluate", "/report", "/step"])
 def test_a_scenario_naming_an_mrtd_curve_is_refused(client, path):
     text = FUSED.read_text().replace('name = "thermal"', 'name = "thermal"\nmrtd = "/etc/passwd"')
     assert 'mrtd = "/etc/passwd"' in text

@@ -3,9 +3,9 @@
 Everything that does not change with the positions is computed here: resolution per sensor
 (through its sensor type), field of view, the path's extinction in each sensor's band, the
 signature of each sensor-target pair (contrast, SCR from a clutter measure, an image or nothing)
-and each target's criterion. File reads (a background image, a terrain map, a sensor's MRTD
-curve) happen here and nowhere else. The scripted paths of a scenario are turned into positions by
-:func:`scenario_positions`.
+and each target's criterion. File reads (a background image, a terrain map, the ``[terrain]``
+elevation model, a sensor's MRTD curve) happen here and nowhere else. The scripted paths of a
+scenario are turned into positions by :func:`scenario_positions`.
 
 Before anything is computed, every problem that would stop the scenario from running is
 collected (:func:`check_runnable`): files that cannot be read, image boxes outside the image,
@@ -43,6 +43,7 @@ from targetacq.core.records import (
 from targetacq.physics import atmosphere, geometry, radiometry
 from targetacq.physics.aspect import AspectTable
 from targetacq.physics.clutter import signal_to_clutter_ratio
+from targetacq.physics.line_of_sight import STANDARD_K, ElevationModel, read_elevation
 from targetacq.physics.named_atmospheres import NamedBandPath
 from targetacq.physics.ttp import TtpSystem
 from targetacq.scenario.schema import ScenarioError
@@ -96,11 +97,17 @@ class CompiledScenario:
     criteria : tuple of Criterion
         Each target's criterion.
     terrain : TerrainArrays or None
+    elevation : targetacq.physics.line_of_sight.ElevationModel or None
+        The ``[terrain]`` relief that the lines of sight cross (host-side, NumPy only).
+    earth_radius_factor : float
+        Its effective Earth-radius factor ``k`` [1] (4/3: standard refraction).
     """
 
     scene: SceneArrays
     criteria: tuple[Criterion, ...]
     terrain: TerrainArrays | None
+    elevation: ElevationModel | None = None
+    earth_radius_factor: float = STANDARD_K
 
 
 def _criteria(scenario: Any) -> tuple[Criterion, ...]:
@@ -532,6 +539,19 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
     return grid
 
 
+def _elevation(scenario: Any, problems: list[str]) -> ElevationModel | None:
+    """The ``[terrain]`` elevation model read from its file; a file that cannot be read, or is
+    not a grid, is a problem located at ``terrain.elevation``."""
+    spec = scenario.terrain
+    if spec is None:
+        return None
+    try:
+        return read_elevation(spec.elevation, spec.spacing, spec.origin)
+    except ValueError as error:
+        problems.append(f"terrain.elevation: {error}")
+        return None
+
+
 def _mrtd_curves(scenario: Any, problems: list[str]) -> dict[str, Any]:
     """The sensors' MRTD curves read from their files, by sensor name; a file that cannot be
     read, or is not a curve, is a problem located at ``sensors[i].mrtd``."""
@@ -783,14 +803,15 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     Raises
     ------
     targetacq.scenario.schema.ScenarioError
-        With every problem found (:func:`check_runnable`), each located: an image or a terrain
-        map that cannot be read, boxes outside the image, class indices naming no class, a
-        time grid too large for memory.
+        With every problem found (:func:`check_runnable`), each located: an image, a terrain
+        map or an elevation model that cannot be read, boxes outside the image, class indices
+        naming no class, a time grid too large for memory.
     """
     scenario = scenario.held()  # daily cycles at the hour of the start: plain temperatures
     problems: list[str] = []
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)
+    elevation = _elevation(scenario, problems)
     curves = _mrtd_curves(scenario, problems)
     tables = _aspect_tables(scenario, problems)
     if scenario.model.resolution_model is not None:
@@ -842,7 +863,15 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         radar=_radar(scenario, sensors),
         laser=_laser(scenario, sensors),
     )
-    return CompiledScenario(scene=scene, criteria=criteria, terrain=_terrain(scenario, grid))
+    return CompiledScenario(
+        scene=scene,
+        criteria=criteria,
+        terrain=_terrain(scenario, grid),
+        elevation=elevation,
+        earth_radius_factor=(
+            STANDARD_K if scenario.terrain is None else scenario.terrain.earth_radius_factor
+        ),
+    )
 
 
 def _path_positions(items: Any, times: np.ndarray) -> np.ndarray:

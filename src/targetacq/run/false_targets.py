@@ -47,6 +47,17 @@ the region in the frame of the boresight's horizontal direction (the region is s
 it, so at least half of the box is accepted), each candidate kept if it is within ``max_range``
 and :func:`targetacq.physics.geometry.within_field_of_view` says it is in view.
 
+Terrain. With an elevation model (a scenario's ``[terrain]``), the ground the reports fall on
+is limited to what the sensor sees: the reports are drawn as above, over the field of view on
+the plane ``z = 0``, and each is kept only where the ground point itself is in the sensor's
+line of sight over the terrain (:func:`targetacq.physics.line_of_sight.line_of_sight`: no
+terrain above the sight line to it), at the terrain's altitude there. Keeping each point of a
+Poisson field with a probability that depends on its position alone leaves a Poisson field
+(thinning), of rate ``density · A_seen · probability / t_s``, ``A_seen`` the part of ``A`` in
+sight. The area ``A`` stays that of the field of view on the plane ``z = 0`` (the sensor's
+height over that plane): over relief far from that plane the footprint is an approximation.
+Ground off the grid, or behind a void of it, is not known to be seen: no report there.
+
 Reproducibility. The draws come from the counter-based Philox generator of
 :mod:`targetacq.base.sampling`, keyed by the seed and the sensor's name (of its group: the bands of
 one colour camera report false targets once, as one sensor) and counted by the step index, the
@@ -84,6 +95,7 @@ from targetacq.base.arrays import Array
 from targetacq.base.limits import check_seed
 from targetacq.base.sampling import philox4x32, stream_key
 from targetacq.physics import geometry
+from targetacq.physics.line_of_sight import ElevationModel, line_of_sight
 from targetacq.scenario.schema import NO_FALSE_TARGET_SENSORS, false_target_problems
 
 if TYPE_CHECKING:
@@ -584,9 +596,17 @@ class _Steps:
         )
 
 
-def _draw(steps: _Steps, key: tuple[int, int], sensor: str, runs: np.ndarray) -> FalseDetections:
+def _draw(
+    steps: _Steps,
+    key: tuple[int, int],
+    sensor: str,
+    runs: np.ndarray,
+    terrain: tuple[ElevationModel, float] | None = None,
+) -> FalseDetections:
     """The reports of one sensor over steps for each run (see the module docstring). Counters:
-    (step, run, purpose, report index), so a run's reports in a step depend on nothing else."""
+    (step, run, purpose, report index), so a run's reports in a step depend on nothing else.
+    ``terrain``: an elevation model and its Earth-radius factor; only reports on ground in the
+    sensor's sight are kept, at the ground's altitude (the module docstring, Terrain)."""
     u = _unit(*_words(key, steps.step[:, None], runs[None, :], _COUNT, 0)[:2])
     counts = _poisson_quantile(u, steps.mean[:, None]).reshape(-1)  # (K · runs,) step-major
     total = int(counts.sum())
@@ -624,6 +644,15 @@ def _draw(steps: _Steps, key: tuple[int, int], sensor: str, runs: np.ndarray) ->
     else:  # pragma: no cover - at least half of each box is accepted
         raise RuntimeError("false targets: rejection sampling did not converge")
     position = np.column_stack([where, np.zeros(total)])
+    if terrain is not None:
+        model, factor = terrain
+        position[:, 2] = model.height_at(where[:, 0], where[:, 1])
+        # A height of 1 m: the fraction is 1 exactly where nothing rises above the sight line
+        # to the ground point itself (whatever the height).
+        seen = line_of_sight(model, None, None, steps.position[which], position, 1.0, k=factor)
+        kept = seen == 1.0  # NaN (off the grid, a void on the way): not known to be seen
+        run, at, position = run[kept], at[kept], position[kept]
+        total = int(kept.sum())
     order = np.lexsort((at, run))
     return FalseDetections(
         run[order].astype(np.int64), np.full(total, sensor), at[order], position[order]
@@ -712,6 +741,9 @@ class FalseTargetSampler:
     search_time : float
         t_s [s], > 0.
     seed : int
+    terrain : (ElevationModel, float), optional
+        The scenario's ``[terrain]`` elevation model and its effective Earth-radius factor:
+        reports only on ground in sight of the sensor (the module docstring, Terrain).
 
     Raises
     ------
@@ -720,7 +752,15 @@ class FalseTargetSampler:
         view (:func:`false_target_problems`'s words).
     """
 
-    def __init__(self, table: Any, sensors: SensorArrays, search_time: float, seed: int) -> None:
+    def __init__(
+        self,
+        table: Any,
+        sensors: SensorArrays,
+        search_time: float,
+        seed: int,
+        terrain: tuple[ElevationModel, float] | None = None,
+    ) -> None:
+        self.terrain = terrain
         if not (search_time > 0 and math.isfinite(search_time)):
             raise ValueError(f"search_time must be > 0 s, got {search_time!r}")
         self.table = table
@@ -815,7 +855,7 @@ class FalseTargetSampler:
                 if dt > 0.0 and rate > 0.0:
                     entries.setdefault(group, []).append((step, start, end, fp, rate * dt))
         parts = [
-            _draw(_Steps.of(listed), self._keys[group], group, run)
+            _draw(_Steps.of(listed), self._keys[group], group, run, self.terrain)
             for group, listed in entries.items()
         ]
         return FalseDetections.concatenate(parts)

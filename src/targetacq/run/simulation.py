@@ -72,6 +72,7 @@ from targetacq.base.arrays import Array
 from targetacq.base.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.core import engines
 from targetacq.core.evaluation import footprint_scr
+from targetacq.physics.line_of_sight import line_of_sight
 from targetacq.run.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.run.search import (
     SearchState,
@@ -243,6 +244,14 @@ class Simulation:
     false_targets : targetacq.scenario.schema.FalseTargets or mapping, optional
         Clutter objects declared targets (:mod:`targetacq.run.false_targets`): ``density``
         [1/m²], ``probability``, ``max_range`` [m] and optionally ``sensors``.
+    terrain : targetacq.scenario.schema.Elevation or mapping, optional
+        Terrain relief (the ``[terrain]`` table: ``elevation`` a ``.npy`` grid or a GeoTIFF,
+        ``spacing``, ``origin``, ``earth_radius_factor``): each step's pairs then see the
+        fraction of their target's height above the terrain
+        (:func:`targetacq.line_of_sight`); a target hidden from a sensor is out of its view.
+        The positions' third coordinate is then an altitude on the grid's datum: put targets
+        on the ground with :meth:`targetacq.physics.line_of_sight.ElevationModel.height_at`
+        (``sim.compiled.elevation``).
     seed : int
         Seed of the random outcomes, >= 0.
     observer_spread : float
@@ -303,6 +312,7 @@ class Simulation:
         seed: int = 0,
         engine: str = "numpy",
         false_targets: Any = None,
+        terrain: Any = None,
         *,
         observer_spread: float = 0.0,
     ) -> None:
@@ -335,6 +345,8 @@ class Simulation:
             data["model"] = model
         if false_targets is not None:
             data["false_targets"] = false_targets
+        if terrain is not None:
+            data["terrain"] = terrain
         try:
             scenario = Scenario.model_validate(data)
         except ValidationError as error:
@@ -387,6 +399,7 @@ class Simulation:
         self._bound = engine.bind(scene)
         self.engine: str = self._bound.engine
         self._terrain = self.compiled.terrain
+        self._elevation = self.compiled.elevation
         self._jax_scene: Any = None
         self._subsets: dict[bytes, tuple[Any, Any, np.ndarray]] = {}
         self._signal = np.asarray(scene.signature.target)
@@ -407,8 +420,13 @@ class Simulation:
         if table is None:
             return None
         try:
+            elevation = self.compiled.elevation
             return FalseTargetSampler(
-                table, self._scene.sensors, self._scene.choices.search_time, seed
+                table,
+                self._scene.sensors,
+                self._scene.choices.search_time,
+                seed,
+                None if elevation is None else (elevation, self.compiled.earth_radius_factor),
             )
         except ValueError as error:
             raise ScenarioError(str(error)) from None
@@ -544,6 +562,33 @@ class Simulation:
             given["visible_fraction"] = fraction
         return given
 
+    def _terrain_view(
+        self, scene: Any, s_pos: np.ndarray, t_pos: np.ndarray, per_step: Mapping[str, Any]
+    ) -> tuple[dict[str, Any], np.ndarray]:
+        """The per-step inputs with each pair's visible fraction over the ``[terrain]``
+        relief, and the pairs it hides entirely (n_s, n_g).
+
+        The terrain hides a target from the bottom up (:func:`targetacq.line_of_sight`, each
+        target's base at its position's altitude, its height the third of its dimensions), as
+        does the occlusion the fraction already says (the targets' own ``visible_fraction``, or
+        the one given to the step): the pair sees the smaller of the two. A hidden pair is out
+        of view (probability 0); the core gets 1 for it, in place of 0, which it refuses."""
+        seen = line_of_sight(
+            self._elevation,
+            None,
+            None,
+            s_pos[:, None, :],
+            t_pos[None, :, :],
+            np.asarray(scene.targets.dimensions, dtype=float)[None, :, 2],
+            k=self.compiled.earth_radius_factor,
+        )
+        own = per_step.get("visible_fraction")
+        if own is None:
+            own = np.asarray(scene.targets.visible_fraction, dtype=float)
+        fraction = np.minimum(own, seen)  # NaN stays NaN
+        hidden = fraction == 0.0
+        return {**per_step, "visible_fraction": np.where(hidden, 1.0, fraction)}, hidden
+
     def _check_bands(self, s_pos: np.ndarray, point: Any) -> None:
         """The bands of a colour camera are one camera: one position and one pointing."""
         groups = self._scene.sensors.groups
@@ -587,6 +632,9 @@ class Simulation:
         scene, bound = (self._scene, self._bound) if subset is None else subset[:2]
         per_step = per_step or {}
         if isinstance(s_pos, np.ndarray) and isinstance(t_pos, np.ndarray):
+            hidden = None
+            if self._elevation is not None:
+                per_step, hidden = self._terrain_view(scene, s_pos, t_pos, per_step)
             if per_step:
                 found = bound.factors(
                     s_pos, t_pos, head, point, visible_fraction=per_step.get("visible_fraction")
@@ -597,6 +645,9 @@ class Simulation:
                 signal = self._signal if subset is None else self._signal[:, subset[2]]
                 scr = footprint_scr(self._terrain, found.range, t_pos, signal, self._ifov)
                 found = dataclasses.replace(found, scr=scr)
+            if hidden is not None:  # behind the terrain: out of that sensor's view
+                in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), hidden.shape)
+                found = dataclasses.replace(found, in_view=in_view & ~hidden)
             velocities = per_step.get("target_velocities")
             if velocities is not None:  # graded motion: each pair's speed across its sight
                 found = dataclasses.replace(
@@ -609,6 +660,11 @@ class Simulation:
             raise ValueError(
                 "a scenario with a terrain map (background.terrain) is evaluated with NumPy "
                 "arrays only: its clutter is looked up in the map per position on the host"
+            )
+        if self._elevation is not None:
+            raise ValueError(
+                "a scenario with an elevation model ([terrain]) is evaluated with NumPy arrays "
+                "only: its lines of sight are traced over the grid on the host"
             )
         # JAX arrays (or tracers): the scene's arrays in JAX too, made once.
         from targetacq.core import records
@@ -798,6 +854,7 @@ class Simulation:
         per_step = per_step or {}
         if (
             self._terrain is None
+            and self._elevation is None  # lines of sight: the factors' path
             and "target_velocities" not in per_step  # graded motion: the factors' path
             and isinstance(s_pos, np.ndarray)
             and isinstance(t_pos, np.ndarray)
@@ -846,6 +903,9 @@ class Simulation:
         visible_fraction : array (n_targets,) or (n_sensors, n_targets), optional
             Fraction of each target's height in view at ``time``, in (0, 1] (occlusion from
             the caller's own world; NaN: unknown, NaN probabilities); default the targets' own.
+            With a ``[terrain]`` elevation model, each pair sees the smaller of this and the
+            fraction above the terrain (:meth:`_terrain_view`), and a pair the terrain hides
+            is out of view.
         target_velocities : array (n_targets, 3), optional
             Each target's velocity over the ground at ``time`` [m/s] (east, north, up), for the
             targets with a graded motion cue (``graded_motion``): their angular speed across

@@ -113,6 +113,7 @@ __all__ = [
     "Background",
     "Cloud",
     "DailyCycle",
+    "Elevation",
     "FalseTargets",
     "ModelChoices",
     "Scenario",
@@ -972,6 +973,40 @@ class Terrain(_Strict):
         return self
 
 
+class Elevation(_Strict):
+    """Terrain relief for lines of sight (:mod:`targetacq.physics.line_of_sight`): the
+    ``[terrain]`` table. ``elevation`` names a ``.npy`` grid of altitudes [m] (row 0 the
+    southern edge, rows northward, columns eastward; ``spacing`` between posts and ``origin``,
+    the east and north of post [0, 0], required) or a GeoTIFF (``.tif``; needs the ``terrain``
+    extra; its own georeferencing unless ``spacing`` / ``origin`` are given). In a file the path
+    is relative to the file's folder. ``earth_radius_factor``: the effective Earth radius over
+    the Earth's radius [1], > 0: 4/3 for standard refraction (ITU-R P.834), about 7/6 for light
+    (the geodetic refraction coefficient 0.13), 1e6 or more for a flat Earth in practice.
+    Each sensor-target pair then sees the fraction of the target's height above the terrain's
+    highest sight line; a target the terrain hides entirely is out of that sensor's view."""
+
+    elevation: str
+    spacing: Length | None = None
+    origin: tuple[Length, Length] | None = None
+    earth_radius_factor: Annotated[Number, Field(gt=0.0)] = 4.0 / 3.0
+
+    @field_validator("elevation")
+    @classmethod
+    def _suffix(cls, value: str) -> str:
+        if Path(value).suffix.lower() not in (".npy", ".tif", ".tiff"):
+            raise ValueError(
+                f"an elevation model is a .npy grid or a GeoTIFF (.tif, .tiff); got {value!r}"
+            )
+        return value
+
+    @field_validator("spacing")
+    @classmethod
+    def _spacing(cls, value: float | None) -> float | None:
+        if value is not None and not value > 0:
+            raise ValueError(f"must be > 0 m; got {value:g} m")
+        return value
+
+
 class Background(_Strict):
     """The background: its temperature and emissivity (thermal) or reflectance and the
     irradiance (TV), and the clutter as a Table 3.5 region, an SCR, a temperature spread, an
@@ -1467,6 +1502,7 @@ class Scenario(_Strict):
     model: ModelChoices = ModelChoices()
     time: TimeGrid = TimeGrid()
     false_targets: FalseTargets | None = None
+    terrain: Elevation | None = None
 
     @model_validator(mode="after")
     def _check(self) -> Scenario:
@@ -1502,6 +1538,16 @@ class Scenario(_Strict):
         problems += _daily_cycle_problems(self)
         if self.false_targets is not None:
             problems += false_target_problems(self)
+        terrain = self.terrain
+        if terrain is not None and Path(terrain.elevation).suffix.lower() == ".npy":
+            problems += [
+                f"terrain.{key}: a .npy elevation grid needs its {key} ({what})"
+                for key, what in (
+                    ("spacing", 'the distance between posts, e.g. "30 m"'),
+                    ("origin", 'east and north of post [0, 0], e.g. ["0 m", "0 m"]'),
+                )
+                if getattr(terrain, key) is None
+            ]
         image = self.background.image is not None
         for k, target in enumerate(self.targets):
             if image and target.image_box is None:
@@ -1818,8 +1864,8 @@ def load_scenario(path: str | Path) -> Scenario:
 
     The file is a regular file of at most :data:`targetacq.base.limits.MAX_INPUT_BYTES`, in UTF-8
     (a byte-order mark is allowed; :func:`targetacq.base.inputs.read_input_text`). Relative
-    ``image`` and terrain ``map`` paths, sensors' ``mrtd`` curves and targets'
-    ``signature_table`` files are taken from the file's folder.
+    ``image`` and terrain ``map`` paths, the ``[terrain]`` ``elevation``, sensors' ``mrtd``
+    curves and targets' ``signature_table`` files are taken from the file's folder.
 
     Raises
     ------
@@ -1850,6 +1896,10 @@ def load_scenario(path: str | Path) -> Scenario:
         )
     if update:
         scenario = scenario.model_copy(update={"background": bg.model_copy(update=update)})
+    relief = scenario.terrain
+    if relief is not None and not Path(relief.elevation).is_absolute():
+        relief = relief.model_copy(update={"elevation": str(source.parent / relief.elevation)})
+        scenario = scenario.model_copy(update={"terrain": relief})
     if any(s.mrtd is not None and not Path(s.mrtd).is_absolute() for s in scenario.sensors):
         sensors = [
             s.model_copy(update={"mrtd": str(source.parent / s.mrtd)})

@@ -46,8 +46,8 @@ in use (:data:`SESSION_IDLE_S`), 400 for a request addressed to a host name the 
 not answer (by default only the loopback names, :data:`LOOPBACK_HOSTS`). A message quotes at most
 :data:`SHOWN_CHARACTERS` characters of an offending value. Only a bug gives 500.
 
-Files are never read over HTTP: a scenario that names an image or a terrain map, and an MRTD
-curve file, are refused.
+Files are never read over HTTP: a scenario that names an image, a terrain map or an elevation
+model (``[terrain]``), and an MRTD curve file, are refused.
 """
 
 from __future__ import annotations
@@ -674,7 +674,7 @@ def _curves(body: BaseModel) -> dict[str, Any]:
 
 def _scenario(text: str) -> tuple[Scenario, list[str]]:
     """A scenario from TOML text, and its plausibility warnings; one that names a file (an
-    image, a terrain map, an MRTD curve) is refused."""
+    image, a terrain map, an elevation model, an MRTD curve) is refused."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
@@ -695,6 +695,17 @@ def _scenario(text: str) -> tuple[Scenario, list[str]]:
                         )
                     ],
                 )
+    if data.get("terrain") is not None:  # [terrain] elevation names a grid file
+        raise ApiError(
+            422,
+            [
+                (
+                    ["scenario", "terrain.elevation"],
+                    f"{_FILES_REFUSED}: give a scenario without [terrain] (run it with "
+                    "targetacq evaluate FILE or the step API instead)",
+                )
+            ],
+        )
     sensors = data.get("sensors")
     for k, sensor in enumerate(sensors if isinstance(sensors, list) else []):
         if isinstance(sensor, dict) and sensor.get("mrtd") is not None:

@@ -50,6 +50,7 @@ import numpy as np
 from scipy.special import ndtri
 
 from targetacq.acquisition.criteria import get_criterion
+from targetacq.base.arrays import Array
 from targetacq.base.limits import check_seed
 from targetacq.base.sampling import stream_key, uniforms
 from targetacq.base.tables import load_table
@@ -356,7 +357,7 @@ def _quantiles(values: np.ndarray) -> np.ndarray:
 
 
 def uncertainty_ranges(
-    case: RangeCase, probabilities: Any, uncertainty: Uncertainty, tolerance: float = 1e-9
+    case: RangeCase, probabilities: Array, uncertainty: Uncertainty, tolerance: float = 1e-9
 ) -> dict[str, dict[str, np.ndarray]]:
     """The DRI ranges of a case over the samples: nominal, 5 %, median and 95 % points.
 
@@ -408,7 +409,7 @@ def uncertainty_ranges(
 
 
 def uncertainty_curves(
-    case: RangeCase, range: Any, uncertainty: Uncertainty
+    case: RangeCase, range: Array, uncertainty: Uncertainty
 ) -> dict[str, np.ndarray]:
     """The range-performance curves' 5 %, 50 % and 95 % points over the samples.
 

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from targetacq.base import arrays as _arrays
+from targetacq.base.arrays import Array
 from targetacq.core.evaluation import (
     Factors,
     Probabilities,
@@ -239,13 +240,13 @@ class JaxScene:
 
     def evaluate(
         self,
-        sensor_positions: Any,
-        target_positions: Any,
-        headings: Any = None,
-        pointing: Any = None,
-        scr: Any = None,
-        visible_fraction: Any = None,
-        moving: Any = None,
+        sensor_positions: Array,
+        target_positions: Array,
+        headings: Array = None,
+        pointing: Array = None,
+        scr: Array = None,
+        visible_fraction: Array = None,
+        moving: Array = None,
     ) -> tuple[Factors, Probabilities]:
         """:func:`targetacq.core.evaluate` of the bound scene in one jitted call per chunk
         of the batch and one transfer to the host, in NumPy arrays.

@@ -54,6 +54,12 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "TASKS",
         "Criterion",
         "get_criterion",
+        "register_criterion",
+        "unregister_criterion",
+    ),
+    "acquisition.calibration": (
+        "CriterionFit",
+        "fit_criterion",
     ),
     "acquisition.fusion": (
         "central_level_bounds",
@@ -122,6 +128,7 @@ __all__ = [
     "Acquisition",
     "Clutter",
     "Criterion",
+    "CriterionFit",
     "RangeCase",
     "Scene",
     "SceneAcquisition",
@@ -142,6 +149,7 @@ __all__ = [
     "example_path",
     "extinction_from_visibility",
     "field_of_view",
+    "fit_criterion",
     "fuse",
     "fuse_groups",
     "gaussian_psf",
@@ -158,6 +166,7 @@ __all__ = [
     "projected_extents",
     "range_for_cycles",
     "range_for_pixel_density",
+    "register_criterion",
     "required_focal_length",
     "required_ifov",
     "resolvable_cycle_angle",
@@ -175,14 +184,21 @@ __all__ = [
     "transmittance",
     "ttpf",
     "ttpf_inverse",
+    "unregister_criterion",
 ]
 
 if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps them equal)
+    from targetacq.acquisition.calibration import (
+        CriterionFit,
+        fit_criterion,
+    )
     from targetacq.acquisition.criteria import (
         CRITERIA,
         TASKS,
         Criterion,
         get_criterion,
+        register_criterion,
+        unregister_criterion,
     )
     from targetacq.acquisition.fusion import (
         central_level_bounds,

@@ -282,3 +282,28 @@ def test_the_registry_refuses_bundled_names_and_silent_replacement(registered):
     assert "calibration-mine" not in CRITERIA
     with pytest.raises(ValueError, match="no registered criterion"):
         unregister_criterion("calibration-mine")
+
+
+def test_the_band_of_n50_alone_is_the_transform_at_the_interval_ends():
+    # P falls as N50 grows, so with the exponent fixed the pointwise band is the TTPF at the
+    # upper end of the N50 interval (low) and at its lower end (high).
+    rng = np.random.default_rng(21)
+    n, y = trials(rng, [2.0, 3.0, 4.0, 5.0, 6.0], 4.0, 3.4, 12)
+    fit = fit_criterion(n, y, "recognition", fit_exponent=False)
+    cycles = np.array([1.0, 3.0, 5.0, 9.0])
+    low, high = fit.probability_interval(cycles, points=201)
+    assert low == pytest.approx(ttpf_probability(cycles, fit.n50_interval[1]), rel=1e-6)
+    assert high == pytest.approx(ttpf_probability(cycles, fit.n50_interval[0]), rel=1e-6)
+
+
+def test_the_band_holds_the_fitted_curve_and_the_half_at_n50():
+    rng = np.random.default_rng(22)
+    n, y = trials(rng, [2.0, 3.0, 4.0, 5.0, 6.0], 4.0, 4.0, 12)
+    fit = fit_criterion(n, y, "recognition")
+    cycles = np.linspace(1.0, 10.0, 19)
+    low, high = fit.probability_interval(cycles)
+    curve = fit.probability(cycles)
+    assert np.all(low <= curve + 1e-12) and np.all(curve <= high + 1e-12)
+    assert np.all(high - low > 0.01)
+    low50, high50 = fit.probability_interval([fit.n50])
+    assert low50[0] < 0.5 < high50[0]

@@ -87,6 +87,7 @@ from targetacq.acquisition.transforms import (
     TTPF_E1,
     get_transform,
 )
+from targetacq.base.arrays import Array
 
 __all__ = ["EXPONENT_LAWS", "CriterionFit", "fit_criterion"]
 
@@ -141,6 +142,8 @@ class CriterionFit:
         The transform's options used.
     method : str
         How the intervals were found.
+    data : tuple of numpy.ndarray
+        The trials' cycles and outcomes (for :meth:`probability_interval`).
     """
 
     task: str
@@ -157,6 +160,9 @@ class CriterionFit:
     criterion: Criterion
     options: Mapping[str, Any] = field(default_factory=dict)
     method: str = "profile likelihood"
+    data: tuple[np.ndarray, np.ndarray] = field(
+        default=(np.zeros(0), np.zeros(0)), repr=False, compare=False
+    )
 
     @property
     def exponent_scale(self) -> float:
@@ -164,7 +170,7 @@ class CriterionFit:
         law = EXPONENT_LAWS.get(self.transform)
         return 1.0 if law is None else self.exponent / (law[0] + law[1])
 
-    def probability(self, cycles: Any) -> Any:
+    def probability(self, cycles: Array) -> Any:
         """P of the task at ``cycles`` [cycles] by the fitted curve (``s = 1``: the transform).
 
         Examples
@@ -180,6 +186,55 @@ class CriterionFit:
         if scale == 1.0:
             return p
         return special.expit(scale * _logit(np.asarray(p, dtype=float)))
+
+    def probability_interval(self, cycles: Array, points: int = 61) -> tuple[Any, Any]:
+        """Pointwise profile-likelihood interval of P at each of ``cycles`` [cycles].
+
+        The least and the greatest ``P(N)`` over the parameters whose log-likelihood is within
+        ``χ²₁(confidence) / 2`` of the maximum: the profile-likelihood interval of the function
+        ``P(N)`` of the parameters (module doc), found on a grid of ``points`` values of each
+        fitted parameter across its interval (``points²`` curves, the maximum among them), so a
+        little narrower than the exact one.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (low, high), each shaped like ``cycles``.
+
+        Examples
+        --------
+        >>> from targetacq.acquisition.calibration import fit_criterion
+        >>> fit = fit_criterion([2, 3, 3, 4, 4, 5, 5, 6], [0, 0, 1, 0, 1, 1, 0, 1],
+        ...                     "recognition", fit_exponent=False)
+        >>> low, high = fit.probability_interval([fit.n50])
+        >>> bool(low[0] < 0.5 < high[0])
+        True
+        """
+        n = np.asarray(cycles, dtype=float)
+        trials = _Trials(self.data[0], self.data[1], self.task, self.transform, self.options, False)
+        top = self.log_likelihood - 0.5 * float(stats.chi2.ppf(self.confidence, 1))
+        top -= 1e-8 * (1.0 + abs(top))  # the intervals' ends are roots to about 1e-9
+        box = (math.log(self.data[0].min() / N50_SPAN), math.log(self.data[0].max() * N50_SPAN))
+        ends = np.clip(np.log(self.n50_interval), *box)
+        log_n50 = np.append(np.linspace(ends[0], ends[1], points), math.log(self.n50))
+        scale = self.exponent_scale
+        law = EXPONENT_LAWS.get(self.transform)
+        if self.exponent_fitted and law is not None:
+            low, high = np.clip(np.asarray(self.exponent_interval) / sum(law), *SCALE_BOUNDS)
+            scales = np.append(np.geomspace(low, high, points), scale)
+        else:
+            scales = np.array([scale])
+        z0 = trials.logits(log_n50)  # (G, n)
+        inside = _log_likelihood(scales[:, None, None] * z0, trials.outcomes) >= top  # (K, G)
+        inside[-1, -1] = True  # the maximum itself
+        chosen = get_transform(self.transform)
+        p = chosen.forward(n.ravel(), np.exp(log_n50)[:, None], self.task, **self.options)
+        curves = special.expit(scales[:, None, None] * _logit(np.asarray(p, dtype=float)))
+        if not self.exponent_fitted:
+            curves = np.asarray(p, dtype=float)[None, ...]
+        chosen_curves = curves[inside]  # (curves in the region, M)
+        low_p, high_p = chosen_curves.min(axis=0), chosen_curves.max(axis=0)
+        return low_p.reshape(n.shape), high_p.reshape(n.shape)
 
     def as_dict(self) -> dict[str, Any]:
         """The fit as plain numbers and strings (for JSON)."""
@@ -400,8 +455,8 @@ def _n50_end(
 
 
 def fit_criterion(
-    cycles: Any,
-    outcomes: Any,
+    cycles: Array,
+    outcomes: Array,
     task: str,
     *,
     transform: str = "ttpf",
@@ -551,6 +606,7 @@ def fit_criterion(
         confidence=float(confidence),
         criterion=criterion,
         options=dict(options or {}),
+        data=(n, y),
     )
 
 

@@ -146,3 +146,20 @@ def test_errors_are_one_line_and_exit_2(capsys, tmp_path, header, rows, args, wa
 def test_a_missing_file_is_one_line(capsys, tmp_path):
     code, _, err = run(capsys, str(tmp_path / "none.csv"), "--task", "recognition")
     assert code == 2 and "no trials file" in err and err.count("\n") == 1
+
+
+def test_a_registered_fit_is_a_criterion_of_the_commands_run_in_that_process(capsys):
+    import targetacq as ta
+
+    fit = ta.fit_criterion(CYCLES, SEEN, "recognition", name="cli-calibration-test")
+    try:
+        with pytest.raises(SystemExit) as exit_:
+            main(["dri", "--example", "--criterion", "cli-calibration-test", "--format", "json"])
+        out, err = capsys.readouterr()
+        assert exit_.value.code in (0, None), err
+        report = json.loads(out)
+        thresholds = {row["task"]: row["threshold"] for row in report["ranges"]}
+        assert thresholds["recognition"] == pytest.approx(fit.n50, rel=1e-12)
+        assert thresholds["identification"] == 6.4  # Johnson's, the base
+    finally:
+        ta.unregister_criterion("cli-calibration-test")

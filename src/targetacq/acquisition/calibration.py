@@ -69,6 +69,7 @@ import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -91,10 +92,9 @@ from targetacq.base.arrays import Array
 
 __all__ = ["EXPONENT_LAWS", "CriterionFit", "fit_criterion"]
 
-EXPONENT_LAWS: Mapping[str, tuple[float, float]] = {
-    "ttpf": (TTPF_E0, TTPF_E1),
-    "ttp": (TTP_E0, TTP_E1),
-}
+EXPONENT_LAWS: Mapping[str, tuple[float, float]] = MappingProxyType(
+    {"ttpf": (TTPF_E0, TTPF_E1), "ttp": (TTP_E0, TTP_E1)}
+)
 """The transforms whose exponent can be fitted → their law ``E = E0 + E1 x`` as (E0, E1)."""
 
 PROBABILITY_FLOOR = 1e-15
@@ -327,8 +327,9 @@ class _Trials:
     def scale_ends(self, log_n50: np.ndarray, target: float, upper: bool) -> np.ndarray:
         """At each ln N50, the ``s`` below (above, ``upper``) the best one where
         ``ℓ(ln N50, s) = target``: the best s itself where its ``ℓ`` is below ``target``, the
-        edge of :data:`SCALE_BOUNDS` where ``ℓ`` stays above it. Bisection in ``ln s`` (ℓ is
-        concave in s, so monotone on each side of its maximum), to double precision."""
+        edge of :data:`SCALE_BOUNDS` where ``ℓ`` stays above it. Newton's method from the edge
+        (ℓ is concave in s, so the steps approach the root from the edge's side), to a relative
+        1e-11."""
         z0 = self.logits(log_n50)
         best, top = _best_scale(z0, self.outcomes)
         edge = SCALE_BOUNDS[1] if upper else SCALE_BOUNDS[0]

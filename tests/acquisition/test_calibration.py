@@ -133,8 +133,9 @@ def test_the_90_percent_intervals_cover_the_truth_in_85_to_95_percent_of_200_dat
     # sqrt(0.9 * 0.1 / 200) = 2.1 %, so 85-95 % is 0.9 ± 2.4 sd (a correct method falls
     # outside with probability about 2 %; the seed is fixed, so the test is deterministic).
     # Profile-likelihood intervals are asymptotic; with 60 trials their coverage is close to
-    # nominal, and a broken interval (a Wald interval on the wrong scale, a chi-squared
-    # quantile of two degrees of freedom, a 95 % interval) falls outside the band.
+    # nominal. A method whose true coverage is 97 % or more (the chi-squared quantile of two
+    # degrees of freedom instead of one: P(χ²₁ <= 4.61) = 0.968) or 83 % or less (intervals a
+    # fifth too narrow) falls outside the band in most seeds.
     rng = np.random.default_rng(20261127)
     covered_n50 = covered_exponent = 0
     sets = 200

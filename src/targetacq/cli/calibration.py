@@ -18,6 +18,13 @@ from targetacq.cli.params import Quantity
 from targetacq.physics.optics import cycles_on_target, ifov
 from targetacq.run.range_options import option_choice, option_quantity
 
+
+def _quantity(kind: str, flag: str) -> dict[str, Any]:
+    """A one-value quantity option's parser and metavar (``LENGTH``, ``ANGLE``)."""
+    quantity = Quantity(kind, flag, lists=False)
+    return {"parser": quantity, "metavar": quantity.metavar}
+
+
 _OUTCOMES = {"1": 1.0, "0": 0.0, "true": 1.0, "false": 0.0, "yes": 1.0, "no": 0.0}
 
 
@@ -203,7 +210,7 @@ def calibrate_command(
         str | None,
         typer.Option(
             help="Critical dimension of the target, for a range column, e.g. 2.3m.",
-            parser=Quantity("length", "--critical-dimension", lists=False),
+            **_quantity("length", "--critical-dimension"),
         ),
     ] = None,
     ifov_text: Annotated[
@@ -211,21 +218,21 @@ def calibrate_command(
         typer.Option(
             "--ifov",
             help="Pixel IFOV of the sensor, for a range column, e.g. 0.227mrad.",
-            parser=Quantity("angle", "--ifov", lists=False),
+            **_quantity("angle", "--ifov"),
         ),
     ] = None,
     pitch: Annotated[
         str | None,
         typer.Option(
             help="Pixel pitch, with --focal-length, for a range column, e.g. 17um.",
-            parser=Quantity("length", "--pitch", lists=False),
+            **_quantity("length", "--pitch"),
         ),
     ] = None,
     focal_length: Annotated[
         str | None,
         typer.Option(
             help="Focal length, with --pitch, for a range column, e.g. 75mm.",
-            parser=Quantity("length", "--focal-length", lists=False),
+            **_quantity("length", "--focal-length"),
         ),
     ] = None,
     output_format: FormatOption = "table",

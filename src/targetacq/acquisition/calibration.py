@@ -263,13 +263,13 @@ def _logit(p: np.ndarray) -> np.ndarray:
 
 def _log_likelihood(z: np.ndarray, y: np.ndarray) -> np.ndarray:
     """``Σ y z − ln(1 + e^z)`` over the last axis."""
-    return np.sum(y * z - np.logaddexp(0.0, z), axis=-1)
+    return (y * z - np.logaddexp(0.0, z)).sum(axis=-1)
 
 
 def _slope(s: np.ndarray, z0: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``dℓ/ds`` and ``−d²ℓ/ds²`` of ``ℓ(s z0)`` per row."""
     p = special.expit(s[..., None] * z0)
-    return np.sum(z0 * (y - p), axis=-1), np.sum(z0 * z0 * p * (1.0 - p), axis=-1)
+    return (z0 * (y - p)).sum(axis=-1), (z0 * z0 * (p * (1.0 - p))).sum(axis=-1)
 
 
 def _best_scale(z0: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

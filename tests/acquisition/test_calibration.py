@@ -308,3 +308,13 @@ def test_the_band_holds_the_fitted_curve_and_the_half_at_n50():
     assert np.all(high - low > 0.01)
     low50, high50 = fit.probability_interval([fit.n50])
     assert low50[0] < 0.5 < high50[0]
+
+
+def test_ends_the_data_do_not_bound_are_zero_and_infinity_and_the_band_still_draws():
+    # Four trials whose outcomes fall as the cycles grow: no N50 is ruled out at 90 %, and the
+    # exponent may be as small as the search allows.
+    fit = fit_criterion([3.0, 4.0, 5.0, 6.0], [1, 0, 1, 0], "recognition", base=None)
+    assert fit.n50_interval == (0.0, math.inf)
+    assert fit.exponent_interval[0] == 0.0
+    low, high = fit.probability_interval(np.array([1.0, 4.0]))
+    assert np.all((low >= 0.0) & (low <= high) & (high <= 1.0))

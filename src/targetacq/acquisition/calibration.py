@@ -45,8 +45,8 @@ Confidence intervals: profile likelihood
 ----------------------------------------
 A parameter's interval at confidence ``c`` is the set of its values whose profile
 log-likelihood is within ``χ²₁(c) / 2`` of the maximum (the likelihood-ratio test inverted;
-Venzon & Moolgavkar, *Appl. Statist.* 37 (1988) 87; Pawitan, *In All Likelihood* (2001) §2.6,
-§3.4). It is used rather than the observed Fisher information (Wald intervals) because it is
+Venzon & Moolgavkar, *Appl. Statist.* 37 (1988) 87; Pawitan, *In All Likelihood* (2001)).
+It is used rather than the observed Fisher information (Wald intervals) because it is
 invariant to the parameterisation and keeps its coverage better with few trials, where the
 likelihood of N50 is skewed. The N50 interval's ends are roots of ``ℓp(u) = ℓmax − χ²₁(c)/2``
 (:func:`scipy.optimize.brentq`); the exponent's interval is the extent in ``s`` of the joint
@@ -215,7 +215,7 @@ class CriterionFit:
         top = self.log_likelihood - 0.5 * float(stats.chi2.ppf(self.confidence, 1))
         top -= 1e-8 * (1.0 + abs(top))  # the intervals' ends are roots to about 1e-9
         box = (math.log(self.data[0].min() / N50_SPAN), math.log(self.data[0].max() * N50_SPAN))
-        ends = np.clip(np.log(self.n50_interval), *box)
+        ends = np.log(np.clip(self.n50_interval, *np.exp(box)))  # 0 and inf: the box's edges
         log_n50 = np.append(np.linspace(ends[0], ends[1], points), math.log(self.n50))
         scale = self.exponent_scale
         law = EXPONENT_LAWS.get(self.transform)

@@ -163,3 +163,23 @@ def test_a_registered_fit_is_a_criterion_of_the_commands_run_in_that_process(cap
         assert thresholds["identification"] == 6.4  # Johnson's, the base
     finally:
         ta.unregister_criterion("cli-calibration-test")
+
+
+def test_schmieder_weathersby_takes_its_clutter_region(capsys, cycles_file):
+    # Detection in medium clutter (Table 3.5), N50 alone: the grid maximum of the likelihood of
+    # the printed curve stretched to each N50 (P held in [1e-15, 1 - 1e-15], as documented).
+    import targetacq as ta
+
+    code, out, err = run(capsys, cycles_file, "--task", "detection", "--transform",
+                         "schmieder-weathersby", "--region", "medium", "--base", "none",
+                         "--format", "json")  # fmt: skip
+    assert (code, err) == (0, "")
+    report = json.loads(out)
+    assert report["exponent_fitted"] is False and report["exponent"] is None
+    n50 = np.linspace(1.0, 6.0, 5001)
+    p = ta.schmieder_weathersby(np.asarray(CYCLES, float), n50[:, None], region="medium")
+    p = np.clip(p, 1e-15, 1 - 1e-15)
+    ll = np.sum(np.where(np.asarray(SEEN) == 1, np.log(p), np.log1p(-p)), axis=1)
+    assert report["n50"] == pytest.approx(n50[np.argmax(ll)], abs=2e-3)
+    code, out, err = run(capsys, cycles_file, "--task", "detection", "--region", "low")
+    assert code == 2 and "takes no option(s) region" in err

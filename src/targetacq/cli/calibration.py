@@ -10,7 +10,7 @@ import typer
 
 from targetacq.acquisition.calibration import CriterionFit, fit_criterion
 from targetacq.acquisition.criteria import CRITERIA, TASKS
-from targetacq.acquisition.transforms import TRANSFORMS
+from targetacq.acquisition.transforms import CLUTTER_REGIONS, TRANSFORMS
 from targetacq.base.inputs import read_input_text
 from targetacq.base.units import parse_quantity
 from targetacq.cli import FORMATS, FormatOption, _complete, _csv, app
@@ -206,6 +206,13 @@ def calibrate_command(
             autocompletion=_complete(tuple(CRITERIA), separator=None),
         ),
     ] = "johnson",
+    region: Annotated[
+        str | None,
+        typer.Option(
+            help=f"Clutter region of schmieder-weathersby: {', '.join(CLUTTER_REGIONS)}.",
+            autocompletion=_complete(CLUTTER_REGIONS, separator=None),
+        ),
+    ] = None,
     critical_dimension: Annotated[
         str | None,
         typer.Option(
@@ -261,6 +268,7 @@ def calibrate_command(
         fit_exponent=False if fixed_exponent else None,
         confidence=confidence,
         base=None if base == "none" else base,
+        options=None if region is None else {"region": region},
     )
     if output_format == "json":
         from targetacq.io.files import json_text

@@ -81,6 +81,7 @@ api_modules = [  # by layer, lowest first (the contributor page "Architecture")
     "targetacq.acquisition.transforms",
     "targetacq.acquisition.observed_detection",
     "targetacq.acquisition.criteria",
+    "targetacq.acquisition.calibration",
     "targetacq.acquisition.probabilities",
     "targetacq.acquisition.fusion",
     "targetacq.physics.geometry",

@@ -54,6 +54,12 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
         "TASKS",
         "Criterion",
         "get_criterion",
+        "register_criterion",
+        "unregister_criterion",
+    ),
+    "acquisition.calibration": (
+        "CriterionFit",
+        "fit_criterion",
     ),
     "acquisition.fusion": (
         "central_level_bounds",
@@ -123,6 +129,7 @@ __all__ = [
     "Acquisition",
     "Clutter",
     "Criterion",
+    "CriterionFit",
     "RangeCase",
     "Scene",
     "SceneAcquisition",
@@ -143,6 +150,7 @@ __all__ = [
     "example_path",
     "extinction_from_visibility",
     "field_of_view",
+    "fit_criterion",
     "fuse",
     "fuse_groups",
     "gaussian_psf",
@@ -160,6 +168,7 @@ __all__ = [
     "projected_extents",
     "range_for_cycles",
     "range_for_pixel_density",
+    "register_criterion",
     "required_focal_length",
     "required_ifov",
     "resolvable_cycle_angle",
@@ -177,14 +186,21 @@ __all__ = [
     "transmittance",
     "ttpf",
     "ttpf_inverse",
+    "unregister_criterion",
 ]
 
 if TYPE_CHECKING:  # the same names, for type checkers and IDEs (a test keeps them equal)
+    from targetacq.acquisition.calibration import (
+        CriterionFit,
+        fit_criterion,
+    )
     from targetacq.acquisition.criteria import (
         CRITERIA,
         TASKS,
         Criterion,
         get_criterion,
+        register_criterion,
+        unregister_criterion,
     )
     from targetacq.acquisition.fusion import (
         central_level_bounds,

@@ -355,6 +355,10 @@ NOT_KERNELS = {
     "dri_ranges",  # test_range_cases_keep_nan
     "path_transmittance",  # sums over an axis: test_path_transmittance_keeps_nan_per_path
     "scene_acquisition",  # scenario records: tests/run/test_scene.py
+    "CriterionFit",  # a fit's result record: tests/acquisition/test_calibration.py
+    "fit_criterion",  # a reduction over trials (NaN refused): test_calibration.py
+    "register_criterion",  # the registry: test_calibration.py
+    "unregister_criterion",
 }
 
 # (kernel, input) pairs on which no output depends at the base inputs, so NaN there need not

@@ -17,12 +17,19 @@ for names, tasks and values (the CLI's choices and the docs come from it):
   ``data/criteria_sets.csv`` for their sources;
 - ``ttp-vehicles``: V50s of the TTP metric (TTP cycles, not Johnson cycles) for tactical
   vehicles, ``data/ttp_v50.csv``; for the ``ttp`` resolution model and transform.
+
+Criteria of one's own join the registry with :func:`register_criterion` (e.g. one fitted to
+trial data, :func:`targetacq.acquisition.calibration.fit_criterion`): from then on, in that
+process, its name is a criterion like the bundled ones, for the Python API, a scenario's
+``[model] criterion`` and the command line's ``--criterion``. The bundled sets cannot be
+replaced; :func:`unregister_criterion` takes a registered one out again.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -31,7 +38,15 @@ from typing import Literal
 from targetacq.base.registry import lookup
 from targetacq.base.tables import load_table
 
-__all__ = ["CRITERIA", "TASKS", "Criterion", "get_criterion"]
+__all__ = [
+    "BUNDLED_CRITERIA",
+    "CRITERIA",
+    "TASKS",
+    "Criterion",
+    "get_criterion",
+    "register_criterion",
+    "unregister_criterion",
+]
 
 TASKS: tuple[str, ...] = ("detection", "orientation", "recognition", "identification")
 """The observation tasks of Johnson's criteria, in order of increasing difficulty."""
@@ -180,17 +195,100 @@ def _ttp_vehicles() -> Criterion:
 
 
 @functools.cache
-def _registry() -> Mapping[str, Criterion]:
+def _sets() -> dict[str, Criterion]:
+    """The registry's own dict: the bundled sets, then those registered at run time."""
     sets = _johnson()
     sets["c2nveo"] = _c2nveo()
     sets["schmieder-weathersby"] = _schmieder_weathersby()
     sets.update(_other_sets())
     sets["ttp-vehicles"] = _ttp_vehicles()
-    return MappingProxyType(sets)
+    return sets
+
+
+def _registry() -> Mapping[str, Criterion]:
+    return MappingProxyType(_sets())
 
 
 CRITERIA: Mapping[str, Criterion] = _registry()
-"""All named criteria sets, by name (read-only)."""
+"""All named criteria sets, by name (read-only; :func:`register_criterion` adds to it)."""
+
+BUNDLED_CRITERIA: frozenset[str] = frozenset(CRITERIA)
+"""The names of the bundled sets, which :func:`register_criterion` never replaces."""
+
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
+
+
+def register_criterion(criterion: Criterion, *, replace: bool = False) -> Criterion:
+    """Add a criterion to :data:`CRITERIA` under its name, for the rest of this process.
+
+    From then on the name is a criterion like the bundled ones: ``get_criterion(name)``, the
+    ``criterion=`` of the probability functions, a scenario's ``[model] criterion`` (which needs
+    N50s for detection, recognition and identification) and the command line's ``--criterion``
+    run in this process (:func:`targetacq.cli.main`) take it.
+
+    Parameters
+    ----------
+    criterion : Criterion
+        Its ``name``: letters, digits, ``.``, ``_`` and ``-``, at most 64 characters, starting
+        with a letter or digit.
+    replace : bool
+        Replace a criterion registered before under that name (never a bundled one).
+
+    Returns
+    -------
+    Criterion
+        ``criterion``.
+
+    Raises
+    ------
+    ValueError
+        A bundled name, a name registered before (without ``replace``), or a name that is not
+        of the form above.
+
+    Examples
+    --------
+    >>> import targetacq as ta
+    >>> from targetacq.acquisition.criteria import register_criterion, unregister_criterion
+    >>> mine = ta.Criterion("my-trials", {"detection": 0.9, "recognition": 3.1,
+    ...                                   "identification": 6.0})
+    >>> _ = register_criterion(mine)
+    >>> ta.get_criterion("my-trials").n50("recognition")
+    3.1
+    >>> unregister_criterion("my-trials")
+    >>> "my-trials" in ta.CRITERIA
+    False
+    """
+    if not isinstance(criterion, Criterion):
+        raise TypeError(f"criterion must be a Criterion, got {type(criterion).__name__}")
+    name = criterion.name
+    if not _NAME.match(name):
+        raise ValueError(
+            f"criterion name must be letters, digits, '.', '_' or '-' (at most 64, starting with "
+            f"a letter or digit); got {name!r}"
+        )
+    if name in BUNDLED_CRITERIA:
+        raise ValueError(f"criterion {name!r} is a bundled set and cannot be replaced")
+    if name in CRITERIA and not replace:
+        raise ValueError(
+            f"criterion {name!r} is registered already; pass replace=True to replace it"
+        )
+    _sets()[name] = criterion
+    return criterion
+
+
+def unregister_criterion(name: str) -> None:
+    """Take a criterion added by :func:`register_criterion` out of :data:`CRITERIA`.
+
+    Raises
+    ------
+    ValueError
+        A bundled name, or a name not registered.
+    """
+    if name in BUNDLED_CRITERIA:
+        raise ValueError(f"criterion {name!r} is a bundled set and cannot be removed")
+    if name not in CRITERIA:
+        raise ValueError(f"no registered criterion {name!r}")
+    del _sets()[name]
 
 
 def get_criterion(criterion: str | Criterion | Mapping[str, float]) -> Criterion:

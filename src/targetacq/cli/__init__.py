@@ -76,6 +76,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "plot": ("figures", "Draw a figure: probability curves, transforms, atmosphere, ..."),
     "report": ("figures", "Write a self-contained report of cases or of a scenario."),
     "clutter": ("images", "Clutter, SCR, features and P(detection) of targets in an image."),
+    "calibrate": ("calibration", "Fit a task's N50 (and exponent) to trial outcomes."),
     "validate": ("scenarios", "Check a scenario file without running it."),
     "evaluate": ("scenarios", "Evaluate every sensor x target x time of a scenario."),
     "simulate": ("scenarios", "Random search over time: who is found, and when."),

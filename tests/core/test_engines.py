@@ -602,3 +602,43 @@ def test_numba_agrees_on_one_time_of_drawn_scenarios(document: dict, when: float
         np.testing.assert_allclose(
             fused[k], getattr(expected_p, PROBABILITIES[3 + k]), rtol=1e-12, atol=1e-15
         )
+
+
+def _read_only(value: np.ndarray) -> np.ndarray:
+    view = np.asarray(value, dtype=float).view()
+    view.flags.writeable = False
+    return view
+
+
+def test_numba_kernels_keep_one_signature_whatever_the_arrays() -> None:
+    """Each kernel is compiled for its one signature when the module is imported, and read-only
+    arrays (a frozen scenario's, a broadcast's) convert to it: the same numbers as writable
+    ones, and no second specialisation (each would be a compilation of tens of seconds)."""
+    from targetacq.core.engines import numba_kernels, numba_pairs
+
+    kernels = (
+        numba_kernels._factors_kernel,
+        numba_kernels._probabilities_kernel,
+        numba_pairs._pair_factors,
+        numba_pairs._pair_probabilities,
+        numba_pairs._pair_step,
+    )
+    scene, sensors, targets = step_scene(2, 5)
+    ours = bind(scene, "numba")
+    batch_s = np.repeat(np.asarray(sensors)[:, None, :], 4, axis=1)  # a batch of four times
+    batch_t = np.repeat(np.asarray(targets)[:, None, :], 4, axis=1)
+    for s_pos, t_pos in ((sensors, targets), (batch_s, batch_t)):
+        writable = _fields(found := ours.factors(s_pos, t_pos), ours.probabilities(found))
+        frozen = ours.factors(_read_only(s_pos), _read_only(t_pos))
+        frozen = dataclasses.replace(
+            frozen, **{name: _read_only(getattr(frozen, name)) for name in PER_TRIPLE}
+        )
+        read_only = _fields(frozen, ours.probabilities(frozen))
+        for name, value in writable.items():
+            np.testing.assert_array_equal(read_only[name], value, err_msg=name)
+    in_view, p, fused = ours.step(_read_only(sensors), _read_only(targets))  # the last: batch
+    np.testing.assert_array_equal(in_view, writable["in_view"][:, :, 0])
+    for k in range(3):
+        np.testing.assert_allclose(p[k], writable[PROBABILITIES[k]][:, :, 0], rtol=1e-12)
+        np.testing.assert_allclose(fused[k], writable[PROBABILITIES[3 + k]][:, 0], rtol=1e-12)
+    assert [len(kernel.signatures) for kernel in kernels] == [1] * len(kernels)

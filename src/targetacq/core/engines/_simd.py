@@ -67,9 +67,10 @@ def kernel(*arguments: Any, returns: Any = types.void) -> Callable[[Callable[...
     """:func:`compiled` with one signature, given: compiled when the module is imported (or loaded
     from numba's cache on disk), and never again for other argument types. Without it numba
     compiles one specialisation per combination of the arguments' types it meets (a read-only
-    view and a writable array are two types), some 30 s each; with it, arrays convert to the
-    signature's types (C-contiguous arrays of the dtype and rank; :func:`readonly`), and anything
-    else is a ``TypeError``."""
+    view and a writable array are two types), tens of seconds of CPU each; with it, arrays
+    convert to the signature's types (C-contiguous arrays of the dtype and rank;
+    :func:`readonly`), and anything else is a ``TypeError`` (the engine makes its arrays
+    contiguous)."""
     signature = returns(*arguments)
     return njit(signature, cache=True, error_model="numpy", nogil=True)
 

@@ -22,6 +22,18 @@ $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
 	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web,tracking]'
 	touch $@
 
+# The numba engine's kernels compiled once, here, into numba's cache on disk (the __pycache__ folder
+# next to their sources): importing targetacq.core.engines.numba_engine compiles each kernel's one
+# signature, or loads it from the cache. The tests, their subprocesses and the first numba run then
+# load the kernels instead of compiling them (some 25 s of CPU each). Remade when an engine source
+# changes, the old cache cleared first: numba checks a kernel's own file, not the files of the
+# functions it inlines (_simd.py).
+ENGINE_SOURCES := $(wildcard src/targetacq/core/engines/*.py)
+$(VENV)/.numba-cache: $(VENV)/.installed-test $(ENGINE_SOURCES)
+	rm -f src/targetacq/core/engines/__pycache__/*.nbi src/targetacq/core/engines/__pycache__/*.nbc
+	$(BIN)/python -c 'import targetacq.core.engines.numba_engine'
+	touch $@
+
 # The docs import every module they document (the API pages of targetacq.envs and targetacq.web
 # too) and run the gallery: the extras those modules need come with the docs' own.
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/activate
@@ -39,7 +51,7 @@ lint: $(VENV)/.installed-test
 typecheck: $(VENV)/.installed-test
 	$(BIN)/mypy
 
-test: $(VENV)/.installed-test lint typecheck
+test: $(VENV)/.installed-test $(VENV)/.numba-cache lint typecheck
 	$(BIN)/python -m pytest
 
 # The documentation site, warnings as errors: build/docs/index.html.
@@ -50,7 +62,7 @@ docs: $(VENV)/.installed-docs
 package: $(VENV)/.installed-test
 	bash .ci/package
 
-bench: $(VENV)/.installed-test
+bench: $(VENV)/.installed-test $(VENV)/.numba-cache
 	for b in benchmarks/bench_*.py; do $(BIN)/python $$b || exit 1; done
 
 clean:

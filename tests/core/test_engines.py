@@ -602,3 +602,46 @@ def test_numba_agrees_on_one_time_of_drawn_scenarios(document: dict, when: float
         np.testing.assert_allclose(
             fused[k], getattr(expected_p, PROBABILITIES[3 + k]), rtol=1e-12, atol=1e-15
         )
+
+
+def _read_only(value: np.ndarray, dtype: type = float) -> np.ndarray:
+    """The same values as a read-only, strided (not contiguous) view."""
+    doubled = np.repeat(np.asarray(value, dtype=dtype)[..., None], 2, axis=-1)
+    view = doubled[..., 0]
+    view.flags.writeable = False
+    return view
+
+
+def test_numba_kernels_keep_one_signature_whatever_the_arrays() -> None:
+    """Each kernel is compiled for its one signature when the module is imported, and the engine
+    hands it read-only and strided arrays (a frozen scenario's, a broadcast's, a slice) as that
+    signature's types: the same numbers as with writable contiguous ones, and no second
+    specialisation (each would be a compilation of tens of seconds)."""
+    from targetacq.core.engines import numba_kernels, numba_pairs
+
+    kernels = (
+        numba_kernels._factors_kernel,
+        numba_kernels._probabilities_kernel,
+        numba_pairs._pair_factors,
+        numba_pairs._pair_probabilities,
+        numba_pairs._pair_step,
+    )
+    scene, sensors, targets = step_scene(2, 5)
+    ours = bind(scene, "numba")
+    batch_s = np.repeat(np.asarray(sensors)[:, None, :], 8, axis=1)  # eight times: one pass
+    batch_t = np.repeat(np.asarray(targets)[:, None, :], 8, axis=1)
+    for s_pos, t_pos in ((sensors, targets), (batch_s, batch_t)):
+        writable = _fields(found := ours.factors(s_pos, t_pos), ours.probabilities(found))
+        frozen = ours.factors(_read_only(s_pos), _read_only(t_pos))
+        frozen = dataclasses.replace(
+            frozen, **{name: _read_only(getattr(frozen, name)) for name in PER_TRIPLE}
+        )
+        read_only = _fields(frozen, ours.probabilities(frozen))
+        for name, value in writable.items():
+            np.testing.assert_array_equal(read_only[name], value, err_msg=name)
+    moving = np.arange(5) % 2 == 0
+    expected = ours.step(sensors, targets, moving=moving)
+    got = ours.step(_read_only(sensors), _read_only(targets), moving=_read_only(moving, bool))
+    for ours_k, expected_k in zip(got, expected, strict=True):
+        np.testing.assert_array_equal(ours_k, expected_k)
+    assert [len(kernel.signatures) for kernel in kernels] == [1] * len(kernels)

@@ -32,13 +32,47 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-__all__ = ["compiled", "exp", "expm1", "inline", "log", "log10"]
+__all__ = [
+    "compiled",
+    "exp",
+    "expm1",
+    "inline",
+    "kernel",
+    "log",
+    "log10",
+    "readonly",
+    "writable",
+]
 
 
 def compiled(function: Callable[..., Any]) -> Any:
     """A kernel compiled by numba: cached on disk, NumPy's error model (a division by zero gives
     inf or NaN, as in NumPy, instead of raising, which also lets loops vectorise), no GIL."""
     return njit(cache=True, error_model="numpy", nogil=True)(function)
+
+
+def readonly(ndim: int, dtype: Any = types.float64) -> Any:
+    """The numba type of a kernel's input: a C-contiguous array the kernel only reads. Typed
+    read-only, so that NumPy arrays of either kind convert to it (a writable array converts to a
+    read-only type, not the reverse)."""
+    return types.Array(dtype, ndim, "C", readonly=True)
+
+
+def writable(ndim: int, dtype: Any = types.float64) -> Any:
+    """The numba type of a kernel's output or work space: a C-contiguous writable array."""
+    return types.Array(dtype, ndim, "C")
+
+
+def kernel(*arguments: Any, returns: Any = types.void) -> Callable[[Callable[..., Any]], Any]:
+    """:func:`compiled` with one signature, given: compiled when the module is imported (or loaded
+    from numba's cache on disk), and never again for other argument types. Without it numba
+    compiles one specialisation per combination of the arguments' types it meets (a read-only
+    view and a writable array are two types), tens of seconds of CPU each; with it, arrays
+    convert to the signature's types (C-contiguous arrays of the dtype and rank;
+    :func:`readonly`), and anything else is a ``TypeError`` (the engine makes its arrays
+    contiguous)."""
+    signature = returns(*arguments)
+    return njit(signature, cache=True, error_model="numpy", nogil=True)
 
 
 def inline(function: Callable[..., Any]) -> Any:

@@ -497,7 +497,9 @@ class NumbaScene:
                 f"{np.shape(sensor_positions)} and {np.shape(target_positions)}"
             )
         sin_cos, visible, sensors = self._pair_inputs(headings, pointing, visible_fraction)
-        flags = self.moving if moving is None else np.asarray(check_moving(moving, self.shape[1]))
+        flags = self.moving
+        if moving is not None:
+            flags = np.ascontiguousarray(check_moving(moving, self.shape[1]), dtype=bool)
         scr_given = self._pair_scr(scr)
         in_view = np.empty(self.shape, dtype=bool)
         p = np.empty((3, *self.shape))
@@ -732,7 +734,7 @@ class NumbaScene:
             full(found.snr) if with_snr else np.zeros(flat),
             full(found.scr) if has_scr else np.zeros(flat),
             full(found.in_view, bool),
-            rng.reshape(flat),
+            np.ascontiguousarray(rng.reshape(flat)),
         ]
         out = [np.empty(flat) for _ in range(3)]
         fused = np.empty((3, n_g, size))

@@ -42,7 +42,19 @@ from __future__ import annotations
 
 import math
 
-from targetacq.core.engines._simd import compiled, exp, expm1, inline, log, log10
+from numba import types
+
+from targetacq.core.engines._simd import (
+    compiled,
+    exp,
+    expm1,
+    inline,
+    kernel,
+    log,
+    log10,
+    readonly,
+    writable,
+)
 
 # Codes of the model choices inside the kernels (numba compiles integers, not registry names).
 NOISE_NONE_GIVEN, NOISE_VARIANCE_SUM, NOISE_CLUTTER_ANALOGUE, NOISE_IGNORED = 0, 1, 2, 3
@@ -184,7 +196,16 @@ def seen_probability(snr, threshold):
     return snr if snr != snr else p
 
 
-@compiled
+@kernel(
+    *(readonly(3), readonly(3)),  # positions
+    *(readonly(2), readonly(2), readonly(2), readonly(3)),  # headings, dimensions, visible
+    *(readonly(1), readonly(1), readonly(3), readonly(2), readonly(1, types.boolean)),  # sensors
+    *(readonly(1), readonly(1), readonly(2), readonly(2)),  # extinction, segments, clouds
+    *(readonly(1), readonly(2), types.boolean, readonly(1), types.boolean),  # the SNR
+    writable(2),  # area
+    *(writable(3), writable(3), writable(3), writable(3, types.boolean)),  # out: range … in view
+    *(writable(3), writable(3), writable(3)),  # out: depth, tau, SNR
+)
 def _factors_kernel(
     sensor_positions,  # (3, n_s, B): east, north, up, component-major (unit-stride loads)
     target_positions,  # (3, n_g, B)
@@ -455,7 +476,14 @@ def table_curve(n, n50, task, tables, table_reference):
     return curve(scaled, log(scaled if scaled > 0.0 else 1.0), tables, task)
 
 
-@compiled
+@kernel(
+    *(readonly(3), readonly(3), readonly(3), readonly(3, types.boolean), readonly(3)),  # factors
+    *(readonly(2), readonly(2), readonly(1, types.boolean), readonly(1, types.boolean)),  # targets
+    readonly(1, types.int64),  # settings
+    *(readonly(1), readonly(3), readonly(1), readonly(3), readonly(1), readonly(1)),  # constants
+    *(writable(1), writable(2)),  # work space
+    *(writable(3), writable(3), writable(3), writable(3)),  # out
+)
 def _probabilities_kernel(
     cycles,  # (n_s, n_g, B)
     snr,  # (n_s, n_g, B)

@@ -25,8 +25,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import types
 
-from targetacq.core.engines._simd import compiled, exp, inline, log
+from targetacq.core.engines._simd import exp, inline, kernel, log, readonly, writable
 from targetacq.core.engines.numba_kernels import (
     MOTION_ALWAYS,
     NOISE_NONE_GIVEN,
@@ -88,7 +89,19 @@ def _frame(fx, fy, fz, frame):
     frame[5], frame[6], frame[7] = ry * fz, -rx * fz, rx * fy - ry * fx
 
 
-@compiled
+_FACTOR_INPUTS = (
+    *(readonly(2), readonly(2), readonly(2), readonly(2), readonly(2)),  # positions … visible
+    *(readonly(2), readonly(1), readonly(2), readonly(2), readonly(2)),  # sensors … contrast
+    types.boolean,  # has_noise
+)
+_PROBABILITY_CONSTANTS = (
+    *(readonly(2), readonly(2), readonly(1, types.boolean), readonly(1, types.boolean)),  # targets
+    readonly(1, types.int64),  # settings
+)
+_TABLES = (readonly(1), readonly(3), readonly(1), readonly(3), readonly(1), readonly(1))
+
+
+@kernel(*_FACTOR_INPUTS, writable(3), writable(2, types.boolean), returns=types.int64)
 def _pair_factors(
     sensor_positions,  # (n_s, 3)
     target_positions,  # (n_g, 3)
@@ -219,7 +232,13 @@ CHUNK = 256
 """Pairs per pass of :func:`_pair_probabilities`: its work space stays in the CPU cache."""
 
 
-@compiled
+@kernel(
+    *(readonly(2), readonly(2), readonly(2), readonly(2, types.boolean), readonly(2)),  # factors
+    *_PROBABILITY_CONSTANTS,
+    types.boolean,  # has_scr
+    *_TABLES,
+    *(writable(3), writable(2)),  # out
+)
 def _pair_probabilities(
     cycles,  # (n_s, n_g)
     snr,  # (n_s, n_g)
@@ -379,7 +398,14 @@ def _pair_probabilities(
             fused[k, g] = 1.0 - fused[k, g]
 
 
-@compiled
+@kernel(
+    *_FACTOR_INPUTS,
+    *(readonly(2), types.boolean),  # scr
+    *_PROBABILITY_CONSTANTS,
+    *_TABLES,
+    *(writable(3), writable(2, types.boolean), writable(3), writable(2)),  # work space, out
+    returns=types.int64,
+)
 def _pair_step(
     sensor_positions,
     target_positions,

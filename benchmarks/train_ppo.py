@@ -14,7 +14,7 @@ PPO maximises), the count of acquisitions (detections, recognitions and identifi
 sparse reward of ``SensorPointing-v0``) and the targets identified, and tests the trained
 policy against each baseline (Welch's t-test and the Mann-Whitney U test, two-sided).
 
-Run (the ``train`` extra pulls PyTorch: ``pip install 'targetacq[rl,train]'``)::
+Run from a checkout (the ``train`` extra pulls PyTorch: ``pip install -e '.[rl,train]'``)::
 
     python benchmarks/train_ppo.py --out ppo-run
 

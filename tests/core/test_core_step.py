@@ -211,10 +211,13 @@ def test_the_scenes_own_values_change_nothing(path: Path) -> None:
         if bound is None:
             continue
         reference = _results(bound, sensors, targets, headings)
+        # Exact on NumPy and numba; JAX compiles the call with the flags given as another XLA
+        # graph (the probabilities again from the factors on the device), whose fusion may
+        # round differently in the last bit.
         _same(
             _results(bound, sensors, targets, headings, own_visible, own_moving),
             reference,
-            exact=True,
+            exact=engine != "jax",
         )
 
 

@@ -63,7 +63,7 @@ def terrain_view(
         East, north, altitude of the sensors [m].
     target_positions : array (n_g, *batch, 3)
         East, north and the altitude of each target's base [m].
-    target_heights : array (n_g,)
+    target_heights : array (n_g,) or (n_g, *batch)
         Each target's height [m], > 0.
     visible_fraction : array_like
         The targets' own visible fraction in (0, 1] [1], in any shape the core takes
@@ -102,7 +102,7 @@ def terrain_view(
         None,
         s_pos[:, None],
         t_pos[None, :],
-        heights.reshape((1, -1) + (1,) * batch),
+        heights.reshape((1, *heights.shape) + (1,) * (batch + 1 - heights.ndim)),
         k=earth_radius_factor,
     )
     own = check_visible_fraction(np.asarray(visible_fraction, dtype=float), shape, np)
@@ -120,5 +120,5 @@ def hide(found: Factors, hidden: Any) -> Factors:
     >>> hide(found, np.array([[False, True]])).in_view.tolist()
     [[True, False]]
     """
-    in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), np.shape(hidden))
-    return dataclasses.replace(found, in_view=in_view & ~np.asarray(hidden, dtype=bool))
+    in_view = np.asarray(found.in_view, dtype=bool) & ~np.asarray(hidden, dtype=bool)
+    return dataclasses.replace(found, in_view=in_view)

@@ -26,7 +26,11 @@ Probabilities
     applied per pair with the geometry's own test
     (:func:`targetacq.physics.geometry.within_numpy`): zero outside, as the core has it. The
     unpointed probabilities are the observation's *prospects*. The tests hold both paths to
-    :meth:`targetacq.Simulation.probabilities` of a camera pointed at the target.
+    :meth:`targetacq.Simulation.probabilities` of a camera pointed at the target. With an
+    elevation model (the scene's ``terrain``) every platform-target line of sight of every
+    episode is traced in one call from the true positions (not the shifted ones), each pair
+    given the smaller of its own and the terrain's visible fraction, a hidden pair (or one off
+    the grid) out of view (:mod:`targetacq.core.terrain_view`).
 Acquisition
     one :class:`targetacq.run.search.SearchState` holds every episode's camera-target pairs
     (N × rows × T, flat); its draws are keyed by the episode's model seed and the camera's and

@@ -146,6 +146,15 @@ def test_cli_evaluate_and_simulate(scenes, cli, tmp_path):
     front = [r for r in rows if r["target"] == "front"]
     assert behind and all(r["detection"] == 0.0 and not r["in_view"] for r in behind)
     assert all(r["detection"] > 0.5 for r in front)
+    code, out, err = cli(
+        "simulate", str(scenes[0]), "--duration", "60s", "--step", "0.5s", "--runs", "20",
+        "--seed", "1", "--format", "json",
+    )  # fmt: skip
+    assert code == 0, err
+    fractions = {
+        (row["target"], row["task"]): row["fraction"] for row in json.loads(out)["targets"]
+    }
+    assert fractions["behind", "detection"] == 0.0 and fractions["front", "detection"] == 1.0
     result = simulate(ModelChain(load_scenario(scenes[0])), 60.0, 0.5, runs=20, seed=1)
     names = result.targets
     detected = np.isfinite(result.fused["detection"])

@@ -48,7 +48,14 @@ def _identification(scenario, env):
 
 
 def test_the_overrides_name_the_scenario_records():
-    assert set(OVERRIDE_TABLES) == {"sensor", "target", "atmosphere", "background", "model"}
+    assert set(OVERRIDE_TABLES) == {
+        "sensor",
+        "target",
+        "atmosphere",
+        "background",
+        "model",
+        "terrain",
+    }
     for table, fields in CONTROLLED_FIELDS.items():
         assert set(fields) <= set(OVERRIDE_TABLES[table].model_fields)
     assert {"name", "position", "azimuth", "depression", "type"} <= set(CONTROLLED_FIELDS["sensor"])

@@ -9,7 +9,9 @@ Scene
     ``speed`` (east, unless the task steers it) over a square of ``half_width`` with cued
     targets of drawn positions, headings, sizes and temperatures, its ``scenario_overrides``
     (but a terrain map) and ``camera_type``; the model's search law with its persistent draws
-    (:mod:`targetacq.run.search`).
+    (:mod:`targetacq.run.search`). With an elevation model (``scenario_overrides={"terrain":
+    {...}}``, the ``[terrain]`` table) the targets stand on the ground, ``altitude`` is above
+    the model's datum, and a target the terrain hides from the platform is out of view.
 Task (``task``, :data:`targetacq.envs.tasks.TASKS`)
     ``search``: the action points the cameras; ``route``: it steers the platform's heading
     (turn rate at most π/12 rad/s) and each camera looks at the nearest target not yet

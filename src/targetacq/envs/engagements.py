@@ -26,7 +26,11 @@ Probabilities
     applied per pair with the geometry's own test
     (:func:`targetacq.physics.geometry.within_numpy`): zero outside, as the core has it. The
     unpointed probabilities are the observation's *prospects*. The tests hold both paths to
-    :meth:`targetacq.Simulation.probabilities` of a camera pointed at the target.
+    :meth:`targetacq.Simulation.probabilities` of a camera pointed at the target. With an
+    elevation model (the scene's ``terrain``) every platform-target line of sight of every
+    episode is traced in one call from the true positions (not the shifted ones), each pair
+    given the smaller of its own and the terrain's visible fraction, a hidden pair (or one off
+    the grid) out of view (:mod:`targetacq.core.terrain_view`).
 Acquisition
     one :class:`targetacq.run.search.SearchState` holds every episode's camera-target pairs
     (N × rows × T, flat); its draws are keyed by the episode's model seed and the camera's and
@@ -49,6 +53,7 @@ import numpy as np
 from targetacq import core
 from targetacq.base.sampling import stream_key
 from targetacq.core.records import SceneArrays
+from targetacq.core.terrain_view import hide, terrain_view
 from targetacq.physics import geometry
 from targetacq.run.search import SearchState, Streams
 from targetacq.scenario.plausibility import collected
@@ -161,6 +166,7 @@ class Engagements:
         self.chunk = min(chunk, n)
         self.dt, self.duration = scene.dt, scene.duration
         self.hw, self.alt, self.speed = scene.half_width, scene.altitude, scene.speed
+        self.elevation, self.k = scene.elevation, scene.earth_radius_factor
         self.camera_of_row = np.repeat(np.arange(self.c), self.z)
         self.zoom_of_row = np.tile(np.arange(self.z), self.c)
         template = self._compile([np.random.default_rng(0)])[0]
@@ -199,6 +205,7 @@ class Engagements:
         self.potential = np.zeros((n, self.t))
         self.prospect = np.zeros((3, n, self.t))
         self.in_view = np.zeros((n, self.t), dtype=bool)
+        self.hidden = np.zeros((n, self.t), dtype=bool)  # by the terrain, from the platform
         self.progress = np.zeros((n, self.t))
         self.started = False
 
@@ -228,6 +235,9 @@ class Engagements:
                     row["name"], row["focal_length"] = f"camera-{c}-zoom-{z}", focal
                 sensors.append(row)
         data["sensors"] = sensors
+        # The terrain's lines of sight are traced here (probabilities), over the model the
+        # scene read once: not read again at each compilation.
+        data.pop("terrain", None)
         seed = int(rng.integers(0, 2**31 - 1))
         return data, seed
 
@@ -304,27 +314,58 @@ class Engagements:
     def probabilities(self) -> np.ndarray:
         """The unpointed probabilities (3, N, rows, T) at the current positions."""
         assert self.pool is not None
+        fraction = self._terrain()
         if self.pool.path.cloud_center.shape[0] == 0:
-            return self._shifted()
-        return self._chunked()
+            return self._shifted(fraction)
+        return self._chunked(fraction)
 
-    def _shifted(self) -> np.ndarray:
+    def _terrain(self) -> np.ndarray | None:
+        """With an elevation model, each episode's targets' visible fraction for the core (N,
+        T), 1 where hidden, and :attr:`hidden` set: every platform-target line of sight of every
+        episode in one call (:func:`targetacq.core.terrain_view.terrain_view`), from the true
+        positions. Off the grid (the terrain unknown) a target counts as hidden."""
+        if self.elevation is None:
+            return None
+        assert self.pool is not None
+        # The episodes along the batch axis: one observer (the platform) per episode.
+        per_episode = (self.n, self.t)
+        heights = np.asarray(self.pool.targets.dimensions, dtype=float)[:, 2]
+        own = np.asarray(self.pool.targets.visible_fraction, dtype=float)
+        view = terrain_view(
+            self.elevation,
+            self.k,
+            self.platform[None],
+            self.targets.transpose(1, 0, 2),
+            heights.reshape(per_episode).T,
+            own.reshape(per_episode).T[None],
+        )
+        fraction = view.visible_fraction[0].T
+        self.hidden = view.hidden[0].T | np.isnan(fraction)
+        return np.where(self.hidden, 1.0, fraction)
+
+    def _shifted(self, fraction: np.ndarray | None) -> np.ndarray:
         """:meth:`probabilities` in one call of the core over the N × T targets, each episode's
         targets moved by its platform's horizontal offset so that every camera stands at one
         place, (0, 0, altitude): the lines of sight, and the heights, are each pair's own (the
         platforms fly level at one altitude), and nothing else in a scene without clouds (or a
-        terrain map, refused) depends on where a pair is."""
+        terrain map, refused) depends on where a pair is. The terrain's ``fraction`` (N, T)
+        comes from the true positions (:meth:`_terrain`)."""
         assert self.pool is not None
         offset = self.platform * np.array([1.0, 1.0, 0.0])
         t_pos = (self.targets - offset[:, None]).reshape(self.n * self.t, 3)
         s_pos = np.tile([0.0, 0.0, self.alt], (self.r, 1))
-        _, p = core.evaluate(self.pool, s_pos, t_pos)
+        if fraction is None:
+            _, p = core.evaluate(self.pool, s_pos, t_pos)
+        else:
+            found = core.factors(self.pool, s_pos, t_pos, visible_fraction=fraction.reshape(1, -1))
+            found = hide(found, self.hidden.reshape(1, -1))
+            p = core.probabilities(self.pool, found)
         tasks = ("detection", "recognition", "identification")
         return np.stack(
             [np.asarray(getattr(p, name)).reshape(self.r, self.n, self.t) for name in tasks]
         ).transpose(0, 2, 1, 3)
 
-    def _chunked(self) -> np.ndarray:
+    def _chunked(self, fraction: np.ndarray | None) -> np.ndarray:
         """:meth:`probabilities` a chunk of K episodes per core call: the chunk's K × T targets
         against its cameras, the episodes along the core's batch axis, the K × T pairs of each
         episode's own targets kept (a scene with clouds, whose places count)."""
@@ -336,9 +377,18 @@ class Engagements:
             t_pos = np.broadcast_to(
                 self.targets[lo:hi].reshape(m * self.t, 1, 3), (m * self.t, m, 3)
             )
-            _, p = core.evaluate(
-                self._chunk(k), np.ascontiguousarray(s_pos), np.ascontiguousarray(t_pos)
-            )
+            s_pos, t_pos = np.ascontiguousarray(s_pos), np.ascontiguousarray(t_pos)
+            if fraction is None:
+                _, p = core.evaluate(self._chunk(k), s_pos, t_pos)
+            else:  # per target (each is one episode's: its own pairs are the ones kept)
+                found = core.factors(
+                    self._chunk(k),
+                    s_pos,
+                    t_pos,
+                    visible_fraction=fraction[lo:hi].reshape(1, m * self.t, 1),
+                )
+                found = hide(found, self.hidden[lo:hi].reshape(1, m * self.t, 1))
+                p = core.probabilities(self._chunk(k), found)
             ar = np.arange(m)
             for task, name in enumerate(("detection", "recognition", "identification")):
                 value = np.asarray(getattr(p, name)).reshape(self.r, m, self.t, m)
@@ -347,7 +397,7 @@ class Engagements:
 
     def view(self) -> np.ndarray:
         """Whether each episode's rows see each target (N, rows, T): the camera's field of view
-        at its pointing, for the chosen zoom level."""
+        at its pointing, for the chosen zoom level, and not hidden by the terrain."""
         assert self.pool is not None
         az = self.pointing[..., 0][:, self.camera_of_row]
         dep = self.pointing[..., 1][:, self.camera_of_row]
@@ -363,7 +413,7 @@ class Engagements:
             x, y, z, frame, half[None, :, 0, None], half[None, :, 1, None]
         )
         chosen = self.zoom_index[:, self.camera_of_row] == self.zoom_of_row[None]
-        return inside & chosen[..., None]
+        return inside & chosen[..., None] & ~self.hidden[:, None, :]
 
     def advance(self, starting: np.ndarray, rngs: list[np.random.Generator]) -> dict[str, Any]:
         """Start the episodes ``starting`` (bool (N,)), step the others (their platform and

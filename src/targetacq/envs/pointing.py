@@ -60,11 +60,13 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.error import ResetNeeded
 
+from targetacq.physics.line_of_sight import STANDARD_K, ElevationModel, read_elevation
 from targetacq.run.search import ShortVisitWarning
 from targetacq.scenario.plausibility import collected, emit
 from targetacq.scenario.schema import (
     Atmosphere,
     Background,
+    Elevation,
     ModelChoices,
     Scenario,
     ScenarioError,
@@ -102,10 +104,11 @@ OVERRIDE_TABLES: dict[str, type[Any]] = {
     "atmosphere": Atmosphere,
     "background": Background,
     "model": ModelChoices,
+    "terrain": Elevation,
 }
 """The keys of an environment's ``scenario_overrides``, and the scenario record whose fields
 each takes (the tables of a scenario file: ``sensor`` and ``target`` set on every camera and
-every target)."""
+every target; ``terrain`` the ``[terrain]`` elevation model)."""
 
 CONTROLLED_FIELDS: dict[str, dict[str, str]] = {
     "sensor": {
@@ -161,33 +164,43 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
     dt : float
         Step [s], > 0.
     altitude : float
-        Platform height [m], > 0.
+        Platform height [m], > 0: above the ground's 0 m, or, with a ``terrain`` elevation
+        model, the altitude above the model's datum (the platform flies level at it, higher than
+        every post of the area it can reach).
     speed : float
         Platform speed [m/s], >= 0 (flying east).
     half_width : float
         Half the side of the square area the targets stand in [m], > 0.
     scenario_overrides : mapping, optional
         The core's sensor, target, path and model features, as the tables of a scenario file:
-        keys ``"sensor"``, ``"target"``, ``"atmosphere"``, ``"background"`` and ``"model"``
-        (:data:`OVERRIDE_TABLES`), each a mapping of the fields of that scenario record
-        (:class:`~targetacq.scenario.schema.Sensor`, :class:`~targetacq.scenario.schema.Target`,
+        keys ``"sensor"``, ``"target"``, ``"atmosphere"``, ``"background"``, ``"model"`` and
+        ``"terrain"`` (:data:`OVERRIDE_TABLES`), each a mapping of the fields of that scenario
+        record (:class:`~targetacq.scenario.schema.Sensor`,
+        :class:`~targetacq.scenario.schema.Target`,
         :class:`~targetacq.scenario.schema.Atmosphere`,
         :class:`~targetacq.scenario.schema.Background`,
-        :class:`~targetacq.scenario.schema.ModelChoices`), set over the environment's own scene
+        :class:`~targetacq.scenario.schema.ModelChoices`,
+        :class:`~targetacq.scenario.schema.Elevation`), set over the environment's own scene
         below: ``sensor`` on every camera, ``target`` on every target. Quantities as in a file
-        (``"50 mK"``, ``"0.2 /km"``) or as SI numbers. One mapping rather than five keywords
+        (``"50 mK"``, ``"0.2 /km"``) or as SI numbers. One mapping rather than six keywords
         keeps the constructor within ten parameters. Checked here, by the scenario's own
         records and the core's compiler (an MRTD curve is read): a bad value, an unknown key
         or a field the environment sets itself (:data:`CONTROLLED_FIELDS`: the cameras' names,
         type, position and pointing; the targets' names and the position, heading and
         dimensions drawn per episode) raises ``ValueError`` naming it
         (``scenario_overrides: sensor.netd: ...``). File paths (``sensor.mrtd``,
-        ``background.image``, ``background.terrain.map``) are relative to the current directory
-        when the environment is made. A ``target.temperature`` replaces the drawn one (the draw
-        still happens, so a seed gives the same layout with and without overrides); a
-        ``sensor.hfov`` or ``sensor.ifov`` replaces the default lens; a background's way of
-        clutter, or an atmosphere's extinction, obscurant or visibility, replaces the default
-        one. Plausibility warnings are emitted once, here. Default: none (the scene of the Notes).
+        ``background.image``, ``background.terrain.map``, ``terrain.elevation``) are relative to
+        the current directory when the environment is made. A ``terrain`` elevation model
+        (``{"elevation": "dem.npy", "spacing": "30 m", "origin": ["-5 km", "-5 km"]}``) must
+        cover the targets' square; the drawn targets then stand on the ground (their altitude
+        the terrain's at their east and north) and every camera-target pair sees the fraction
+        of its target above the terrain (:func:`targetacq.line_of_sight`, the step API's
+        ``terrain``): a target behind a ridge is out of view. A ``target.temperature`` replaces
+        the drawn one (the draw still happens, so a seed gives the same layout with and
+        without overrides); a ``sensor.hfov`` or ``sensor.ifov`` replaces the default lens; a
+        background's way of clutter, or an atmosphere's extinction, obscurant or visibility,
+        replaces the default one. Plausibility warnings are emitted once, here. Default: none
+        (the scene of the Notes).
     render_mode : None
         No rendering.
     camera_type : str
@@ -274,6 +287,8 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             float(half_width),
         )
         self.scenario_overrides = _overrides(scenario_overrides)
+        self.elevation: ElevationModel | None = None  # the terrain table's, read once
+        self.earth_radius_factor = STANDARD_K
         self._check_overrides()
         size = 3 + 2 * cameras + 6 * targets
         # Positions over the half-width stay within the area plus the flight and the height.
@@ -314,11 +329,10 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             heading = float(rng.uniform(0.0, 2 * math.pi))
             temperature = float(rng.uniform(300.0, 315.0))
             reflectance = None if self.camera_type == "thermal" else 0.1
-            position = (
-                float(rng.uniform(-self.half_width, self.half_width)),
-                float(rng.uniform(-self.half_width, self.half_width)),
-                0.0,
-            )
+            east = float(rng.uniform(-self.half_width, self.half_width))
+            north = float(rng.uniform(-self.half_width, self.half_width))
+            ground = 0.0 if self.elevation is None else float(self.elevation.height_at(east, north))
+            position = (east, north, ground)
             target = {
                 "name": f"target-{j}",
                 "dimensions": dimensions,
@@ -344,6 +358,11 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
             "background": _over(background, self.scenario_overrides, "background"),
             "atmosphere": _over({"obscurant": "haze"}, self.scenario_overrides, "atmosphere"),
             "model": _over({}, self.scenario_overrides, "model"),
+            **(
+                {"terrain": dict(self.scenario_overrides["terrain"])}
+                if "terrain" in self.scenario_overrides
+                else {}
+            ),
         }
 
     def _check_overrides(self) -> None:
@@ -360,7 +379,40 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
         problems = check_runnable(scenario)
         if problems:
             raise ScenarioError([_located(f"{_SOURCE}: {p}") for p in problems])
+        if scenario.terrain is not None:
+            relief = scenario.terrain
+            self.earth_radius_factor = float(relief.earth_radius_factor)
+            self.elevation = self._reachable(
+                read_elevation(relief.elevation, relief.spacing, relief.origin)
+            )
         emit([_located(message) for message in found], stacklevel=4)
+
+    def _reachable(self, model: ElevationModel) -> ElevationModel:
+        """The elevation model, checked to cover the targets' square and to stay under the
+        platform's altitude within its reach (``half_width + speed · duration`` of the origin)."""
+        reach = self.half_width + self.speed * self.duration
+        west, east, south, north = model.extent
+        if not (
+            west <= -self.half_width <= self.half_width <= east
+            and south <= -self.half_width <= self.half_width <= north
+        ):
+            raise ValueError(
+                f"{_SOURCE}: terrain.elevation: the grid (east {west:g} to {east:g} m, north "
+                f"{south:g} to {north:g} m) must cover the targets' square of +-{self.half_width:g}"
+                " m around the origin"
+            )
+        rows, cols = model.elevation.shape
+        x = model.origin[0] + model.spacing * np.arange(cols)
+        y = model.origin[1] + model.spacing * np.arange(rows)
+        near = (np.abs(y)[:, None] <= reach) & (np.abs(x)[None, :] <= reach)
+        highest = float(np.nanmax(np.where(near, model.elevation, -np.inf)))
+        if not highest < self.altitude:
+            raise ValueError(
+                f"altitude ({self.altitude:g} m, above the elevation model's datum) must be above "
+                f"the terrain the platform can reach (up to {highest:g} m within {reach:g} m of "
+                "the origin)"
+            )
+        return model
 
     def _scenario(self) -> Scenario:
         data = self.scene_tables(self.np_random, self.n_cameras, self.n_targets)
@@ -555,6 +607,8 @@ def _overrides(given: Any) -> dict[str, dict[str, Any]]:
             terrain = table.get("terrain")
             if isinstance(terrain, Mapping) and "map" in terrain:
                 table["terrain"] = {**terrain, "map": _path(terrain["map"])}
+        if key == "terrain" and "elevation" in table:
+            table["elevation"] = _path(table["elevation"])
         tables[key] = table
     return tables
 

@@ -10,7 +10,10 @@ by :mod:`targetacq.core.evaluation`). The steps, in order:
     (:func:`targetacq.core.scenario_positions`);
 ``factors``
     line of sight, range, critical dimension, cycles, field of view, the path's optical depth,
-    transmittance and SNR, and the SCR (:func:`targetacq.core.factors`);
+    transmittance and SNR, and the SCR (:func:`targetacq.core.factors`); with a ``[terrain]``
+    elevation model each pair's visible fraction over the relief at each time, a target the
+    terrain hides out of view (:func:`targetacq.core.terrain_view.terrain_view`, as the step
+    API);
 ``clutter``
     the SCR of a terrain map at each sensor's footprint, where the scenario has one
     (:func:`targetacq.core.evaluation.footprint_scr`);
@@ -43,6 +46,7 @@ from targetacq.base.registry import lookup
 from targetacq.core import engines, ttp_rows
 from targetacq.core.cases import RangeCase
 from targetacq.core.evaluation import footprint_scr
+from targetacq.core.terrain_view import hide, terrain_view
 from targetacq.io.datasets import OUTPUT_FORMATS, Output, annotate, provenance, write_output
 from targetacq.physics.named_atmospheres import TabulatedPath
 from targetacq.scenario.schema import Scenario
@@ -120,7 +124,22 @@ def _factors(
     positions: tuple[np.ndarray, np.ndarray, np.ndarray],
 ) -> core.Factors:
     sensor_pos, target_pos, heading = positions
-    return chain.bound(scene).factors(sensor_pos, target_pos, heading)
+    elevation = chain.compiled.elevation
+    if elevation is None:
+        return chain.bound(scene).factors(sensor_pos, target_pos, heading)
+    # Lines of sight over the [terrain] relief: every (sensor, target, time) in one call.
+    view = terrain_view(
+        elevation,
+        chain.compiled.earth_radius_factor,
+        sensor_pos,
+        target_pos,
+        np.asarray(scene.targets.dimensions, dtype=float)[:, 2],
+        scene.targets.visible_fraction,
+    )
+    found = chain.bound(scene).factors(
+        sensor_pos, target_pos, heading, visible_fraction=view.visible_fraction
+    )
+    return hide(found, view.hidden)
 
 
 def _clutter(

@@ -843,7 +843,14 @@ def _false_target_footprints(
     from targetacq.core import scenario_positions
 
     scene = chain.compiled.scene
-    sampler = FalseTargetSampler(sc.false_targets, scene.sensors, sc.model.search_time, seed)
+    elevation = chain.compiled.elevation  # [terrain]: reports on ground in sight only
+    sampler = FalseTargetSampler(
+        sc.false_targets,
+        scene.sensors,
+        sc.model.search_time,
+        seed,
+        None if elevation is None else (elevation, chain.compiled.earth_radius_factor),
+    )
     positions = scenario_positions(sc, edges)[0]  # (sensor rows, steps, 3)
     footprints = [sampler.footprints(positions[:, k]) for k in range(edges.size)]
     expected = runs * sum(

@@ -72,7 +72,7 @@ from targetacq.base.arrays import Array
 from targetacq.base.limits import MAX_ANGLE_TURN, MAX_DEPRESSION, check_finite
 from targetacq.core import engines
 from targetacq.core.evaluation import footprint_scr
-from targetacq.physics.line_of_sight import line_of_sight
+from targetacq.core.terrain_view import hide, terrain_view
 from targetacq.run.false_targets import FalseDetections, FalseTargetSampler
 from targetacq.run.search import (
     SearchState,
@@ -566,28 +566,20 @@ class Simulation:
         self, scene: Any, s_pos: np.ndarray, t_pos: np.ndarray, per_step: Mapping[str, Any]
     ) -> tuple[dict[str, Any], np.ndarray]:
         """The per-step inputs with each pair's visible fraction over the ``[terrain]``
-        relief, and the pairs it hides entirely (n_s, n_g).
-
-        The terrain hides a target from the bottom up (:func:`targetacq.line_of_sight`, each
-        target's base at its position's altitude, its height the third of its dimensions), as
-        does the occlusion the fraction already says (the targets' own ``visible_fraction``, or
-        the one given to the step): the pair sees the smaller of the two. A hidden pair is out
-        of view (probability 0); the core gets 1 for it, in place of 0, which it refuses."""
-        seen = line_of_sight(
-            self._elevation,
-            None,
-            None,
-            s_pos[:, None, :],
-            t_pos[None, :, :],
-            np.asarray(scene.targets.dimensions, dtype=float)[None, :, 2],
-            k=self.compiled.earth_radius_factor,
-        )
+        relief, and the pairs it hides entirely (n_s, n_g)
+        (:func:`targetacq.core.terrain_view.terrain_view`: the smaller of the terrain's and the
+        occlusion the fraction already says, the targets' own or the one given to the step)."""
+        assert self._elevation is not None
         own = per_step.get("visible_fraction")
-        if own is None:
-            own = np.asarray(scene.targets.visible_fraction, dtype=float)
-        fraction = np.minimum(own, seen)  # NaN stays NaN
-        hidden = fraction == 0.0
-        return {**per_step, "visible_fraction": np.where(hidden, 1.0, fraction)}, hidden
+        view = terrain_view(
+            self._elevation,
+            self.compiled.earth_radius_factor,
+            s_pos,
+            t_pos,
+            np.asarray(scene.targets.dimensions, dtype=float)[:, 2],
+            scene.targets.visible_fraction if own is None else own,
+        )
+        return {**per_step, "visible_fraction": view.visible_fraction}, view.hidden
 
     def _check_bands(self, s_pos: np.ndarray, point: Any) -> None:
         """The bands of a colour camera are one camera: one position and one pointing."""
@@ -646,8 +638,7 @@ class Simulation:
                 scr = footprint_scr(self._terrain, found.range, t_pos, signal, self._ifov)
                 found = dataclasses.replace(found, scr=scr)
             if hidden is not None:  # behind the terrain: out of that sensor's view
-                in_view = np.broadcast_to(np.asarray(found.in_view, dtype=bool), hidden.shape)
-                found = dataclasses.replace(found, in_view=in_view & ~hidden)
+                found = hide(found, hidden)
             velocities = per_step.get("target_velocities")
             if velocities is not None:  # graded motion: each pair's speed across its sight
                 found = dataclasses.replace(

@@ -254,14 +254,16 @@ def test_a_named_fit_is_registered_and_used_by_name_everywhere(registered):
     with pytest.raises(ValueError, match="unknown criterion"):
         ModelChoices(criterion="calibration-test")
     registered.append("calibration-test")
-    fit = fit_criterion(n, y, "recognition", name="calibration-test")
+    fit = fit_criterion(n, y, "recognition", fit_exponent=False, name="calibration-test")
     assert CRITERIA["calibration-test"] is fit.criterion
     assert ta.get_criterion("calibration-test").n50("recognition") == fit.n50
     assert ta.get_criterion("calibration-test").n50("identification") == 6.4  # Johnson's
     assert ModelChoices(criterion="calibration-test").criterion == "calibration-test"
     p = ta.probability(fit.n50, "recognition", criterion="calibration-test")
     assert p == pytest.approx(0.5)
-    again = fit_criterion(n[:60], y[:60], "recognition", name="calibration-test")  # replaces
+    again = fit_criterion(
+        n[:60], y[:60], "recognition", fit_exponent=False, name="calibration-test"
+    )  # replaces
     assert CRITERIA["calibration-test"] is again.criterion
 
 
@@ -318,3 +320,11 @@ def test_ends_the_data_do_not_bound_are_zero_and_infinity_and_the_band_still_dra
     assert fit.exponent_interval[0] == 0.0
     low, high = fit.probability_interval(np.array([1.0, 4.0]))
     assert np.all((low >= 0.0) & (low <= high) & (high <= 1.0))
+
+
+def test_a_name_with_the_exponent_fitted_is_refused_not_registered_without_it():
+    # A criterion holds N50s only: registering a fit whose exponent is not the transform's would
+    # give evaluations another curve than the one fitted.
+    with pytest.raises(ValueError, match="name registers a criterion, which holds N50 only"):
+        fit_criterion([2, 3, 4, 5, 6], [0, 0, 1, 0, 1], "recognition", name="never-registered")
+    assert "never-registered" not in CRITERIA

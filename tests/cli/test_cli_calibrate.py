@@ -76,7 +76,11 @@ def test_the_table_names_the_fit_and_how_to_use_it(capsys, cycles_file):
     assert any(line.startswith("N50 [cycles]") for line in lines)
     assert any(line.startswith("E50 [1]") and "fixed" not in line for line in lines)
     assert any(line.startswith("log-likelihood") for line in lines)
-    assert lines[-1].startswith("use it: --n50 1,")
+    # The exponent fitted: its N50 goes with that exponent, not the transform's own.
+    assert lines[-1].startswith("to use N50 in evaluations") and "--fixed-exponent" in lines[-1]
+    code, out, err = run(capsys, cycles_file, "--task", "recognition", "--fixed-exponent")
+    assert (code, err) == (0, "")
+    assert out.splitlines()[-1].startswith("use it: --n50 1,")
 
 
 def test_ranges_become_cycles_by_the_sensor_geometry(capsys, tmp_path, cycles_file):
@@ -151,7 +155,9 @@ def test_a_missing_file_is_one_line(capsys, tmp_path):
 def test_a_registered_fit_is_a_criterion_of_the_commands_run_in_that_process(capsys):
     import targetacq as ta
 
-    fit = ta.fit_criterion(CYCLES, SEEN, "recognition", name="cli-calibration-test")
+    fit = ta.fit_criterion(
+        CYCLES, SEEN, "recognition", fit_exponent=False, name="cli-calibration-test"
+    )
     try:
         with pytest.raises(SystemExit) as exit_:
             main(["dri", "--example", "--criterion", "cli-calibration-test", "--format", "json"])

@@ -497,7 +497,9 @@ def fit_criterion(
         Register the fitted criterion under this name
         (:func:`~targetacq.acquisition.criteria.register_criterion`, replacing one registered
         before under it); left out, nothing is registered and the criterion is named
-        ``fitted``.
+        ``fitted``. A criterion holds N50s, and evaluations take the transform's own exponent:
+        a name needs ``fit_exponent=False`` (a ``ValueError`` otherwise), so that what is
+        registered is the curve that was fitted.
     options : mapping, optional
         The transform's options (e.g. ``{"region": "medium"}`` for ``schmieder-weathersby``);
         arrays broadcast over the trials.
@@ -525,12 +527,16 @@ def fit_criterion(
     >>> from targetacq.acquisition.calibration import fit_criterion
     >>> cycles = [2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7]
     >>> seen = [0, 0, 0, 1, 0, 1, 1, 0, 1, 1, 1, 1]
-    >>> fit = fit_criterion(cycles, seen, "recognition", name="my-trials")
+    >>> fit = fit_criterion(cycles, seen, "recognition")
     >>> print(f"N50 {fit.n50:.2f} [{fit.n50_interval[0]:.2f}, {fit.n50_interval[1]:.2f}]")
     N50 3.84 [2.25, 5.17]
     >>> print(f"E50 {fit.exponent:.2f} [{fit.exponent_interval[0]:.2f}, "
     ...       f"{fit.exponent_interval[1]:.2f}]")
     E50 4.25 [1.00, 9.47]
+
+    The exponent is within its interval of the TTPF's own 3.4; N50 at that exponent, registered:
+
+    >>> fit = fit_criterion(cycles, seen, "recognition", fit_exponent=False, name="my-trials")
     >>> print(f"{ta.probability(fit.n50, 'recognition', criterion='my-trials'):.3f}")
     0.500
     >>> ta.get_criterion("my-trials").n50("identification")  # Johnson's, the base
@@ -550,6 +556,14 @@ def fit_criterion(
         raise ValueError(
             f"transform {chosen.name!r} has no exponent to fit (a table); fit its N50 alone "
             f"(fit_exponent=False), or choose one of {', '.join(EXPONENT_LAWS)}"
+        )
+    if name is not None and fit_exponent:
+        # A criterion holds N50s only: evaluations take the transform's own exponent, so a
+        # criterion registered from a fit with another exponent would not give the fitted curve.
+        raise ValueError(
+            f"name registers a criterion, which holds N50 only (evaluations use {chosen.name!r}'s "
+            "own exponent): fit with fit_exponent=False to register it, or leave name out to "
+            "fit and report the exponent"
         )
     n, y = _checked(cycles, outcomes)
     _check_identifiable(n, y, fit_exponent)

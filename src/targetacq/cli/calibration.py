@@ -151,7 +151,12 @@ def _table(fit: CriterionFit, kind: str) -> str:
         "criterion " + ", ".join(f"{t} {v:.4g}" for t, v in fit.criterion.thresholds.items()),
     ]
     reuse = _n50_option(fit)
-    if reuse:
+    if reuse and fit.exponent_fitted:
+        lines.append(
+            "to use N50 in evaluations (they take the transform's own exponent), fit it with "
+            "--fixed-exponent"
+        )
+    elif reuse:
         lines.append(f"use it: --n50 {reuse} (command line), n50 = [{reuse}] (scenario [model])")
     return "\n".join(lines) + "\n"
 
@@ -167,7 +172,7 @@ def _n50_option(fit: CriterionFit) -> str:
 def _row(fit: CriterionFit, kind: str) -> dict[str, Any]:
     row = fit.as_dict()
     row["input"] = kind
-    row["n50_option"] = _n50_option(fit) or None
+    row["n50_option"] = None if fit.exponent_fitted else (_n50_option(fit) or None)
     return row
 
 

@@ -50,7 +50,7 @@ ax.legend(loc="lower right")
 
 # %%
 # The fit, its 90 % intervals, and the criterion (Johnson's averages for the other tasks;
-# ``name="my-trials"`` would register it under that name):
+# with ``fit_exponent=False``, ``name="my-trials"`` would register its N50 under that name):
 
 print(f"N50 {fit.n50:.2f} cycles, 90 % interval {fit.n50_interval[0]:.2f} to "
       f"{fit.n50_interval[1]:.2f}")  # fmt: skip

@@ -17,9 +17,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/activate
 
 # Tests cover the optional backends too: numba and JAX (the engines; the core under jit/grad),
 # Gymnasium, Dask, the docs extension that renders the registries (Sphinx), the web explorer
-# (FastAPI, driven in tests by Playwright with the system's Chromium) and Stone Soup (tracking).
+# (FastAPI, driven in tests by Playwright with the system's Chromium), Stone Soup (tracking) and
+# tifffile (GeoTIFF elevation models).
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/activate
-	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web,tracking]'
+	$(BIN)/python -m pip install --quiet -e '.[test,fast,jax,rl,sweep,docs,web,tracking,terrain]'
 	touch $@
 
 # The numba engine's kernels compiled once, here, into numba's cache on disk (the __pycache__ folder

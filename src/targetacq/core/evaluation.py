@@ -125,6 +125,7 @@ __all__ = [
     "factors",
     "footprint_scr",
     "graded_cues",
+    "pair_shape",
     "probabilities",
     "task_probabilities",
 ]
@@ -1178,7 +1179,9 @@ def factors(
             _arrays.require_finite(name, value, xp, "m")
     visible = None
     if visible_fraction is not None:
-        visible = check_visible_fraction(visible_fraction, _pairs(scene, s_pos, t_pos), xp)
+        visible = check_visible_fraction(
+            visible_fraction, pair_shape(scene.shape, s_pos, t_pos), xp
+        )
     if _numpy_path(scene, s_pos, t_pos, headings, pointing, scr) and (
         visible is None or isinstance(visible, np.ndarray)
     ):
@@ -1218,8 +1221,21 @@ def _without_snr(found: Factors, rows: tuple[int, ...]) -> Factors:
     return quiet
 
 
-def _pairs(scene: SceneArrays, s_pos: Any, t_pos: Any) -> tuple[int, ...]:
-    """``(n_s, n_g, *batch)`` of positions (their batch axes broadcast together)."""
+def pair_shape(scene_shape: tuple[int, int], s_pos: Array, t_pos: Array) -> tuple[int, ...]:
+    """``(n_s, n_g, *batch)`` of a scene of shape ``(n_s, n_g)`` at positions
+    ``(n_s, *batch_s, 3)`` and ``(n_g, *batch_g, 3)``, their batch axes broadcast together.
+
+    Raises
+    ------
+    ValueError
+        Batch axes that do not broadcast (both shapes named).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pair_shape((2, 3), np.zeros((2, 5, 1, 3)), np.zeros((3, 4, 3)))
+    (2, 3, 5, 4)
+    """
     try:
         batch = np.broadcast_shapes(tuple(s_pos.shape[1:-1]), tuple(t_pos.shape[1:-1]))
     except ValueError:
@@ -1227,7 +1243,7 @@ def _pairs(scene: SceneArrays, s_pos: Any, t_pos: Any) -> tuple[int, ...]:
             f"sensor_positions {tuple(s_pos.shape)} and target_positions {tuple(t_pos.shape)}: "
             "their batch dimensions (between the first and the last) do not broadcast"
         ) from None
-    return (*scene.shape, *batch)
+    return (*scene_shape, *batch)
 
 
 def _factors_generic(

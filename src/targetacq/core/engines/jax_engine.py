@@ -44,6 +44,7 @@ from targetacq.core.evaluation import (
     check_visible_fraction,
     evaluate,
     evaluate_step,
+    pair_shape,
     probabilities,
 )
 from targetacq.core.records import SceneArrays, as_jax
@@ -292,14 +293,8 @@ class JaxScene:
                     f"{name} must have shape ({count}, *batch, 3) (east, north, up [m]); got "
                     f"{value.shape}"
                 )
-        try:
-            batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
-        except ValueError:
-            raise ValueError(
-                f"sensor_positions {s_pos.shape} and target_positions {t_pos.shape}: their "
-                "batch dimensions (between the first and the last) do not broadcast"
-            ) from None
-        pairs = (n_s, n_g, *batch)
+        pairs = pair_shape((n_s, n_g), s_pos, t_pos)
+        batch = pairs[2:]
         chunks = _Chunks(batch, n_s * n_g, squeeze=not batch)
         size = chunks.size
         s_flat = np.broadcast_to(s_pos, (n_s, *batch, 3)).reshape(n_s, size, 3)

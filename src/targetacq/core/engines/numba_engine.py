@@ -44,6 +44,7 @@ from targetacq.core.evaluation import (
     boresight,
     check_moving,
     check_visible_fraction,
+    pair_shape,
 )
 from targetacq.core.records import SceneArrays
 from targetacq.physics import geometry
@@ -582,13 +583,7 @@ class NumbaScene:
                     f"scene, east, north, up [m]; got {value.shape}"
                 )
             _arrays.require_finite(name, value, np, "m")
-        try:
-            batch = np.broadcast_shapes(s_pos.shape[1:-1], t_pos.shape[1:-1])
-        except ValueError:
-            raise ValueError(
-                f"sensor_positions {s_pos.shape} and target_positions {t_pos.shape}: their "
-                "batch dimensions (between the first and the last) do not broadcast"
-            ) from None
+        batch = pair_shape((n_s, n_g), s_pos, t_pos)[2:]
         size = math.prod(batch)
         visible = self._visible(visible_fraction, (n_s, n_g, *batch))
         # Component-major, (3, n, size): the kernel's loops over the batch read unit strides.

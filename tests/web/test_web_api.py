@@ -79,6 +79,37 @@ def test_dri_is_what_the_cli_prints(client, options):
     assert response.json() == _cli_dri(options)
 
 
+def test_dri_with_uncertainty_is_what_the_cli_prints(client):
+    options = {
+        "example": True,
+        "netd": "50mK",
+        "delta_t": "2K",
+        "uncertainty": "200",
+        "seed": "3",
+        "netd_spread": "10%",
+    }
+    response = client.post("/dri", json=options)
+    assert response.status_code == 200, response.text
+    answer = response.json()
+    assert answer == _cli_dri(options)
+    row = answer["ranges"][0]
+    assert row["range_p05_m"] < row["range_m"] < row["range_p95_m"]
+
+
+@pytest.mark.parametrize(
+    ("extra", "field", "message"),
+    [
+        ({"uncertainty": "5"}, "uncertainty", "--uncertainty must be a whole number"),
+        ({"uncertainty": "200", "n50_spread": "0.25"}, "n50_spread", "--n50-spread"),
+        ({"netd_spread": "10%"}, "netd_spread", "go with --uncertainty"),
+        ({"uncertainty": "6000"}, "uncertainty", "at most 5000 samples over HTTP"),
+    ],
+)
+def test_dri_uncertainty_errors_are_located(client, extra, field, message):
+    (item,) = _problem(client.post("/dri", json={"example": True, **extra}))
+    assert item["loc"] == ["body", field] and message in item["msg"]
+
+
 def test_dri_takes_numbers_for_numeric_options(client):
     given = {"hfov": "12deg", "pixels": 640, "critical_dimension": "2.3m", "scr": 2.5}
     response = client.post("/dri", json=given)

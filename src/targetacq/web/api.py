@@ -89,7 +89,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from targetacq.base.units import shown_text
 from targetacq.io.datasets import DOWNLOAD_FORMATS, MEDIA_TYPES
 from targetacq.io.files import json_text
-from targetacq.run.option_table import RANGE_CASE_OPTIONS
+from targetacq.run.option_table import RANGE_CASE_OPTIONS, UNCERTAINTY_OPTIONS
 from targetacq.scenario.plausibility import collected
 from targetacq.scenario.schema import Scenario, ScenarioError, parse_scenario
 
@@ -284,11 +284,21 @@ def _option_fields() -> dict[str, Any]:
     return fields
 
 
+def _uncertainty_fields() -> dict[str, Any]:
+    """The fields of ``dri --uncertainty`` and its spreads: each the text typed on the command
+    line (:data:`targetacq.run.option_table.UNCERTAINTY_OPTIONS`)."""
+    return {
+        spec.name: (_OptionValue, Field(default=None, description=spec.help))
+        for spec in UNCERTAINTY_OPTIONS
+    }
+
+
 DriRequest = create_model(
     "DriRequest",
     __base__=_Body,
     __doc__="The options of ``targetacq dri``, snake_case, values as typed (units included).",
     **_option_fields(),
+    **_uncertainty_fields(),
 )
 
 CurvesRequest = create_model(
@@ -599,6 +609,37 @@ def _case_options(body: BaseModel) -> dict[str, Any]:
 
 
 _OPTION_NAMES = [spec.name for spec in RANGE_CASE_OPTIONS]
+_UNCERTAINTY_NAMES = [spec.name for spec in UNCERTAINTY_OPTIONS]
+
+MAX_WEB_SAMPLES = 5000
+"""Most Monte Carlo samples of one ``/dri`` request (the command line takes more)."""
+
+
+def _uncertainty(body: BaseModel) -> Any:
+    """The Monte Carlo of a ``/dri`` body's uncertainty options, as ``targetacq dri`` reads
+    them (:func:`targetacq.run.uncertainty.read_uncertainty`), or None without ``uncertainty``."""
+    from targetacq.run.uncertainty import read_uncertainty
+
+    given = {}
+    for name in _UNCERTAINTY_NAMES:
+        value = getattr(body, name)
+        if isinstance(value, bool):
+            raise ApiError(422, [(["body", name], f"{name} takes text, not a boolean")])
+        given[name] = None if value is None else str(value)
+    with _library_errors(_UNCERTAINTY_NAMES):
+        uncertainty = read_uncertainty(given)
+    if uncertainty is not None and uncertainty.samples > MAX_WEB_SAMPLES:
+        raise ApiError(
+            422,
+            [
+                (
+                    ["body", "uncertainty"],
+                    f"at most {MAX_WEB_SAMPLES} samples over HTTP; got {uncertainty.samples} "
+                    "(targetacq dri --uncertainty takes up to 100000)",
+                )
+            ],
+        )
+    return uncertainty
 
 
 def _setup(body: BaseModel) -> Any:
@@ -1291,9 +1332,13 @@ def create_app(
     @app.post("/dri", summary="DRI ranges of one sensor and target (targetacq dri)")
     def dri(body: DriRequest) -> Response:  # type: ignore[valid-type]
         from targetacq.run.range_options import dri_report
+        from targetacq.run.uncertainty import uncertainty_report
 
         setup = _setup(body)
+        uncertainty = _uncertainty(body)
         with _library_errors(_OPTION_NAMES):
+            if uncertainty is not None:
+                return _json(uncertainty_report(setup, uncertainty))
             return _json(dri_report(setup))
 
     @app.post("/curves", summary="Probability against range of one sensor and target")

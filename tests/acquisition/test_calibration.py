@@ -218,7 +218,7 @@ def test_trials_at_one_number_of_cycles_refuse_the_exponent():
     [
         ([1.0, 2.0], [0, 1, 1], {}, "one value per trial"),
         ([], [], {}, "no trials"),
-        ([1.0, -2.0], [0, 1], {}, "trial 1"),
+        ([1.0, -2.0], [0, 1], {}, r"trial 2 \(counting from 1\) has -2.0"),
         ([1.0, math.nan], [0, 1], {}, "finite and > 0"),
         ([1.0, 2.0], [0, 2], {}, "0 .failure. or 1"),
         ([1.0, 2.0], ["no", "yes"], {}, "0 .failure. or 1"),

@@ -283,3 +283,16 @@ def test_the_example_prospect_policy_skips_identified_and_hopeless_targets():
     blocks[0, :, 9] = [0.9, 0.0, 0.5]  # prospects of identification
     blocks[0, 0, 6] = 1.0  # the first is identified; the second is hopeless
     assert policy(obs, 3).tolist() == [2]
+
+
+def test_reset_options_scene_units_and_bad_actions_are_named():
+    import gymnasium
+
+    env = gymnasium.make("targetacq/SearchIdentify-v0")
+    with pytest.raises(ValueError, match=r"takes no reset options, got \{'bogus': 1\}"):
+        env.reset(seed=0, options={"bogus": 1})
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"must be in Discrete\(6\), got 6 "):
+        env.step(np.int64(6))
+    with pytest.raises(ValueError, match=r"altitude must be a number of m \(SI"):
+        gymnasium.make("targetacq/SearchIdentify-v0", scene={"altitude": "1500 m"})

@@ -161,3 +161,10 @@ def test_table_from_csv_with_states_and_its_errors(tmp_path):
 def test_table_refuses_what_is_not_a_grid_of_signatures(azimuth, elevation, values, message):
     with pytest.raises(ValueError, match=message):
         AspectTable(azimuth, elevation, values)
+
+
+def test_a_csv_azimuth_outside_one_turn_is_refused_not_wrapped(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text("azimuth,elevation,temperature\n0,0,300\n400,0,310\n")
+    with pytest.raises(ValueError, match=r"azimuths must lie in \[0, 360\) deg"):
+        AspectTable.from_csv(path)

@@ -75,3 +75,12 @@ def test_the_reports_range_axis_reaches_the_bands_95_percent_points():
     _, perf, *_ = _range_case_report(options, None, None, uncertainty=spread)
     farthest = np.nanmax(perf.dri["range_p95_m"].to_numpy())
     assert perf.curves["range"].values[-1] >= farthest
+
+
+def test_a_report_refuses_a_spread_that_no_case_has(cli, tmp_path):
+    out = tmp_path / "r.html"
+    code, _, err = cli(
+        "report", "--example", "--critical-dimension", "0.75m,2.3m", "--uncertainty", "50",
+        "--netd-spread", "10%", "--out", str(out),
+    )  # fmt: skip
+    assert code == 2 and "--netd-spread needs" in err and not out.exists()

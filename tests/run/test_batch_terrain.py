@@ -160,3 +160,22 @@ def test_cli_evaluate_and_simulate(scenes, cli, tmp_path):
     detected = np.isfinite(result.fused["detection"])
     assert not detected[:, names.index("behind")].any()
     assert detected[:, names.index("front")].all()
+
+
+def test_a_scenarios_dri_says_it_does_not_trace_the_terrain(scenes, cli):
+    code, out, err = cli("dri", str(scenes[0]), "--format", "json")
+    assert code == 0, err
+    assert "do not trace the scenario's [terrain] line of sight" in json.loads(out)["note"]
+    code, out, err = cli("dri", str(scenes[0]))
+    assert code == 0 and "do not trace" in out
+    code, out, err = cli("dri", str(scenes[1]), "--format", "json")
+    assert code == 0 and "note" not in json.loads(out)
+
+
+def test_a_scripted_target_off_the_elevation_model_is_a_located_problem(scenes, cli):
+    moved = 'position = ["9 km", "-200 m", "0 m"]'
+    text = scenes[0].read_text().replace('position = ["1500 m", "-200 m", "0 m"]', moved, 1)
+    assert moved in text
+    scenes[0].write_text(text)
+    code, _, err = cli("validate", str(scenes[0]))
+    assert code == 2 and "is off the elevation model" in err

@@ -371,12 +371,14 @@ def _checked(cycles: Any, outcomes: Any) -> tuple[np.ndarray, np.ndarray]:
     if not (np.all(np.isfinite(n)) and np.all(n > 0)):
         bad = int(np.flatnonzero(~(np.isfinite(n) & (n > 0)))[0])
         raise ValueError(
-            f"cycles must be finite and > 0 for every trial; trial {bad} has {n[bad]!r}"
+            f"cycles must be finite and > 0 for every trial; trial {bad + 1} (counting from 1) "
+            f"has {float(n[bad])!r}"
         )
     if not np.all((y == 0) | (y == 1)):
         bad = int(np.flatnonzero(~((y == 0) | (y == 1)))[0])
         raise ValueError(
-            f"outcomes must be 0 (failure) or 1 (success); trial {bad} has {raw.ravel()[bad]!r}"
+            f"outcomes must be 0 (failure) or 1 (success); trial {bad + 1} (counting from 1) "
+            f"has {raw.ravel()[bad].item()!r}"
         )
     return n, y
 
@@ -394,14 +396,16 @@ def _check_identifiable(n: np.ndarray, y: np.ndarray, fit_exponent: bool) -> Non
     if np.unique(n).size < 2:
         raise ValueError(
             "every trial is at the same cycles: N50 and the exponent cannot both be fitted; "
-            "give trials at two or more cycles, or fit N50 alone (fit_exponent=False)"
+            "give trials at two or more cycles, or fit N50 alone (fit_exponent=False; "
+            "calibrate --fixed-exponent)"
         )
     highest_failure, lowest_success = n[y == 0].max(), n[y == 1].min()
     if highest_failure <= lowest_success:
         raise ValueError(
             f"the outcomes are separated by the cycles (every failure at <= {highest_failure:g}, "
             f"every success at >= {lowest_success:g} cycles): the exponent runs to infinity; "
-            "fit N50 alone (fit_exponent=False) or add trials where the outcomes overlap"
+            "fit N50 alone (fit_exponent=False; calibrate --fixed-exponent) or add trials where "
+            "the outcomes overlap"
         )
 
 
@@ -430,7 +434,7 @@ def _fitted_criterion(
         raise ValueError(
             f"the fitted {task} N50 ({n50:.4g} cycles) breaks the order of the base criterion's "
             f"N50s ({shown}): a harder task needs at least as many cycles; choose another base "
-            "or base=None"
+            "or none (base=None; calibrate --base none)"
         )
     source = f"fitted to trial data ({task}) by targetacq.acquisition.calibration.fit_criterion"
     if base is not None:

@@ -93,7 +93,7 @@ def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -
     them: every sensor type through the core (:func:`targetacq.core.pair_ranges.pair_performance`:
     each target moved away from the sensor along its start bearing, the sensor looking at it)."""
     from targetacq.cli.figures import _check_scenario_options
-    from targetacq.reports.content import scenario_performance
+    from targetacq.reports.content import TERRAIN_NOT_TRACED, scenario_performance
     from targetacq.run.model_chain import ModelChain
     from targetacq.run.range_options import option_probabilities
     from targetacq.scenario.schema import load_scenario
@@ -111,11 +111,14 @@ def _scenario_dri(path: str, case_options: dict[str, Any], output_format: str) -
         }
         for _, r in performance.dri.iterrows()
     ]
+    note = TERRAIN_NOT_TRACED.strip() if chain.scenario.terrain is not None else None
     if output_format == "json":
-        return json_text({"scenario": path, "ranges": rows})
+        return json_text({"scenario": path, "ranges": rows, **({"note": note} if note else {})})
     if output_format == "csv":
         return _csv(rows)
     lines = [f"{path}: DRI ranges [m] of every sensor-target pair"]
+    if note:
+        lines.append(f"({note})")
     for r in rows:
         reach = "not reached" if r["range_m"] is None else f"{r['range_m']:,.0f}"
         lines.append(f"  {r['pair']:<28} {r['task']:<15} P={r['probability']:<5g} {reach}")

@@ -339,6 +339,7 @@ def _range_case_report(
     cases = {label: s.case for label, s in setups.items()}
     reach = []
     if uncertainty is not None:  # the axis reaches the bands' 95 % points too
+        uncertainty.check_cases(cases.values())
         for case in cases.values():
             found = uncertainty_ranges(case, probabilities, uncertainty.applicable_to(case))
             reach += [float(r) for task in found.values() for r in task["p95"]]

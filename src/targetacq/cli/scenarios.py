@@ -247,7 +247,7 @@ def simulate(
 ) -> None:
     """Random acquisition over time (field-of-view search model): per target, the fraction of
     runs with a detection / recognition / identification and the distribution of its first time.
-    With a [false_targets] table the runs also have false detections (clutter declared a target,
+    With a false_targets table the runs also have false detections (clutter declared a target,
     inside each sensor's field of view): counted in the table, written by --false-detections.
 
     Example: targetacq simulate examples/two_sensors_fused.toml --runs 200 --out sim.parquet

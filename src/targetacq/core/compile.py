@@ -539,6 +539,33 @@ def _class_map(scenario: Any, problems: list[str]) -> np.ndarray | None:
     return grid
 
 
+def _off_the_elevation_model(scenario: Any, elevation: ElevationModel) -> list[str]:
+    """A problem for each sensor and target whose scripted place (its position, or a waypoint:
+    the grid is a rectangle, so a path between waypoints on it stays on it) is off the
+    elevation model, where no line of sight can be traced (NaN in the evaluation)."""
+    east_min, east_max, north_min, north_max = elevation.extent
+    problems = []
+    for table, items in (("sensors", scenario.sensors), ("targets", scenario.targets)):
+        for k, item in enumerate(items):
+            places = (
+                [("position", item.position)]
+                if item.waypoints is None
+                else [(f"waypoints[{j}]", w.position) for j, w in enumerate(item.waypoints)]
+            )
+            for where, place in places:
+                if place is None:
+                    continue
+                east, north = float(place[0]), float(place[1])
+                if not (east_min <= east <= east_max and north_min <= north <= north_max):
+                    problems.append(
+                        f"{table}[{k}].{where}: ({east:g} m, {north:g} m) is off the elevation "
+                        f"model (terrain.elevation covers east {east_min:g} to {east_max:g} m, "
+                        f"north {north_min:g} to {north_max:g} m): no line of sight there"
+                    )
+                    break
+    return problems
+
+
 def _elevation(scenario: Any, problems: list[str]) -> ElevationModel | None:
     """The ``[terrain]`` elevation model read from its file; a file that cannot be read, or is
     not a grid, is a problem located at ``terrain.elevation``."""
@@ -812,6 +839,8 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
     pixels = _background_image(scenario, problems)
     grid = _class_map(scenario, problems)
     elevation = _elevation(scenario, problems)
+    if elevation is not None:
+        problems += _off_the_elevation_model(scenario, elevation)
     curves = _mrtd_curves(scenario, problems)
     tables = _aspect_tables(scenario, problems)
     if scenario.model.resolution_model is not None:

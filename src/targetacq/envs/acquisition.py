@@ -283,6 +283,14 @@ def _observe(e: Engagements) -> np.ndarray:
     return np.concatenate([platform, cameras, per_target], axis=1).astype(np.float32)
 
 
+def _no_options(options: Any) -> None:
+    """``reset``'s options: none are taken (a key given is refused, not ignored)."""
+    if options:
+        raise ValueError(
+            f"reset(options=...): this environment takes no reset options, got {dict(options)!r}"
+        )
+
+
 def _checked(given: np.ndarray, space: spaces.Space[Any], name: str) -> np.ndarray:
     """``given`` if it fits ``space`` (a box's values are clipped to it later), else
     ``ValueError`` naming ``name`` and the space."""
@@ -292,7 +300,10 @@ def _checked(given: np.ndarray, space: spaces.Space[Any], name: str) -> np.ndarr
             return given
     elif given.dtype.kind in "iu" and space.contains(given.astype(space.dtype)):
         return given
-    raise ValueError(f"{name} must be in {space}, got {given.dtype} of shape {given.shape}")
+    shown = np.array2string(given, threshold=8) if given.size <= 64 else f"shape {given.shape}"
+    raise ValueError(
+        f"{name} must be in {space}, got {shown} ({given.dtype} of shape {given.shape})"
+    )
 
 
 def sensor_pointing_vector(num_envs: int = 1, **kwargs: Any) -> AcquisitionVectorEnv:
@@ -385,6 +396,7 @@ class AcquisitionEnv(gymnasium.Env[np.ndarray, Any]):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Draw a new episode (reproducible from ``seed``)."""
+        _no_options(options)
         super().reset(seed=seed)
         if self._core is None:
             self._core = Engagements(self.options, 1, 1)
@@ -486,6 +498,7 @@ class AcquisitionVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start every episode: episode i from ``seed + i`` (or ``seed[i]``)."""
+        _no_options(options)
         n = self.num_envs
         if seed is None:
             seeds: list[int | None] = [None] * n

@@ -266,13 +266,20 @@ class SensorPointingEnv(gymnasium.Env[np.ndarray, np.ndarray]):
                     f"{label} must be an integer in [1, {most}] (an environment's observation "
                     f"holds every one; larger scenes are for targetacq.Simulation), got {count!r}"
                 )
+        units = {"duration": "s", "dt": "s", "altitude": "m", "half_width": "m", "speed": "m/s"}
         for name, value in (
             ("duration", duration),
             ("dt", dt),
             ("altitude", altitude),
             ("half_width", half_width),
+            ("speed", speed),
         ):
-            if not (math.isfinite(value) and value > 0):
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise ValueError(
+                    f"{name} must be a number of {units[name]} (SI, as every Python argument), "
+                    f"got {value!r}"
+                )
+            if not (math.isfinite(value) and value > 0) and name != "speed":
                 raise ValueError(f"{name} must be finite and > 0, got {value!r}")
         if not (math.isfinite(speed) and speed >= 0):
             raise ValueError(f"speed must be finite and >= 0 m/s, got {speed!r}")

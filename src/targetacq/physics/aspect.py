@@ -278,7 +278,10 @@ class AspectTable:
             raise ValueError(f"{source}: azimuth, elevation and values need one row per node")
         if not (np.isfinite(az).all() and np.isfinite(el).all()):
             raise ValueError(f"{source}: azimuths and elevations must be finite")
-        az = np.remainder(az, _TURN)
+        if az.min() < 0.0 or az.max() >= _TURN or abs(el).max() > math.pi / 2:
+            raise ValueError(
+                f"{source}: azimuths must lie in [0, 360) deg and elevations in [-90, 90] deg"
+            )
         az_nodes, el_nodes = np.unique(az), np.unique(el)
         grid = np.full((az_nodes.size, el_nodes.size), np.nan)
         seen = np.zeros(grid.shape, dtype=int)

@@ -34,6 +34,7 @@ __all__ = [
     "SIMULATION_RUNS",
     "SIMULATION_SEED",
     "SIMULATION_STEPS",
+    "TERRAIN_NOT_TRACED",
     "atmosphere_figures",
     "case_title",
     "performance_and_note",
@@ -313,6 +314,13 @@ def atmosphere_figures(
     return figures
 
 
+TERRAIN_NOT_TRACED = (
+    " The ranges do not trace the scenario's [terrain] line of sight (a range line runs over "
+    "open ground); evaluate and simulate trace it."
+)
+"""What a scenario's DRI ranges and range curves say of an elevation model they leave out."""
+
+
 def scenario_performance(
     chain: Any, max_range: str | None, probabilities: list[float], axis: bool = True
 ) -> tuple[Any, str]:
@@ -331,7 +339,7 @@ def scenario_performance(
     how = (
         " Every pair through the core, each target moved away from the sensor along its start "
         "bearing. Dots: the DRI ranges of the table."
-    )
+    ) + (TERRAIN_NOT_TRACED if chain.scenario.terrain is not None else "")
     if max_range is not None:
         r_max = option_quantity(max_range, "length", "--max-range")
         performance = pair_performance(

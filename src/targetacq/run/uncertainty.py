@@ -220,6 +220,37 @@ class Uncertainty:
             changes["extinction_spread"] = 0.0
         return dataclasses.replace(self, **changes)
 
+    def check_cases(self, cases: Any) -> None:
+        """Refuse a spread that none of ``cases`` (range cases side by side) has the input of:
+        a stated spread is applied to some case, or it is an error, never silently dropped.
+
+        Raises
+        ------
+        ValueError
+            Naming the option (``--netd-spread``, ``--extinction-spread``) and what it needs.
+
+        Examples
+        --------
+        >>> try:
+        ...     Uncertainty(100, netd_spread=0.1).check_cases([RangeCase(2.3, 2e-4)])
+        ... except ValueError as error:
+        ...     print(str(error)[:46])
+        --netd-spread needs the sensor's noise-equival
+        """
+        cases = list(cases)
+        needs = {
+            "netd_spread": "the sensor's noise-equivalent contrast (--netd or --nec) without the "
+            "TTP model",
+            "extinction_spread": "a Beer–Lambert extinction (--extinction, --visibility or "
+            "--obscurant)",
+        }
+        for name, what in needs.items():
+            if getattr(self, name) and not any(
+                getattr(self.applicable_to(case), name) for case in cases
+            ):
+                flag = "--" + name.replace("_", "-")
+                raise ValueError(f"{flag} needs {what} in at least one case; set it to 0%")
+
     def description(self) -> dict[str, Any]:
         """The run as a JSON-ready record: samples, seed, band and each input's distribution."""
         return {

@@ -201,20 +201,21 @@ class AspectTable:
     quantity : str
         One of :data:`ASPECT_QUANTITIES`: ``temperature`` or ``contrast``.
     source : str
-        Where the table came from (a file's path, or ``inline``).
+        Where the table came from (a file's path), said first in its errors; empty for a table
+        written in the scenario (its place there is said instead).
     """
 
     azimuth: tuple[float, ...]
     elevation: tuple[float, ...]
     values: tuple[tuple[float, ...], ...]
     quantity: str = "temperature"
-    source: str = "inline"
+    source: str = ""
 
     def __post_init__(self) -> None:
-        where = self.source
+        where = f"{self.source}: " if self.source else ""
         if self.quantity not in ASPECT_QUANTITIES:
             raise ValueError(
-                f"{where}: the quantity must be one of {', '.join(ASPECT_QUANTITIES)}, got "
+                f"{where}the quantity must be one of {', '.join(ASPECT_QUANTITIES)}, got "
                 f"{self.quantity!r}"
             )
         for name, nodes, low, high in (
@@ -222,28 +223,27 @@ class AspectTable:
             ("elevation", self.elevation, -math.pi / 2, math.pi / 2),
         ):
             if len(nodes) < 1:
-                raise ValueError(f"{where}: {name}: at least one value, got none")
+                raise ValueError(f"{where}{name}: at least one value, got none")
             if not all(math.isfinite(a) for a in nodes):
-                raise ValueError(f"{where}: {name}: values must be finite")
+                raise ValueError(f"{where}{name}: values must be finite")
             if any(b <= a for a, b in itertools.pairwise(nodes)):
-                raise ValueError(f"{where}: {name}: values must be strictly ascending")
+                raise ValueError(f"{where}{name}: values must be strictly ascending")
             closed = name == "elevation"
             if nodes[0] < low - 1e-12 or (
                 nodes[-1] > high + 1e-12 if closed else nodes[-1] >= high - 1e-12
             ):
                 bounds = "[-90, 90] deg" if closed else "[0, 360) deg"
-                raise ValueError(f"{where}: {name}: values must lie in {bounds}")
+                raise ValueError(f"{where}{name}: values must lie in {bounds}")
         shape = (len(self.azimuth), len(self.elevation))
         if len(self.values) != shape[0] or any(len(row) != shape[1] for row in self.values):
             raise ValueError(
-                f"{where}: the values must form a grid of {shape[0]} azimuths × {shape[1]} "
-                "elevations"
+                f"{where}the values must form a grid of {shape[0]} azimuths × {shape[1]} elevations"
             )
         flat = [v for row in self.values for v in row]
         if not all(math.isfinite(v) for v in flat):
-            raise ValueError(f"{where}: the {self.quantity} values must be finite")
+            raise ValueError(f"{where}the {self.quantity} values must be finite")
         if self.quantity == "temperature" and min(flat) <= 0.0:
-            raise ValueError(f"{where}: temperatures must be > 0 K, got {min(flat)!r}")
+            raise ValueError(f"{where}temperatures must be > 0 K, got {min(flat)!r}")
 
     @property
     def grid(self) -> np.ndarray:
@@ -257,7 +257,7 @@ class AspectTable:
         elevation: Array,
         values: Array,
         quantity: str = "temperature",
-        source: str = "inline",
+        source: str = "",
     ) -> AspectTable:
         """A table from one row per node (any order): azimuth, elevation [rad], value [K].
 
@@ -271,16 +271,17 @@ class AspectTable:
         >>> table.values
         ((300.0, 301.0), (310.0, 311.0))
         """
+        where = f"{source}: " if source else ""
         az = np.asarray(azimuth, dtype=float).ravel()
         el = np.asarray(elevation, dtype=float).ravel()
         val = np.asarray(values, dtype=float).ravel()
         if not (az.size == el.size == val.size) or az.size == 0:
-            raise ValueError(f"{source}: azimuth, elevation and values need one row per node")
+            raise ValueError(f"{where}azimuth, elevation and values need one row per node")
         if not (np.isfinite(az).all() and np.isfinite(el).all()):
-            raise ValueError(f"{source}: azimuths and elevations must be finite")
+            raise ValueError(f"{where}azimuths and elevations must be finite")
         if az.min() < 0.0 or az.max() >= _TURN or abs(el).max() > math.pi / 2:
             raise ValueError(
-                f"{source}: azimuths must lie in [0, 360) deg and elevations in [-90, 90] deg"
+                f"{where}azimuths must lie in [0, 360) deg and elevations in [-90, 90] deg"
             )
         az_nodes, el_nodes = np.unique(az), np.unique(el)
         grid = np.full((az_nodes.size, el_nodes.size), np.nan)
@@ -291,7 +292,7 @@ class AspectTable:
             a, e = np.argwhere(seen != 1)[0]
             what = "twice" if seen[a, e] > 1 else "missing"
             raise ValueError(
-                f"{source}: the rows must form a full grid of azimuth × elevation: the node "
+                f"{where}the rows must form a full grid of azimuth × elevation: the node "
                 f"azimuth {math.degrees(az_nodes[a]):g} deg, elevation "
                 f"{math.degrees(el_nodes[e]):g} deg is {what}"
             )

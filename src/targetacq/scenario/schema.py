@@ -722,7 +722,9 @@ class DailyCycle(_Strict):
 
 
 _PLAIN, _CYCLE = "plain temperature", "daily cycle"
-_UNION_TAGS = (_PLAIN, _CYCLE)  # the branches' names in pydantic's error locations
+_TABLE_FILE, _TABLE_WRITTEN = "signature table file", "signature table written in the scenario"
+_UNION_TAGS = (_PLAIN, _CYCLE, _TABLE_FILE, _TABLE_WRITTEN)  # the branches' names in pydantic's
+# error locations, left out of the located messages
 
 
 def _temperature_kind(value: Any) -> str:
@@ -798,7 +800,7 @@ class SignatureTableSpec(_Strict):
         self.table()  # the grid's shape, order and range, said once (AspectTable's checks)
         return self
 
-    def table(self, source: str = "inline") -> AspectTable:
+    def table(self, source: str = "") -> AspectTable:
         """The table as a :class:`targetacq.physics.aspect.AspectTable` [rad, K]."""
         given = [
             (q, v) for q, v in (("temperature", self.temperature), ("contrast", self.contrast))
@@ -817,11 +819,11 @@ class SignatureTableSpec(_Strict):
 
 
 def _table_kind(value: Any) -> str:
-    return "table" if isinstance(value, (Mapping, SignatureTableSpec)) else "file"
+    return _TABLE_WRITTEN if isinstance(value, (Mapping, SignatureTableSpec)) else _TABLE_FILE
 
 
 TableOrFile = Annotated[
-    Annotated[str, Tag("file")] | Annotated[SignatureTableSpec, Tag("table")],
+    Annotated[str, Tag(_TABLE_FILE)] | Annotated[SignatureTableSpec, Tag(_TABLE_WRITTEN)],
     Discriminator(_table_kind),
 ]
 """A signature table: its CSV file's path, or the table itself (:class:`SignatureTableSpec`)."""

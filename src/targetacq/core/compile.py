@@ -652,13 +652,15 @@ def _aspect(
     sensors: list[Any],
     signatures: list[Signature],
     tables: dict[int, AspectTable],
+    static: SignatureArrays,
     pixels: Any,
 ) -> AspectArrays | None:
     """Each pair's contrast over the aspect (:class:`AspectArrays`) for the targets with
     signature tables: every table resampled on the union of the tables' nodes (exact: the
     bilinear interpolant of a table is bilinear within each cell of a finer grid), each node's
     temperature turned into a signal by the sensor type's own signature, as a target's one
-    temperature is. None without tables."""
+    temperature is; ``static``, the scene's one contrast per pair, at the nodes of targets
+    without a table. None without tables."""
     if not tables:
         return None
     from targetacq.physics.aspect import interpolate_aspect
@@ -667,7 +669,6 @@ def _aspect(
     elevation = np.unique(np.concatenate([t.elevation for t in tables.values()]))
     mesh_az, mesh_el = np.meshgrid(azimuth, elevation, indexing="ij")
     n_s, n_g = len(sensors), len(scenario.targets)
-    static = _signature(scenario, sensors, signatures, pixels)
     contrast = np.broadcast_to(
         static.contrast[:, :, None, None], (n_s, n_g, azimuth.size, elevation.size)
     ).copy()
@@ -876,6 +877,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         snr_law=model.snr_law,
         snr_on_mrtd=model.noise_model is not None,
     )
+    signature = _signature(scenario, sensors, signatures, pixels)
     scene = SceneArrays(
         sensors=dataclasses.replace(
             _sensors(scenario, sensors, tuple(owner for owner, _ in owned), signatures),
@@ -885,8 +887,7 @@ def compile_scenario(scenario: Any) -> CompiledScenario:
         targets=_targets(scenario, criteria),
         path=_path(scenario),
         signature=dataclasses.replace(
-            _signature(scenario, sensors, signatures, pixels),
-            aspect=_aspect(scenario, sensors, signatures, tables, pixels),
+            signature, aspect=_aspect(scenario, sensors, signatures, tables, signature, pixels)
         ),
         choices=choices,
         radar=_radar(scenario, sensors),
